@@ -1,0 +1,1 @@
+//! The C3D file format: bytes <-> model.

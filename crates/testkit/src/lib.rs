@@ -1,0 +1,112 @@
+//! Where the shared test corpora live.
+//!
+//! Every crate's tests find the real files through the same rules, so they live here once:
+//! `C3D_SAMPLES` (default `../shared/c3d-samples`, relative to the workspace root), and the
+//! sibling folders `c3d-extra` and `bvh-samples` beside it (overridable with `C3D_EXTRA` and
+//! `BVH_SAMPLES`). When a corpus is missing, tests skip with a message — unless `CI` is set,
+//! in which case a missing corpus is a failure.
+
+use std::path::{Path, PathBuf};
+
+/// The workspace root (two levels above this crate's manifest).
+pub fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .canonicalize()
+        .unwrap_or_else(|_| Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."))
+}
+
+fn resolve(var: &str, default: &str) -> PathBuf {
+    let raw = std::env::var_os(var)
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(default));
+    if raw.is_absolute() {
+        raw
+    } else {
+        workspace_root().join(raw)
+    }
+}
+
+fn required() -> bool {
+    std::env::var_os("CI").is_some_and(|v| !v.is_empty() && v != "false" && v != "0")
+}
+
+fn corpus(var: &str, default: &str) -> Option<PathBuf> {
+    let dir = resolve(var, default);
+    if dir.is_dir() {
+        Some(dir)
+    } else if required() {
+        panic!(
+            "corpus {} (from {var}) is missing and CI requires it",
+            dir.display()
+        );
+    } else {
+        eprintln!(
+            "skipping: corpus {} not found (set {var} to run this test)",
+            dir.display()
+        );
+        None
+    }
+}
+
+/// The c3d.org sample corpus, or `None` (after saying so) when it is absent outside CI.
+pub fn c3d_samples() -> Option<PathBuf> {
+    corpus("C3D_SAMPLES", "../shared/c3d-samples")
+}
+
+/// The extra C3D files (BTK test data), beside the sample corpus by default.
+pub fn c3d_extra() -> Option<PathBuf> {
+    let default = resolve("C3D_SAMPLES", "../shared/c3d-samples").join("../c3d-extra");
+    corpus("C3D_EXTRA", &default.to_string_lossy())
+}
+
+/// The BVH corpus, beside the sample corpus by default.
+pub fn bvh_samples() -> Option<PathBuf> {
+    let default = resolve("C3D_SAMPLES", "../shared/c3d-samples").join("../bvh-samples");
+    corpus("BVH_SAMPLES", &default.to_string_lossy())
+}
+
+/// Every file below `dir` whose extension matches `ext` (case-insensitive), sorted.
+pub fn files_with_ext(dir: &Path, ext: &str) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        let Ok(entries) = std::fs::read_dir(&d) else {
+            continue;
+        };
+        for e in entries.flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p
+                .extension()
+                .is_some_and(|x| x.to_string_lossy().eq_ignore_ascii_case(ext))
+            {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// All C3D files of both corpora (empty when the corpora are absent outside CI).
+pub fn all_c3d_files() -> Vec<PathBuf> {
+    let mut v = Vec::new();
+    if let Some(d) = c3d_samples() {
+        v.extend(files_with_ext(&d, "c3d"));
+    }
+    if let Some(d) = c3d_extra() {
+        v.extend(files_with_ext(&d, "c3d"));
+    }
+    v
+}
+
+/// A path relative to the corpus, for readable test output.
+pub fn short(p: &Path) -> String {
+    let s = p.to_string_lossy();
+    match s.find("c3d-samples/").or_else(|| s.find("c3d-extra/")) {
+        Some(i) => s[i..].to_string(),
+        None => s.into_owned(),
+    }
+}
