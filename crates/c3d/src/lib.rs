@@ -1,1 +1,30 @@
-//! The C3D file format: bytes <-> model.
+//! The C3D file format: bytes ⇄ model, losslessly.
+//!
+//! Read with [`read_file`] or [`read`]; the result keeps the bytes it came from, and
+//! [`C3d::to_bytes`] gives them back unchanged until something is edited — then only the
+//! edited parameter records, header words and data samples get new bytes. Conversion to
+//! another processor or number format is [`C3d::convert`].
+
+mod analog;
+mod data;
+mod error;
+mod events;
+mod file;
+mod header;
+mod parameters;
+mod points;
+mod processor;
+mod read;
+mod text;
+mod write;
+
+pub use analog::{Analog, Calibration};
+pub use data::Layout;
+pub use error::{Error, Result, Section, Warning};
+pub use events::Event;
+pub use file::{C3d, NumberFormat};
+pub use header::{Header, HeaderEvent, BLOCK};
+pub use parameters::{Group, Parameter, Parameters, Record, Value};
+pub use points::Points;
+pub use processor::Processor;
+pub use read::{read, read_file};

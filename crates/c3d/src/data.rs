@@ -1,0 +1,237 @@
+//! The data section: frames of point samples followed by analog samples, decoded and encoded
+//! through one codec chosen per file.
+
+use crate::analog::Analog;
+use crate::error::{Error, Result};
+use crate::points::{decode_fourth, encode_fourth, Points};
+use crate::processor::{Codec, CodecFn};
+use serde::Serialize;
+
+/// How the data section is laid out.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Layout {
+    /// Points per frame.
+    pub points: usize,
+    /// Analog channels.
+    pub analog_channels: usize,
+    /// Analog samples per channel per 3D frame.
+    pub analog_samples_per_frame: usize,
+    pub frames: usize,
+    /// Floating-point (true) or scaled int16 (false) samples.
+    pub float: bool,
+    /// Analog integers are unsigned (ANALOG:FORMAT = UNSIGNED).
+    pub unsigned_analog: bool,
+    /// |POINT:SCALE|: integer coordinates are multiplied by it; residuals always are.
+    pub point_scale: f32,
+}
+
+impl Layout {
+    pub fn word_bytes(&self) -> usize {
+        if self.float {
+            4
+        } else {
+            2
+        }
+    }
+
+    pub fn analog_words(&self) -> usize {
+        self.analog_channels * self.analog_samples_per_frame
+    }
+
+    /// Bytes of one 3D frame with its analog samples.
+    pub fn frame_bytes(&self) -> usize {
+        (4 * self.points + self.analog_words()) * self.word_bytes()
+    }
+
+    /// Bytes of the whole data section.
+    pub fn data_bytes(&self) -> usize {
+        self.frames * self.frame_bytes()
+    }
+}
+
+/// Decode all frames from `bytes` (exactly `layout.data_bytes()` long).
+pub(crate) struct Decode<'a> {
+    pub bytes: &'a [u8],
+    pub layout: Layout,
+}
+
+impl CodecFn<(Points, Analog)> for Decode<'_> {
+    fn call<C: Codec>(self) -> (Points, Analog) {
+        let l = self.layout;
+        let mut pts = Points::new(l.frames, l.points);
+        let mut ana = Analog::new(l.frames, l.analog_channels, l.analog_samples_per_frame);
+        let fb = l.frame_bytes();
+        if fb == 0 {
+            return (pts, ana);
+        }
+        let aw = l.analog_words();
+        let s = l.point_scale;
+        for (f, frame) in self.bytes.chunks_exact(fb).take(l.frames).enumerate() {
+            let base = f * l.points;
+            let (pbytes, abytes) = frame.split_at(4 * l.word_bytes() * l.points);
+            let ana_out = &mut ana.raw[f * aw..(f + 1) * aw];
+            if l.float {
+                for (i, c) in pbytes.chunks_exact(16).enumerate() {
+                    let v = |k: usize| C::read_f32([c[k], c[k + 1], c[k + 2], c[k + 3]]);
+                    pts.xyz[base + i] = [v(0), v(4), v(8)];
+                    let w = v(12);
+                    let word = if w < 0.0 { -1 } else { w as i32 };
+                    let (r, m) = decode_fourth(word, s);
+                    pts.residual[base + i] = r;
+                    pts.camera_mask[base + i] = m;
+                }
+                for (o, c) in ana_out.iter_mut().zip(abytes.chunks_exact(4)) {
+                    *o = C::read_f32([c[0], c[1], c[2], c[3]]);
+                }
+            } else {
+                for (i, c) in pbytes.chunks_exact(8).enumerate() {
+                    let v = |k: usize| C::read_i16([c[k], c[k + 1]]);
+                    pts.xyz[base + i] = [v(0) as f32 * s, v(2) as f32 * s, v(4) as f32 * s];
+                    let (r, m) = decode_fourth(v(6) as i32, s);
+                    pts.residual[base + i] = r;
+                    pts.camera_mask[base + i] = m;
+                }
+                if l.unsigned_analog {
+                    for (o, c) in ana_out.iter_mut().zip(abytes.chunks_exact(2)) {
+                        *o = C::read_i16([c[0], c[1]]) as u16 as f32;
+                    }
+                } else {
+                    for (o, c) in ana_out.iter_mut().zip(abytes.chunks_exact(2)) {
+                        *o = C::read_i16([c[0], c[1]]) as f32;
+                    }
+                }
+            }
+        }
+        (pts, ana)
+    }
+}
+
+/// Encode samples into `out` (exactly `layout.data_bytes()` long). Unless `force`, a sample
+/// whose stored bytes already decode to the model's value is left alone, so a rewrite changes
+/// only the words of samples that changed.
+pub(crate) struct Encode<'a> {
+    pub out: &'a mut [u8],
+    pub layout: Layout,
+    pub points: Option<&'a Points>,
+    pub analog: Option<&'a Analog>,
+    pub force: bool,
+}
+
+fn same(a: f32, b: f32) -> bool {
+    a.to_bits() == b.to_bits()
+}
+
+fn int16(v: f32, what: impl Fn() -> String) -> Result<i16> {
+    let q = v.round();
+    if q.is_nan() || !(-32768.0..=32767.0).contains(&q) {
+        return Err(Error::Unrepresentable(format!(
+            "{} = {v} does not fit in a 16-bit integer",
+            what()
+        )));
+    }
+    Ok(q as i16)
+}
+
+impl CodecFn<Result<()>> for Encode<'_> {
+    fn call<C: Codec>(self) -> Result<()> {
+        let Encode {
+            out,
+            layout: l,
+            points,
+            analog,
+            force,
+        } = self;
+        let fb = l.frame_bytes();
+        if fb == 0 {
+            return Ok(());
+        }
+        let aw = l.analog_words();
+        let s = l.point_scale;
+        let wb = l.word_bytes();
+        for (f, frame) in out.chunks_exact_mut(fb).take(l.frames).enumerate() {
+            let (pbytes, abytes) = frame.split_at_mut(4 * wb * l.points);
+            if let Some(pts) = points {
+                let base = f * l.points;
+                for (i, c) in pbytes.chunks_exact_mut(4 * wb).enumerate() {
+                    let k = base + i;
+                    let [x, y, z] = pts.xyz[k];
+                    let (r, m) = (pts.residual[k], pts.camera_mask[k]);
+                    if l.float {
+                        let rd = |k: usize| C::read_f32([c[k], c[k + 1], c[k + 2], c[k + 3]]);
+                        let w = rd(12);
+                        let (r0, m0) = decode_fourth(if w < 0.0 { -1 } else { w as i32 }, s);
+                        if !force
+                            && same(rd(0), x)
+                            && same(rd(4), y)
+                            && same(rd(8), z)
+                            && same(r0, r)
+                            && m0 == m
+                        {
+                            continue;
+                        }
+                        c[0..4].copy_from_slice(&C::write_f32(x));
+                        c[4..8].copy_from_slice(&C::write_f32(y));
+                        c[8..12].copy_from_slice(&C::write_f32(z));
+                        let fourth = encode_fourth(r, m, s, 0xff) as f32;
+                        c[12..16].copy_from_slice(&C::write_f32(fourth));
+                    } else {
+                        let rd = |k: usize| C::read_i16([c[k], c[k + 1]]);
+                        let (r0, m0) = decode_fourth(rd(6) as i32, s);
+                        if !force
+                            && same(rd(0) as f32 * s, x)
+                            && same(rd(2) as f32 * s, y)
+                            && same(rd(4) as f32 * s, z)
+                            && same(r0, r)
+                            && m0 == m
+                        {
+                            continue;
+                        }
+                        let valid = r >= 0.0;
+                        let q = |v: f32, axis: &str| -> Result<i16> {
+                            if !valid && !v.is_finite() {
+                                return Ok(0);
+                            }
+                            int16(v / s, || {
+                                format!("frame {f}, point {i}, {axis}/POINT:SCALE")
+                            })
+                        };
+                        c[0..2].copy_from_slice(&C::write_i16(q(x, "x")?));
+                        c[2..4].copy_from_slice(&C::write_i16(q(y, "y")?));
+                        c[4..6].copy_from_slice(&C::write_i16(q(z, "z")?));
+                        let fourth = encode_fourth(r, m, s, 0x7f) as i16;
+                        c[6..8].copy_from_slice(&C::write_i16(fourth));
+                    }
+                }
+            }
+            if let Some(ana) = analog {
+                let src = &ana.raw[f * aw..(f + 1) * aw];
+                for (j, (c, &v)) in abytes.chunks_exact_mut(wb).zip(src).enumerate() {
+                    if l.float {
+                        if !force && same(C::read_f32([c[0], c[1], c[2], c[3]]), v) {
+                            continue;
+                        }
+                        c.copy_from_slice(&C::write_f32(v));
+                    } else if l.unsigned_analog {
+                        if !force && same(C::read_i16([c[0], c[1]]) as u16 as f32, v) {
+                            continue;
+                        }
+                        let q = v.round();
+                        if q.is_nan() || !(0.0..=65535.0).contains(&q) {
+                            return Err(Error::Unrepresentable(format!(
+                                "analog frame {f}, word {j} = {v} does not fit in an unsigned 16-bit integer"
+                            )));
+                        }
+                        c.copy_from_slice(&C::write_i16(q as u16 as i16));
+                    } else {
+                        if !force && same(C::read_i16([c[0], c[1]]) as f32, v) {
+                            continue;
+                        }
+                        let q = int16(v, || format!("analog frame {f}, word {j}"))?;
+                        c.copy_from_slice(&C::write_i16(q));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,363 @@
+//! Reading: bytes → [`C3d`]. Every count taken from the file is checked against the bytes
+//! actually present before anything is allocated from it.
+
+use crate::data::{Decode, Layout};
+use crate::error::{Error, Result, Section, Warning};
+use crate::file::{C3d, Source};
+use crate::header::{Header, BLOCK};
+use crate::parameters::{self, Parameters, SectionBounds};
+use crate::processor::Processor;
+use std::path::Path;
+
+/// Read a C3D file from disk.
+pub fn read_file(path: impl AsRef<Path>) -> Result<C3d> {
+    read(std::fs::read(path)?)
+}
+
+/// Read a C3D file from its bytes (kept, so that an unchanged file is rewritten exactly).
+pub fn read(bytes: Vec<u8>) -> Result<C3d> {
+    let mut warnings = Vec::new();
+    if bytes.len() < BLOCK {
+        return Err(Error::malformed(
+            Section::Header,
+            0,
+            format!(
+                "file is {} bytes; a C3D file starts with a 512-byte header",
+                bytes.len()
+            ),
+        ));
+    }
+    if bytes[1] != 0x50 {
+        return Err(Error::malformed(
+            Section::Header,
+            1,
+            format!(
+                "not a C3D file: byte 2 is 0x{:02X}, expected 0x50",
+                bytes[1]
+            ),
+        ));
+    }
+    let pb = bytes[0] as usize;
+    if pb == 0 {
+        return Err(Error::malformed(
+            Section::Header,
+            0,
+            "parameter section block number is 0 (blocks start at 1)",
+        ));
+    }
+    let param_start = (pb - 1) * BLOCK;
+    if param_start + 4 > bytes.len() {
+        return Err(Error::malformed(
+            Section::Header,
+            0,
+            format!(
+                "parameter section at block {pb} (byte {param_start}) lies beyond the end of the {}-byte file",
+                bytes.len()
+            ),
+        ));
+    }
+    let pbyte = bytes[param_start + 3];
+    let processor = Processor::from_byte(pbyte).ok_or_else(|| {
+        Error::malformed(
+            Section::Parameters,
+            param_start + 3,
+            format!("unknown processor type {pbyte} (expected 84 Intel, 85 DEC or 86 SGI/MIPS)"),
+        )
+    })?;
+    let header = Header::parse(&bytes[..BLOCK], processor)?;
+
+    // Where the parameter section ends: its declared block count, or (when that is 0) the
+    // start of the data.
+    let nblocks = bytes[param_start + 2] as usize;
+    let hdr_data_start = header.data_start as usize;
+    let end = if nblocks == 0 {
+        let fallback = if hdr_data_start > pb {
+            (hdr_data_start - 1) * BLOCK
+        } else {
+            bytes.len()
+        };
+        warnings.push(Warning::new(
+            Section::Parameters,
+            Some(param_start + 2),
+            format!("parameter section declares 0 blocks; reading up to byte {fallback}"),
+        ));
+        fallback
+    } else {
+        param_start + nblocks * BLOCK
+    };
+    if end > bytes.len() {
+        warnings.push(Warning::new(
+            Section::Parameters,
+            Some(param_start + 2),
+            format!("parameter section declares {nblocks} blocks, past the end of the file"),
+        ));
+    }
+    let (parameters, param_end) = parameters::parse(
+        &bytes,
+        SectionBounds {
+            start: param_start,
+            end,
+        },
+        processor,
+        &mut warnings,
+    )?;
+
+    let data_start = data_start_block(&header, &parameters, pb, &mut warnings)?;
+    let data_offset = (data_start - 1) * BLOCK;
+    if data_offset < param_end && data_start > pb {
+        warnings.push(Warning::new(
+            Section::Data,
+            Some(data_offset),
+            format!("data section starts at byte {data_offset}, inside the parameter section (ends at {param_end})"),
+        ));
+    }
+    let available = bytes.len().saturating_sub(data_offset);
+    let layout = layout(&header, &parameters, available, &mut warnings)?;
+    let need = layout.data_bytes();
+    if need > available {
+        return Err(Error::malformed(
+            Section::Data,
+            bytes.len(),
+            format!(
+                "file is truncated: {} frames of {} bytes need {} bytes from byte {}, but only {} remain",
+                layout.frames,
+                layout.frame_bytes(),
+                need,
+                data_offset,
+                available
+            ),
+        ));
+    }
+    let (points, analog) = processor.dispatch(Decode {
+        bytes: &bytes[data_offset..data_offset + need],
+        layout,
+    });
+    let source = Source {
+        header: header.clone(),
+        processor,
+        param_start,
+        param_end,
+        data_offset,
+        layout,
+        bytes,
+    };
+    Ok(C3d::from_parts(
+        header, parameters, points, analog, layout, processor, warnings, source,
+    ))
+}
+
+/// The data section's first block: the header's word 9, checked against POINT:DATA_START.
+fn data_start_block(
+    h: &Header,
+    ps: &Parameters,
+    pb: usize,
+    warnings: &mut Vec<Warning>,
+) -> Result<usize> {
+    let from_param = ps.get_u16("POINT", "DATA_START").map(|v| v as usize);
+    let from_header = h.data_start as usize;
+    match (from_header, from_param) {
+        (0, Some(p)) if p > 0 => {
+            warnings.push(Warning::new(
+                Section::Header,
+                Some(16),
+                format!("header data start is 0; using POINT:DATA_START = {p}"),
+            ));
+            Ok(p)
+        }
+        (0, _) => Err(Error::malformed(
+            Section::Header,
+            16,
+            "data start block is 0 and POINT:DATA_START is missing",
+        )),
+        (hd, Some(p)) if p != hd => {
+            warnings.push(Warning::new(
+                Section::Header,
+                Some(16),
+                format!(
+                    "header data start {hd} differs from POINT:DATA_START {p}; using the header"
+                ),
+            ));
+            Ok(hd)
+        }
+        (hd, _) => {
+            if hd == pb {
+                warnings.push(Warning::new(
+                    Section::Header,
+                    Some(16),
+                    "data start is the parameter section's block",
+                ));
+            }
+            Ok(hd)
+        }
+    }
+}
+
+/// Work out the data layout from the header (which describes what is stored) and check it
+/// against the parameters (which say what it means).
+fn layout(
+    h: &Header,
+    ps: &Parameters,
+    available: usize,
+    warnings: &mut Vec<Warning>,
+) -> Result<Layout> {
+    let w = |msg: String| Warning::new(Section::Parameters, None, msg);
+    let points = h.point_count as usize;
+    if let Some(used) = ps.get_u16("POINT", "USED") {
+        if used as usize != points {
+            warnings.push(w(format!(
+                "POINT:USED is {used} but the header stores {points} points per frame"
+            )));
+        }
+    }
+    // Number format: the sign of POINT:SCALE, else of the header's scale.
+    let hscale = h.scale;
+    let pscale = ps.get_f32("POINT", "SCALE");
+    let scale = match pscale {
+        Some(s) if s != 0.0 => {
+            if (s < 0.0) != (hscale < 0.0) || (s.abs() - hscale.abs()).abs() > 1e-6 * s.abs() {
+                warnings.push(Warning::new(
+                    Section::Header,
+                    Some(12),
+                    format!(
+                        "header scale {hscale} differs from POINT:SCALE {s}; using POINT:SCALE"
+                    ),
+                ));
+            }
+            s
+        }
+        _ => hscale,
+    };
+
+    // Analog layout: the header's word count and samples per frame.
+    let words = h.analog_per_frame as usize;
+    let mut spf = h.analog_samples_per_frame as usize;
+    let used = ps.get_u16("ANALOG", "USED").map(|u| u as usize);
+    let point_rate = ps
+        .get_f32("POINT", "RATE")
+        .filter(|r| *r > 0.0)
+        .unwrap_or(h.frame_rate);
+    if words > 0 && spf == 0 {
+        if let Some(ar) = ps.get_f32("ANALOG", "RATE") {
+            if point_rate > 0.0 {
+                spf = (ar / point_rate).round() as usize;
+            }
+        }
+        warnings.push(w(format!(
+            "header gives 0 analog samples per frame; using {spf} from ANALOG:RATE"
+        )));
+    }
+    let channels = if words == 0 {
+        spf = spf.max(1);
+        0
+    } else if spf > 0 && words % spf == 0 {
+        words / spf
+    } else {
+        // The stored words cannot be split into whole samples per frame: fall back on
+        // ANALOG:USED when it divides them, else treat each word as a channel.
+        match used.filter(|&u| u > 0 && words % u == 0) {
+            Some(u) => {
+                warnings.push(w(format!(
+                    "{words} analog words per frame are not a multiple of {spf} samples per frame; using ANALOG:USED = {u} channels × {} samples",
+                    words / u
+                )));
+                spf = words / u;
+                u
+            }
+            None => {
+                warnings.push(w(format!(
+                    "{words} analog words per frame are not a multiple of {spf} samples per frame; reading them as {words} channels × 1 sample"
+                )));
+                spf = 1;
+                words
+            }
+        }
+    };
+    if let Some(u) = used {
+        if words > 0 && u != channels {
+            warnings.push(w(format!(
+                "ANALOG:USED is {u} but the data holds {channels} channels"
+            )));
+        }
+    }
+    let unsigned_analog = ps
+        .get_strings("ANALOG", "FORMAT")
+        .and_then(|v| v.into_iter().next())
+        .is_some_and(|f| f.trim().eq_ignore_ascii_case("UNSIGNED"));
+
+    let mut l = Layout {
+        points,
+        analog_channels: channels,
+        analog_samples_per_frame: spf,
+        frames: 0,
+        float: scale < 0.0,
+        unsigned_analog,
+        point_scale: scale.abs(),
+    };
+    // A scale sign that contradicts the file size is a vendor slip: trust the size.
+    l.frames = frame_count(h, ps, warnings);
+    let fits = |l: &Layout| l.data_bytes() <= available;
+    if !fits(&l) {
+        let mut other = l;
+        other.float = !l.float;
+        if fits(&other) && pscale.is_some_and(|s| (s < 0.0) != (hscale < 0.0)) {
+            warnings.push(w(format!(
+                "the {} number format implied by POINT:SCALE does not fit the file; using the header's",
+                if l.float { "float" } else { "integer" }
+            )));
+            l = other;
+        }
+    }
+    Ok(l)
+}
+
+/// Number of frames: the header's first/last frame, or the long-trial parameters when the
+/// header cannot hold the count (TRIAL:ACTUAL_START_FIELD/END_FIELD, POINT:LONG_FRAMES,
+/// POINT:FRAMES read as unsigned).
+fn frame_count(h: &Header, ps: &Parameters, warnings: &mut Vec<Warning>) -> usize {
+    let first = h.first_frame as usize;
+    let last = h.last_frame as usize;
+    let from_header = if last >= first && !(first == 0 && last == 0) {
+        last - first + 1
+    } else {
+        0
+    };
+    let field = |name: &str| -> Option<usize> {
+        let p = ps.get("TRIAL", name)?;
+        let v = p.as_u16s();
+        match v.as_slice() {
+            [lo, hi, ..] => Some(*lo as usize + ((*hi as usize) << 16)),
+            [lo] => Some(*lo as usize),
+            [] => None,
+        }
+    };
+    let from_trial = match (field("ACTUAL_START_FIELD"), field("ACTUAL_END_FIELD")) {
+        (Some(s), Some(e)) if e >= s => Some(e - s + 1),
+        _ => None,
+    };
+    let long = ps
+        .get("POINT", "LONG_FRAMES")
+        .and_then(|p| p.as_f32s().first().copied())
+        .filter(|v| *v > 0.0)
+        .map(|v| v as usize);
+    let frames_param = ps.get_u16("POINT", "FRAMES").map(|v| v as usize);
+    // The header caps at 65535 frames: a larger count from parameters wins.
+    let candidates = [from_trial, long, frames_param];
+    let best_param = candidates.iter().flatten().copied().max();
+    match best_param {
+        Some(n) if n > from_header && (from_header == 0 || last == 65535 || n > 65535) => {
+            if n > 65535 || from_header == 0 {
+                if from_header == 0 && n <= 65535 {
+                    warnings.push(Warning::new(
+                        Section::Header,
+                        Some(6),
+                        format!("header frame range {first}–{last} is empty; using {n} frames from the parameters"),
+                    ));
+                }
+                n
+            } else {
+                from_header
+            }
+        }
+        _ => from_header,
+    }
+}
