@@ -65,6 +65,9 @@ pub struct HeaderEvent {
     pub displayed: bool,
 }
 
+/// A header word and how to get it from a [`Header`].
+type WordField = fn(&Header) -> u16;
+
 const fn word(n: usize) -> usize {
     (n - 1) * 2
 }
@@ -138,7 +141,7 @@ impl Header {
         if changed_u8(|h| h.key) {
             block[1] = self.key;
         }
-        let words: [(usize, fn(&Header) -> u16); 11] = [
+        let words: [(usize, WordField); 11] = [
             (2, |h| h.point_count),
             (3, |h| h.analog_per_frame),
             (4, |h| h.first_frame),

@@ -7,6 +7,7 @@
 
 mod analog;
 mod data;
+pub mod diff;
 mod error;
 mod events;
 mod file;

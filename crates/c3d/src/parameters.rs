@@ -471,19 +471,27 @@ pub(crate) fn parse(
 }
 
 fn check_groups(params: &Parameters, start: usize, warnings: &mut Vec<Warning>) {
+    let mut orphans: Vec<(u8, Vec<&str>)> = Vec::new();
     for r in &params.records {
         if let Record::Parameter(prm) = r {
             if params.groups().all(|g| g.id != prm.group_id) {
-                warnings.push(Warning::new(
-                    Section::Parameters,
-                    Some(start),
-                    format!(
-                        "parameter {} belongs to group {} which does not exist",
-                        prm.name, prm.group_id
-                    ),
-                ));
+                match orphans.iter_mut().find(|(id, _)| *id == prm.group_id) {
+                    Some((_, names)) => names.push(&prm.name),
+                    None => orphans.push((prm.group_id, vec![&prm.name])),
+                }
             }
         }
+    }
+    for (id, names) in orphans {
+        warnings.push(Warning::new(
+            Section::Parameters,
+            Some(start),
+            format!(
+                "{} parameters ({}) belong to group {id}, which has no group record",
+                names.len(),
+                names.join(", ")
+            ),
+        ));
     }
 }
 

@@ -83,7 +83,20 @@ pub fn read(bytes: Vec<u8>) -> Result<C3d> {
         ));
         fallback
     } else {
-        param_start + nblocks * BLOCK
+        let declared = param_start + nblocks * BLOCK;
+        let data_at = hdr_data_start.saturating_sub(1) * BLOCK;
+        if hdr_data_start > pb && declared > data_at {
+            warnings.push(Warning::new(
+                Section::Parameters,
+                Some(param_start + 2),
+                format!(
+                    "parameter section declares {nblocks} blocks but the data starts at block {hdr_data_start}; reading up to the data"
+                ),
+            ));
+            data_at
+        } else {
+            declared
+        }
     };
     if end > bytes.len() {
         warnings.push(Warning::new(
@@ -246,32 +259,56 @@ fn layout(
             "header gives 0 analog samples per frame; using {spf} from ANALOG:RATE"
         )));
     }
-    let channels = if words == 0 {
-        spf = spf.max(1);
-        0
-    } else if spf > 0 && words % spf == 0 {
-        words / spf
+    // Candidate readings of the stored analog words, most standard first; the one whose size
+    // fills the file (to within its last block) wins, so vendor slips in word 3 or 10 are read
+    // around (and reported).
+    let mut candidates: Vec<(usize, usize, &str)> = Vec::new();
+    if words == 0 {
+        candidates.push((0, spf.max(1), ""));
     } else {
-        // The stored words cannot be split into whole samples per frame: fall back on
-        // ANALOG:USED when it divides them, else treat each word as a channel.
-        match used.filter(|&u| u > 0 && words % u == 0) {
-            Some(u) => {
-                warnings.push(w(format!(
-                    "{words} analog words per frame are not a multiple of {spf} samples per frame; using ANALOG:USED = {u} channels × {} samples",
-                    words / u
-                )));
-                spf = words / u;
-                u
-            }
-            None => {
-                warnings.push(w(format!(
-                    "{words} analog words per frame are not a multiple of {spf} samples per frame; reading them as {words} channels × 1 sample"
-                )));
-                spf = 1;
-                words
-            }
+        if spf > 0 && words.is_multiple_of(spf) {
+            candidates.push((words / spf, spf, ""));
         }
-    };
+        if spf > 1 {
+            candidates.push((
+                words,
+                spf,
+                "header word 3 holds the channel count, not channels × samples per frame",
+            ));
+        }
+        if let Some(u) = used.filter(|&u| u > 0) {
+            let s = spf.max(1);
+            candidates.push((
+                u,
+                s,
+                "analog words per frame follow ANALOG:USED × samples per frame",
+            ));
+        }
+        candidates.push((
+            words,
+            1,
+            "analog words read as one sample per channel per frame",
+        ));
+    }
+    let frames_guess = frame_count(h, ps, &mut Vec::new());
+    let word_bytes = if scale < 0.0 { 4 } else { 2 };
+    let size = |c: usize, s: usize| frames_guess * (4 * points + c * s) * word_bytes;
+    let pick = candidates
+        .iter()
+        .position(|&(c, s, _)| size(c, s) <= available && available - size(c, s) < BLOCK)
+        .or_else(|| {
+            candidates
+                .iter()
+                .position(|&(c, s, _)| size(c, s) <= available)
+        })
+        .unwrap_or(0);
+    let (channels, picked_spf, why) = candidates[pick];
+    if !why.is_empty() {
+        warnings.push(w(format!(
+            "header says {words} analog words and {spf} samples per frame; reading {channels} channels × {picked_spf} samples ({why})"
+        )));
+    }
+    spf = picked_spf;
     if let Some(u) = used {
         if words > 0 && u != channels {
             warnings.push(w(format!(

@@ -22,12 +22,22 @@ struct Cli {
 enum Command {
     /// Header, formats, counts, rates, gaps per marker, parameter groups, warnings.
     Info(commands::info::Args),
+    /// Rewrite a file (byte-identical by default), or convert its processor/number format.
+    Convert(commands::convert::Args),
+    /// Compare two files: header, parameters, point and analog data (exit 1 if different).
+    Diff(commands::diff::Args),
+    /// Export point (and analog) data as CSV, TRC or JSON.
+    Export(commands::export::Args),
 }
 
 fn main() {
+    reset_sigpipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Info(a) => commands::info::run(a),
+        Command::Convert(a) => commands::convert::run(a),
+        Command::Diff(a) => commands::diff::run(a),
+        Command::Export(a) => commands::export::run(a),
     };
     match result {
         Ok(code) => std::process::exit(code),
@@ -35,5 +45,15 @@ fn main() {
             eprintln!("c3dfix: error: {e:#}");
             std::process::exit(2);
         }
+    }
+}
+
+/// Let a closed pipe (`c3dfix info x.c3d | head`) end the process quietly, as command-line
+/// tools do, instead of failing on the next print.
+fn reset_sigpipe() {
+    #[cfg(unix)]
+    // SAFETY: restoring the default action of a signal at start-up, before any threads exist.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }

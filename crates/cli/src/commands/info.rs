@@ -1,14 +1,218 @@
-use std::path::PathBuf;
+//! `c3dfix info`: what a file holds, and what is wrong with it.
+
+use anyhow::{Context, Result};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The file to describe.
+    /// The C3D (or BVH) file to describe.
     pub file: PathBuf,
     /// Print a JSON report instead of text.
     #[arg(long)]
     pub json: bool,
 }
 
-pub fn run(_a: Args) -> anyhow::Result<i32> {
-    anyhow::bail!("info is not implemented yet")
+#[derive(Serialize)]
+struct MarkerInfo {
+    label: String,
+    valid_frames: usize,
+    gaps: usize,
+    longest_gap: usize,
+}
+
+#[derive(Serialize)]
+struct GroupInfo {
+    id: u8,
+    name: String,
+    locked: bool,
+    description: String,
+    parameters: Vec<String>,
+}
+
+#[derive(Serialize)]
+struct Report<'a> {
+    file: String,
+    bytes: usize,
+    processor: &'static str,
+    format: &'static str,
+    header: &'a c3d::Header,
+    frames: usize,
+    first_frame: usize,
+    point_rate: f32,
+    duration_s: f64,
+    points: usize,
+    point_units: String,
+    point_scale: f32,
+    analog_channels: usize,
+    analog_rate: f32,
+    analog_samples_per_frame: usize,
+    analog_labels: Vec<String>,
+    markers: Vec<MarkerInfo>,
+    groups: Vec<GroupInfo>,
+    header_events: Vec<c3d::HeaderEvent>,
+    events: Vec<c3d::Event>,
+    warnings: Vec<String>,
+}
+
+/// Read a C3D file, naming the file in any error.
+pub fn read_c3d(path: &Path) -> Result<c3d::C3d> {
+    c3d::read_file(path).with_context(|| format!("{}", path.display()))
+}
+
+pub fn run(a: Args) -> Result<i32> {
+    let is_bvh = a
+        .file
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("bvh"));
+    if is_bvh {
+        anyhow::bail!("{}: BVH files are not supported yet", a.file.display());
+    }
+    let c = read_c3d(&a.file)?;
+    let pts = c.points();
+    let labels = c.point_labels();
+    let markers = (0..pts.count())
+        .map(|i| {
+            let gaps = pts.gaps(i);
+            MarkerInfo {
+                label: labels[i].clone(),
+                valid_frames: (0..pts.frames()).filter(|&f| pts.is_valid(f, i)).count(),
+                gaps: gaps.len(),
+                longest_gap: gaps.iter().map(|(s, e)| e - s + 1).max().unwrap_or(0),
+            }
+        })
+        .collect();
+    let groups = c
+        .parameters
+        .groups()
+        .map(|g| GroupInfo {
+            id: g.id,
+            name: g.name.clone(),
+            locked: g.locked,
+            description: g.description.clone(),
+            parameters: c
+                .parameters
+                .parameters_of(g.id)
+                .map(|p| p.name.clone())
+                .collect(),
+        })
+        .collect();
+    let rate = c.point_rate();
+    let r = Report {
+        file: a.file.display().to_string(),
+        bytes: c.source_bytes().map_or(0, |b| b.len()),
+        processor: c.processor().name(),
+        format: c.format().name(),
+        header: &c.header,
+        frames: pts.frames(),
+        first_frame: c.first_frame(),
+        point_rate: rate,
+        duration_s: if rate > 0.0 {
+            pts.frames() as f64 / rate as f64
+        } else {
+            0.0
+        },
+        points: pts.count(),
+        point_units: c.point_units(),
+        point_scale: c
+            .parameters
+            .get_f32("POINT", "SCALE")
+            .unwrap_or(c.header.scale),
+        analog_channels: c.analog().channels(),
+        analog_rate: if c.analog().channels() > 0 {
+            c.analog_rate()
+        } else {
+            0.0
+        },
+        analog_samples_per_frame: c.analog().samples_per_frame(),
+        analog_labels: c.analog_labels(),
+        markers,
+        groups,
+        header_events: c.header_events(),
+        events: c.events(),
+        warnings: c.warnings().iter().map(|w| w.to_string()).collect(),
+    };
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&r)?);
+    } else {
+        print_text(&r);
+    }
+    Ok(0)
+}
+
+fn print_text(r: &Report) {
+    println!("{}  ({} bytes)", r.file, r.bytes);
+    println!(
+        "  format       {} processor, {} data",
+        r.processor, r.format
+    );
+    println!(
+        "  frames       {} (first {}), {} Hz, {:.3} s",
+        r.frames, r.first_frame, r.point_rate, r.duration_s
+    );
+    println!(
+        "  points       {} ({}, POINT:SCALE {})",
+        r.points, r.point_units, r.point_scale
+    );
+    if r.analog_channels > 0 {
+        println!(
+            "  analog       {} channels at {} Hz ({} samples per frame)",
+            r.analog_channels, r.analog_rate, r.analog_samples_per_frame
+        );
+    } else {
+        println!("  analog       none");
+    }
+    println!(
+        "  header       parameters at block {}, data at block {}, max gap {}",
+        r.header.parameter_block, r.header.data_start, r.header.max_gap
+    );
+    let with_gaps: Vec<_> = r.markers.iter().filter(|m| m.gaps > 0).collect();
+    println!(
+        "  markers      {} with gaps out of {}",
+        with_gaps.len(),
+        r.markers.len()
+    );
+    if !r.markers.is_empty() {
+        println!(
+            "    {:<24} {:>8} {:>6} {:>8}",
+            "label", "valid", "gaps", "longest"
+        );
+        for m in &r.markers {
+            println!(
+                "    {:<24} {:>8} {:>6} {:>8}",
+                m.label, m.valid_frames, m.gaps, m.longest_gap
+            );
+        }
+    }
+    println!("  groups");
+    for g in &r.groups {
+        println!(
+            "    {:<16}{} {} parameters{}",
+            g.name,
+            if g.locked { " (locked)" } else { "" },
+            g.parameters.len(),
+            if g.description.is_empty() {
+                String::new()
+            } else {
+                format!("  — {}", g.description)
+            }
+        );
+    }
+    if !r.header_events.is_empty() || !r.events.is_empty() {
+        println!("  events");
+        for e in &r.header_events {
+            println!("    header  {:<8} {:>9.3} s", e.label, e.time);
+        }
+        for e in &r.events {
+            println!("    {:<7} {:<16} {:>9.3} s", e.context, e.label, e.time);
+        }
+    }
+    if r.warnings.is_empty() {
+        println!("  warnings     none");
+    } else {
+        println!("  warnings");
+        for w in &r.warnings {
+            println!("    - {w}");
+        }
+    }
 }

@@ -1,0 +1,96 @@
+//! `c3dfix diff`: compare two C3D files. Exit 0 when equal, 1 when different, 2 on error.
+
+use crate::commands::info::read_c3d;
+use anyhow::Result;
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct Args {
+    pub a: PathBuf,
+    pub b: PathBuf,
+    /// Print a JSON report instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Coordinates closer than this (in POINT:UNITS) count as equal.
+    #[arg(long, default_value_t = 0.0)]
+    pub tolerance: f64,
+}
+
+pub fn run(a: Args) -> Result<i32> {
+    if a.tolerance.is_nan() || a.tolerance < 0.0 {
+        anyhow::bail!("--tolerance must be 0 or more");
+    }
+    let x = read_c3d(&a.a)?;
+    let y = read_c3d(&a.b)?;
+    let d = c3d::diff::diff(&x, &y, a.tolerance);
+    if a.json {
+        let v = serde_json::json!({
+            "a": a.a.display().to_string(),
+            "b": a.b.display().to_string(),
+            "equal": d.is_empty(),
+            "diff": d,
+        });
+        println!("{}", serde_json::to_string_pretty(&v)?);
+    } else if d.is_empty() {
+        println!("no differences");
+    } else {
+        print_text(&d);
+    }
+    Ok(if d.is_empty() { 0 } else { 1 })
+}
+
+fn print_text(d: &c3d::diff::Diff) {
+    for f in d.format.iter().chain(&d.header) {
+        println!("header     {:<24} {} -> {}", f.field, f.a, f.b);
+    }
+    for p in &d.parameters {
+        match (&p.a, &p.b) {
+            (Some(x), Some(y)) => {
+                println!("parameter  {:<24} {}: {} -> {}", p.name, p.change, x, y)
+            }
+            _ => println!("parameter  {:<24} {}", p.name, p.change),
+        }
+    }
+    if d.parameters_reordered {
+        println!("parameter  records are in a different order");
+    }
+    let pd = &d.points;
+    if let Some((x, y)) = pd.frames {
+        println!("points     frames {x} -> {y}");
+    }
+    for l in &pd.only_in_a {
+        println!("points     {l}: only in the first file");
+    }
+    for l in &pd.only_in_b {
+        println!("points     {l}: only in the second file");
+    }
+    for m in &pd.markers {
+        println!(
+            "points     {:<24} {} frames changed ({}–{}), max displacement {:.3}, +{} valid, -{} valid, {} flag-only",
+            m.label,
+            m.frames_changed,
+            m.first_frame.unwrap_or(0) + 1,
+            m.last_frame.unwrap_or(0) + 1,
+            m.max_displacement,
+            m.became_valid,
+            m.became_invalid,
+            m.flags_changed
+        );
+    }
+    let ad = &d.analog;
+    if let Some((x, y)) = ad.samples {
+        println!("analog     samples {x} -> {y}");
+    }
+    for l in &ad.only_in_a {
+        println!("analog     {l}: only in the first file");
+    }
+    for l in &ad.only_in_b {
+        println!("analog     {l}: only in the second file");
+    }
+    for c in &ad.channels {
+        println!(
+            "analog     {:<24} {} samples changed, max difference {:.6}",
+            c.label, c.samples_changed, c.max_difference
+        );
+    }
+}

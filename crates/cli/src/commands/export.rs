@@ -1,0 +1,222 @@
+//! `c3dfix export`: point data (and analog) as CSV, TRC or JSON.
+
+use crate::commands::info::read_c3d;
+use crate::output::write_atomic;
+use anyhow::Result;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum ExportFormat {
+    Csv,
+    Trc,
+    Json,
+}
+
+#[derive(clap::Args)]
+pub struct Args {
+    pub file: PathBuf,
+    #[arg(long, value_enum)]
+    pub format: ExportFormat,
+    /// Output file (default: standard output). For CSV with analog data, the analog samples
+    /// go to a second file beside it, `<name>.analog.csv`.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Replace existing output files.
+    #[arg(long)]
+    pub force: bool,
+}
+
+pub fn run(a: Args) -> Result<i32> {
+    let c = read_c3d(&a.file)?;
+    match a.format {
+        ExportFormat::Csv => {
+            let pts = points_csv(&c);
+            let ana = (c.analog().channels() > 0).then(|| analog_csv(&c));
+            match &a.output {
+                Some(out) => {
+                    let ana_path = out.with_extension("analog.csv");
+                    if let Some(text) = &ana {
+                        if !a.force && ana_path.exists() {
+                            anyhow::bail!(
+                                "{} exists (use --force to overwrite)",
+                                ana_path.display()
+                            );
+                        }
+                        write_atomic(out, pts.as_bytes(), a.force)?;
+                        write_atomic(&ana_path, text.as_bytes(), a.force)?;
+                    } else {
+                        write_atomic(out, pts.as_bytes(), a.force)?;
+                    }
+                }
+                None => {
+                    print!("{pts}");
+                    if let Some(text) = ana {
+                        println!();
+                        print!("{text}");
+                    }
+                }
+            }
+        }
+        ExportFormat::Trc => emit(&a.output, trc(&c, &a.file), a.force)?,
+        ExportFormat::Json => emit(&a.output, json(&c)?, a.force)?,
+    }
+    Ok(0)
+}
+
+fn emit(out: &Option<PathBuf>, text: String, force: bool) -> Result<()> {
+    match out {
+        Some(p) => write_atomic(p, text.as_bytes(), force),
+        None => {
+            print!("{text}");
+            Ok(())
+        }
+    }
+}
+
+fn time_of(c: &c3d::C3d, f: usize) -> f64 {
+    let r = c.point_rate() as f64;
+    if r > 0.0 {
+        f as f64 / r
+    } else {
+        0.0
+    }
+}
+
+/// One row per frame: frame number, time, then X/Y/Z per marker; invalid samples are empty.
+fn points_csv(c: &c3d::C3d) -> String {
+    let p = c.points();
+    let labels = c.point_labels();
+    let mut s = String::from("Frame,Time");
+    for l in &labels {
+        let l = l.replace(',', " ");
+        let _ = write!(s, ",{l}_X,{l}_Y,{l}_Z");
+    }
+    s.push('\n');
+    let first = c.first_frame();
+    for f in 0..p.frames() {
+        let _ = write!(s, "{},{:.6}", first + f, time_of(c, f));
+        for i in 0..p.count() {
+            if p.is_valid(f, i) {
+                let [x, y, z] = p.xyz[p.index(f, i)];
+                let _ = write!(s, ",{x},{y},{z}");
+            } else {
+                s.push_str(",,,");
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// One row per analog sample, in physical units.
+fn analog_csv(c: &c3d::C3d) -> String {
+    let a = c.analog();
+    let labels = c.analog_labels();
+    let units = c.analog_units();
+    let phys = c.analog_physical();
+    let rate = c.analog_rate() as f64;
+    let mut s = String::from("Sample,Time");
+    for (l, u) in labels.iter().zip(&units) {
+        let name = if u.is_empty() {
+            l.clone()
+        } else {
+            format!("{l} ({u})")
+        };
+        let _ = write!(s, ",{}", name.replace(',', " "));
+    }
+    s.push('\n');
+    for k in 0..a.samples() {
+        let t = if rate > 0.0 { k as f64 / rate } else { 0.0 };
+        let _ = write!(s, "{},{t:.6}", k + 1);
+        for ch in 0..a.channels() {
+            let _ = write!(s, ",{}", phys[k * a.channels() + ch]);
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// The Motion Analysis TRC text format (PathFileType 4, X/Y/Z); invalid samples are empty.
+fn trc(c: &c3d::C3d, path: &Path) -> String {
+    let p = c.points();
+    let labels = c.point_labels();
+    let rate = c.point_rate();
+    let name = path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let mut s = format!("PathFileType\t4\t(X/Y/Z)\t{name}\n");
+    s.push_str("DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\tOrigNumFrames\n");
+    let first = c.first_frame();
+    let _ = writeln!(
+        s,
+        "{rate}\t{rate}\t{}\t{}\t{}\t{rate}\t{first}\t{}",
+        p.frames(),
+        p.count(),
+        c.point_units(),
+        p.frames()
+    );
+    s.push_str("Frame#\tTime");
+    for l in &labels {
+        let _ = write!(s, "\t{l}\t\t");
+    }
+    s.push_str("\n\t");
+    for i in 1..=p.count() {
+        let _ = write!(s, "\tX{i}\tY{i}\tZ{i}");
+    }
+    s.push_str("\n\n");
+    for f in 0..p.frames() {
+        let _ = write!(s, "{}\t{:.6}", first + f, time_of(c, f));
+        for i in 0..p.count() {
+            if p.is_valid(f, i) {
+                let [x, y, z] = p.xyz[p.index(f, i)];
+                let _ = write!(s, "\t{x}\t{y}\t{z}");
+            } else {
+                s.push_str("\t\t\t");
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Per-marker arrays (null for invalid samples) and per-channel analog arrays.
+fn json(c: &c3d::C3d) -> Result<String> {
+    let p = c.points();
+    let labels = c.point_labels();
+    let markers: Vec<_> = (0..p.count())
+        .map(|i| {
+            let xyz: Vec<Option<[f32; 3]>> = (0..p.frames())
+                .map(|f| p.is_valid(f, i).then(|| p.xyz[p.index(f, i)]))
+                .collect();
+            serde_json::json!({"label": labels[i], "xyz": xyz, "residual": p.residuals(i)})
+        })
+        .collect();
+    let a = c.analog();
+    let phys = c.analog_physical();
+    let units = c.analog_units();
+    let channels: Vec<_> = c
+        .analog_labels()
+        .into_iter()
+        .enumerate()
+        .map(|(ch, l)| {
+            let v: Vec<f32> = phys
+                .iter()
+                .skip(ch)
+                .step_by(a.channels().max(1))
+                .copied()
+                .collect();
+            serde_json::json!({"label": l, "units": units[ch], "values": v})
+        })
+        .collect();
+    let v = serde_json::json!({
+        "point_rate": c.point_rate(),
+        "first_frame": c.first_frame(),
+        "frames": p.frames(),
+        "units": c.point_units(),
+        "markers": markers,
+        "analog": {"rate": c.analog_rate(), "channels": channels},
+        "events": c.events(),
+    });
+    Ok(serde_json::to_string(&v)? + "\n")
+}
