@@ -123,12 +123,7 @@ fn markers(f: usize) -> Vec<(String, V3)> {
         let elbow = -0.3 - 0.15 * (t + phase).sin();
         let upper = |v: V3| trunk(add(sho, rot_y(v, swing)));
         let elb = upper([0.0, 0.0, -290.0]);
-        let fore = |v: V3| add(elb, rot_y(v, swing + elbow));
-        let _ = &fore;
-        let wrist = |v: V3| {
-            let e = trunk(add(sho, rot_y([0.0, 0.0, -290.0], swing)));
-            add(e, rot_y(v, swing + elbow))
-        };
+        let wrist = |v: V3| add(elb, rot_y(v, swing + elbow));
         out.push((format!("{side}SHO"), trunk(sho)));
         out.push((format!("{side}ELB"), upper([-20.0, s * 30.0, -290.0])));
         out.push((format!("{side}WRA"), wrist([25.0, s * 20.0, -260.0])));
@@ -198,8 +193,8 @@ fn build(defects: bool, scale: f32, processor: Processor) -> Result<C3d, c3d::Er
         for &(m, f, d) in SPIKES {
             if let Some(i) = names.iter().position(|x| x == m) {
                 let k = pts.index(f, i);
-                for a in 0..3 {
-                    pts.xyz[k][a] += d[a] as f32;
+                for (v, dv) in pts.xyz[k].iter_mut().zip(d) {
+                    *v += dv as f32;
                 }
             }
         }
