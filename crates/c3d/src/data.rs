@@ -55,54 +55,128 @@ pub(crate) struct Decode<'a> {
     pub layout: Layout,
 }
 
+/// Files above this many data bytes are decoded in parallel chunks of frames.
+const PARALLEL_BYTES: usize = 1 << 20;
+
 impl CodecFn<(Points, Analog)> for Decode<'_> {
     fn call<C: Codec>(self) -> (Points, Analog) {
+        use rayon::prelude::*;
         let l = self.layout;
-        let mut pts = Points::new(l.frames, l.points);
-        let mut ana = Analog::new(l.frames, l.analog_channels, l.analog_samples_per_frame);
         let fb = l.frame_bytes();
-        if fb == 0 {
-            return (pts, ana);
-        }
+        let n = l.frames * l.points;
         let aw = l.analog_words();
-        let s = l.point_scale;
-        for (f, frame) in self.bytes.chunks_exact(fb).take(l.frames).enumerate() {
-            let base = f * l.points;
-            let (pbytes, abytes) = frame.split_at(4 * l.word_bytes() * l.points);
-            let ana_out = &mut ana.raw[f * aw..(f + 1) * aw];
-            if l.float {
-                for (i, c) in pbytes.chunks_exact(16).enumerate() {
-                    let v = |k: usize| C::read_f32([c[k], c[k + 1], c[k + 2], c[k + 3]]);
-                    pts.xyz[base + i] = [v(0), v(4), v(8)];
-                    let w = v(12);
-                    let word = if w < 0.0 { -1 } else { w as i32 };
-                    let (r, m) = decode_fourth(word, s);
-                    pts.residual[base + i] = r;
-                    pts.camera_mask[base + i] = m;
-                }
-                for (o, c) in ana_out.iter_mut().zip(abytes.chunks_exact(4)) {
-                    *o = C::read_f32([c[0], c[1], c[2], c[3]]);
+        // Zero-filled allocations come straight from the OS (calloc): their pages are touched
+        // first by the decoding threads, not by a fill.
+        let mut xyz = vec![[0f32; 3]; n];
+        let mut residual = vec![0f32; n];
+        let mut camera_mask = vec![0u8; n];
+        let mut raw = vec![0f32; l.frames * aw];
+        if let Some(per_chunk) = (PARALLEL_BYTES / 4).checked_div(fb) {
+            let chunk = if l.data_bytes() > PARALLEL_BYTES {
+                per_chunk.max(1)
+            } else {
+                l.frames.max(1)
+            };
+            let k = l.frames.div_ceil(chunk);
+            let parts: Vec<_> = split(&mut xyz, chunk * l.points, k)
+                .into_iter()
+                .zip(split(&mut residual, chunk * l.points, k))
+                .zip(split(&mut camera_mask, chunk * l.points, k))
+                .zip(split(&mut raw, chunk * aw, k))
+                .zip(self.bytes[..l.frames * fb].chunks(chunk * fb))
+                .collect();
+            let run = |((((x, r), m), a), b): Part<'_>| decode_frames::<C>(l, b, x, r, m, a);
+            if k > 1 {
+                parts.into_par_iter().for_each(run);
+            } else {
+                parts.into_iter().for_each(run);
+            }
+        }
+        let pts = Points {
+            frames: l.frames,
+            count: l.points,
+            xyz,
+            residual,
+            camera_mask,
+        };
+        let ana = Analog {
+            channels: l.analog_channels,
+            samples_per_frame: l.analog_samples_per_frame,
+            frames: l.frames,
+            raw,
+        };
+        (pts, ana)
+    }
+}
+
+type Part<'a> = (
+    (
+        ((&'a mut [[f32; 3]], &'a mut [f32]), &'a mut [u8]),
+        &'a mut [f32],
+    ),
+    &'a [u8],
+);
+
+/// `v` cut into `k` pieces of `per` elements (the last shorter; empty pieces when `v` is).
+fn split<T>(v: &mut [T], per: usize, k: usize) -> Vec<&mut [T]> {
+    let mut out: Vec<&mut [T]> = if per == 0 {
+        Vec::new()
+    } else {
+        v.chunks_mut(per).collect()
+    };
+    out.resize_with(k, || &mut []);
+    out
+}
+
+/// Decode whole frames from `bytes` into the output slices of the same frames.
+fn decode_frames<C: Codec>(
+    l: Layout,
+    bytes: &[u8],
+    xyz: &mut [[f32; 3]],
+    residual: &mut [f32],
+    camera_mask: &mut [u8],
+    raw: &mut [f32],
+) {
+    let fb = l.frame_bytes();
+    let aw = l.analog_words();
+    let s = l.point_scale;
+    let pb = 4 * l.word_bytes() * l.points;
+    for (f, frame) in bytes.chunks_exact(fb).enumerate() {
+        let (pbytes, abytes) = frame.split_at(pb);
+        let base = f * l.points;
+        let out = base..base + l.points;
+        let (xo, ro, mo) = (
+            &mut xyz[out.clone()],
+            &mut residual[out.clone()],
+            &mut camera_mask[out],
+        );
+        let ao = &mut raw[f * aw..(f + 1) * aw];
+        if l.float {
+            for (i, c) in pbytes.chunks_exact(16).enumerate() {
+                let v = |k: usize| C::read_f32([c[k], c[k + 1], c[k + 2], c[k + 3]]);
+                xo[i] = [v(0), v(4), v(8)];
+                let w = v(12);
+                (ro[i], mo[i]) = decode_fourth(if w < 0.0 { -1 } else { w as i32 }, s);
+            }
+            for (o, c) in ao.iter_mut().zip(abytes.chunks_exact(4)) {
+                *o = C::read_f32([c[0], c[1], c[2], c[3]]);
+            }
+        } else {
+            for (i, c) in pbytes.chunks_exact(8).enumerate() {
+                let v = |k: usize| C::read_i16([c[k], c[k + 1]]);
+                xo[i] = [v(0) as f32 * s, v(2) as f32 * s, v(4) as f32 * s];
+                (ro[i], mo[i]) = decode_fourth(v(6) as i32, s);
+            }
+            if l.unsigned_analog {
+                for (o, c) in ao.iter_mut().zip(abytes.chunks_exact(2)) {
+                    *o = C::read_i16([c[0], c[1]]) as u16 as f32;
                 }
             } else {
-                for (i, c) in pbytes.chunks_exact(8).enumerate() {
-                    let v = |k: usize| C::read_i16([c[k], c[k + 1]]);
-                    pts.xyz[base + i] = [v(0) as f32 * s, v(2) as f32 * s, v(4) as f32 * s];
-                    let (r, m) = decode_fourth(v(6) as i32, s);
-                    pts.residual[base + i] = r;
-                    pts.camera_mask[base + i] = m;
-                }
-                if l.unsigned_analog {
-                    for (o, c) in ana_out.iter_mut().zip(abytes.chunks_exact(2)) {
-                        *o = C::read_i16([c[0], c[1]]) as u16 as f32;
-                    }
-                } else {
-                    for (o, c) in ana_out.iter_mut().zip(abytes.chunks_exact(2)) {
-                        *o = C::read_i16([c[0], c[1]]) as f32;
-                    }
+                for (o, c) in ao.iter_mut().zip(abytes.chunks_exact(2)) {
+                    *o = C::read_i16([c[0], c[1]]) as f32;
                 }
             }
         }
-        (pts, ana)
     }
 }
 
