@@ -65,7 +65,11 @@ fn bench(c: &mut Criterion) {
         });
         g.bench_with_input(BenchmarkId::new("c3dio", name), path, |b, path| {
             b.iter(|| {
-                black_box(c3dio::C3d::load_path(path.clone()).map(|c| c.points.points.rows()))
+                black_box(
+                    c3dio::C3d::load_path(path.clone())
+                        .map(|c| c.points.points.rows())
+                        .ok(),
+                )
             })
         });
     }
