@@ -42,8 +42,8 @@ fn seventy_thousand_frames_round_trip() {
         assert!(back.warnings().is_empty(), "{:?}", back.warnings());
         let k = back.points().index(69_999, 1);
         let want = pts.xyz[k];
-        for a in 0..3 {
-            assert!((back.points().xyz[k][a] - want[a]).abs() <= scale.abs() / 2.0 + 1e-3);
+        for (got, want) in back.points().xyz[k].iter().zip(want) {
+            assert!((got - want).abs() <= scale.abs() / 2.0 + 1e-3);
         }
         assert!(!back.points().is_valid(69_007, 0));
         // And it rewrites byte for byte.
