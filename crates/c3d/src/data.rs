@@ -262,7 +262,9 @@ impl CodecFn<Result<()>> for Encode<'_> {
                         }
                         let valid = r >= 0.0;
                         let q = |v: f32, axis: &str| -> Result<i16> {
-                            if !valid && !v.is_finite() {
+                            // An invalid sample's coordinates carry no meaning (the manual):
+                            // ones an integer cannot hold are stored as 0.
+                            if !valid && !(v / s).round().abs().le(&32767.0) {
                                 return Ok(0);
                             }
                             int16(v / s, || {

@@ -145,6 +145,16 @@ pub fn read(bytes: Vec<u8>) -> Result<C3d> {
         bytes: &bytes[data_offset..data_offset + need],
         layout,
     });
+    if points.count() > 0 && points.frames() > 0 && points.residual.iter().all(|&r| r < 0.0) {
+        let nonzero = points.xyz.iter().any(|p| p.iter().any(|&v| v != 0.0));
+        if nonzero {
+            warnings.push(Warning::new(
+                Section::Data,
+                Some(data_offset),
+                "every point sample is flagged invalid (negative residual) although coordinates are stored",
+            ));
+        }
+    }
     let source = Source {
         header: header.clone(),
         processor,

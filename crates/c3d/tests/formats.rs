@@ -310,3 +310,54 @@ fn integer_overflow_is_a_clear_error() {
         "{e}"
     );
 }
+
+#[test]
+fn every_corpus_file_converts_to_every_format() {
+    let files = testkit::all_c3d_files();
+    let mut converted = 0;
+    for f in &files {
+        let Ok(c) = c3d::read_file(f) else { continue };
+        for p in [Processor::Intel, Processor::Dec, Processor::Sgi] {
+            for fmt in [NumberFormat::Integer, NumberFormat::Float] {
+                let name = format!("{} → {} {}", testkit::short(f), p.name(), fmt.name());
+                let bytes = match c.convert(p, fmt, None) {
+                    Ok(b) => b,
+                    Err(e) => panic!("{name}: {e}"),
+                };
+                let back = c3d::read(bytes).unwrap_or_else(|e| panic!("{name}: {e}"));
+                assert_eq!((back.processor(), back.format()), (p, fmt), "{name}");
+                assert_eq!(back.points().frames(), c.points().frames(), "{name}");
+                assert_eq!(back.points().count(), c.points().count(), "{name}");
+                assert_eq!(back.analog().channels(), c.analog().channels(), "{name}");
+                assert_eq!(back.point_labels(), c.point_labels(), "{name}");
+                // Integer output is quantized by the scale it was given.
+                let step = if fmt == NumberFormat::Integer {
+                    back.layout().point_scale * 0.5 * 1.001
+                } else {
+                    0.0
+                };
+                let (pa, pb) = (c.points(), back.points());
+                for k in 0..pa.xyz.len() {
+                    let valid = pa.residual[k] >= 0.0;
+                    assert_eq!(valid, pb.residual[k] >= 0.0, "{name}: validity at {k}");
+                    if !valid {
+                        continue;
+                    }
+                    for a in 0..3 {
+                        let (x, y) = (pa.xyz[k][a], pb.xyz[k][a]);
+                        // DEC floats cannot hold values beyond ±1.7e38 or below 2.9e-39.
+                        let tol = step + 1e-6 * x.abs().max(1.0);
+                        assert!(
+                            (x - y).abs() <= tol,
+                            "{name}: sample {k} axis {a}: {x} vs {y}"
+                        );
+                    }
+                }
+                converted += 1;
+            }
+        }
+    }
+    if !files.is_empty() {
+        assert!(converted >= 88 * 6, "{converted}");
+    }
+}
