@@ -171,11 +171,16 @@ impl C3d {
     /// Point labels (POINT:LABELS, LABELS2, …), one per stored point; missing ones are
     /// named by their number so every point has a label.
     pub fn point_labels(&self) -> Vec<String> {
-        let mut l = self.parameters.get_strings_continued("POINT", "LABELS");
-        let n = self.points.count;
+        self.labels("POINT", self.points.count, "POINT")
+    }
+
+    /// `group:LABELS` (and continuations) cut or extended to `n`, unlabelled entries named
+    /// `{stem}{number}`.
+    fn labels(&self, group: &str, n: usize, stem: &str) -> Vec<String> {
+        let mut l = self.parameters.get_strings_continued(group, "LABELS");
         l.truncate(n);
         while l.len() < n {
-            l.push(format!("POINT{}", l.len() + 1));
+            l.push(format!("{stem}{}", l.len() + 1));
         }
         l
     }
@@ -247,13 +252,7 @@ impl C3d {
 
     /// Analog channel labels (ANALOG:LABELS, LABELS2, …), one per channel.
     pub fn analog_labels(&self) -> Vec<String> {
-        let mut l = self.parameters.get_strings_continued("ANALOG", "LABELS");
-        let n = self.analog.channels;
-        l.truncate(n);
-        while l.len() < n {
-            l.push(format!("CHANNEL{}", l.len() + 1));
-        }
-        l
+        self.labels("ANALOG", self.analog.channels, "CHANNEL")
     }
 
     /// Analog units per channel (ANALOG:UNITS).
