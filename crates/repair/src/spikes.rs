@@ -4,6 +4,10 @@
 //! 3; the wider window keeps the median robust when optical swaps or reflections corrupt
 //! several consecutive frames (up to 5 of 11), at 100–200 Hz it still spans well under a
 //! gait event, and a sample on a smooth trajectory is its window's median anyway.
+//! The identifier judges raw coordinates, so along an axis where the marker moves fast the
+//! window's trend inflates the MAD: walking at 12 mm/frame, a spike along the direction of
+//! travel must exceed roughly 150 mm to be caught, while vertical or lateral ones of a few
+//! centimetres are.
 
 use serde::Serialize;
 
@@ -26,6 +30,10 @@ pub struct SpikeOptions {
     pub half_window: usize,
     /// Outlier threshold in scaled MADs (1.4826 × MAD).
     pub nsigma: f64,
+    /// Deviations from the median at or below this (data units) are never outliers.
+    /// 0 (default) is MATLAB's rule; a few mm keeps measurement noise on a still
+    /// coordinate, whose MAD is tiny, from being flagged.
+    pub min_deviation: f64,
     pub mode: SpikeMode,
 }
 
@@ -34,6 +42,7 @@ impl Default for SpikeOptions {
         SpikeOptions {
             half_window: 5,
             nsigma: 3.0,
+            min_deviation: 0.0,
             mode: SpikeMode::Gap,
         }
     }
@@ -48,6 +57,11 @@ impl SpikeOptions {
         }
         if !(self.nsigma > 0.0 && self.nsigma.is_finite()) {
             return Err(RepairError::Option("spike nsigma must be above 0".into()));
+        }
+        if !(self.min_deviation >= 0.0 && self.min_deviation.is_finite()) {
+            return Err(RepairError::Option(
+                "spike min_deviation must be 0 or more".into(),
+            ));
         }
         Ok(())
     }
@@ -91,7 +105,7 @@ pub fn detect(xyz: &[[f64; 3]], valid: &[bool], marker: usize, opts: &SpikeOptio
             median[c] = med;
             let dev = (xyz[f][c] - med).abs();
             // A sample equal to its median is never an outlier: skip the MAD.
-            if dev == 0.0 || dev.is_nan() {
+            if dev <= opts.min_deviation || dev.is_nan() {
                 continue;
             }
             for v in buf.iter_mut() {
