@@ -42,15 +42,16 @@ impl Choice {
 }
 
 /// An artificial gap: the span handed to the methods and the frames scored.
-struct Trial {
-    span: Span,
-    hole: (usize, usize),
+pub(super) struct Trial {
+    pub span: Span,
+    pub hole: (usize, usize),
 }
 
 pub(super) fn fill(
     t: &Target,
     span: Span,
     plan: &Plan,
+    trials: &[Trial],
     opts: &FillOptions,
 ) -> Result<(Vec<[f64; 3]>, Choice), SkipReason> {
     let edge = span.before.is_none() || span.after.is_none();
@@ -80,11 +81,10 @@ pub(super) fn fill(
 
     // errs[c][i]: per-sample errors of candidate c over the artificial gaps where every
     // candidate succeeded (so all are compared on the same samples).
-    let trials = artificial(t, span, opts.auto_trials);
     let mut errs: Vec<Vec<f64>> = vec![Vec::new(); fills.len()];
     let mut preds: Vec<Vec<[f64; 3]>> = vec![Vec::new(); fills.len()];
     let mut truth: Vec<[f64; 3]> = Vec::new();
-    for tr in &trials {
+    for tr in trials {
         let tt = Target {
             hole: Some(tr.hole),
             ..*t
@@ -184,7 +184,7 @@ fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
 /// Artificial gaps of the gap's length in the target's valid data: up to `per_side` on each
 /// side for an interior gap, leaving a few valid samples between them and the real gap; for
 /// a gap at a trial edge, the gap extended inwards by its length (same one-sided situation).
-fn artificial(t: &Target, span: Span, per_side: usize) -> Vec<Trial> {
+pub(super) fn artificial(t: &Target, span: Span, per_side: usize) -> Vec<Trial> {
     let n = t.data.frames;
     let len = span.len();
     let ok_run = |a: usize, b: usize| (a..=b).all(|f| t.ok(f));

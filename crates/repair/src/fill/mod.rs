@@ -111,7 +111,7 @@ impl Default for FillOptions {
             rigid_donors: 3,
             pca_neighbours: 8,
             pca_variance: 0.999,
-            pca_window: 500,
+            pca_window: 250,
             auto_trials: 2,
         }
     }
@@ -298,7 +298,10 @@ pub(crate) fn fill_with(
         FillMethod::Rigid => rigid::fill(t, span, plan),
         FillMethod::Pattern => pattern::fill(t, span, plan),
         FillMethod::Pca => pca::fill(t, span, plan, opts),
-        FillMethod::Auto => auto::fill(t, span, plan, opts).map(|(v, _)| v),
+        FillMethod::Auto => {
+            let trials = auto::artificial(t, span, opts.auto_trials);
+            auto::fill(t, span, plan, &trials, opts).map(|(v, _)| v)
+        }
     }
 }
 
@@ -330,9 +333,15 @@ pub(crate) fn fill_gap(
         hole: None,
     };
     let span = Span::of(gap, data.frames);
-    let plan = Plan::build(&t, span, opts);
+    let mut plan = if opts.method.is_polynomial() {
+        Plan::empty(span)
+    } else {
+        Plan::build(&t, span, opts)
+    };
     if opts.method == FillMethod::Auto {
-        return match auto::fill(&t, span, &plan, opts) {
+        let trials = auto::artificial(&t, span, opts.auto_trials);
+        plan.exclude = trials.iter().map(|tr| tr.hole).collect();
+        return match auto::fill(&t, span, &plan, &trials, opts) {
             Ok((v, choice)) => (Some(v), choice.outcome()),
             Err(r) => skip(r),
         };

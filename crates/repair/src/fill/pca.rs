@@ -1,15 +1,28 @@
 //! PCA fill after Gløersen & Federolf (2016, PLoS ONE 11(3) e0152616): marker positions are
 //! centred per frame on the neighbours' centroid, weighted by distance to the target, and
-//! a principal component model is trained on nearby frames where all of them are valid.
-//! In the gap, the component scores are found by least squares from the neighbours' known
-//! coordinates and the target is read back from the model; the anchor errors are then
-//! blended out so the fill is continuous with the valid samples.
+//! a principal component model is trained on nearby frames (±max(pca_window, 5 × gap))
+//! where all of them are valid. In the gap, the component scores are found by least squares
+//! from the neighbours' known coordinates and the target is read back from the model; the
+//! anchor errors are then blended out so the fill is continuous with the valid samples.
+//!
+//! The artificial gaps `auto` scores PCA on share one model trained without the frames of
+//! all of them ([`Plan::exclude`]), so scores stay honest at the cost of one extra model per
+//! gap rather than one per artificial gap; the real gap's model uses every valid frame.
 
 use super::{blend_edges, Fill, FillOptions, Plan, SkipReason, Span, Target};
 use crate::linalg::{solve_in_place, symmetric_eigen};
+use nalgebra::DMatrix;
 
 /// Fewest training frames accepted.
 const MIN_TRAIN: usize = 10;
+
+/// A trained model reduced to what prediction needs: the target's centred position is
+/// `mean_t + B (y - mean_k)` for the neighbours' weighted centred coordinates `y`.
+#[derive(Debug, Clone)]
+pub(crate) struct Model {
+    mean: Vec<f64>,
+    bmat: Vec<f64>,
+}
 
 pub(super) fn fill(t: &Target, span: Span, plan: &Plan, opts: &FillOptions) -> Fill {
     let d = t.data;
@@ -18,70 +31,120 @@ pub(super) fn fill(t: &Target, span: Span, plan: &Plan, opts: &FillOptions) -> F
     if nb.len() < 2 || !nb.iter().all(|&(j, _)| d.ok_through(j, lo_o, hi_o)) {
         return Err(SkipReason::NoDonors);
     }
+    let real = Target { hole: None, ..*t };
+    let fresh;
+    let model = match t.hole {
+        None => plan
+            .pca_model
+            .get_or_init(|| train(&real, plan.region, nb, &[], opts)),
+        Some((a, b)) if plan.exclude.iter().any(|&(ea, eb)| ea <= a && b <= eb) => plan
+            .pca_scoring_model
+            .get_or_init(|| train(&real, plan.region, nb, &plan.exclude, opts)),
+        Some(_) => {
+            fresh = train(t, plan.region, nb, &[], opts);
+            &fresh
+        }
+    };
+    let model = model.as_ref().map_err(|&e| e)?;
     let known = 3 * nb.len();
-    let dims = known + 3;
-    // Row of one frame: weighted neighbour offsets from their centroid, then the target's.
-    let centroid = |f: usize| {
-        let mut c = [0.0; 3];
-        for &(j, _) in nb {
-            let p = d.at(j, f);
-            for k in 0..3 {
-                c[k] += p[k] / nb.len() as f64;
-            }
-        }
-        c
-    };
-    let known_row = |f: usize, c: [f64; 3], row: &mut [f64]| {
-        for (i, &(j, w)) in nb.iter().enumerate() {
-            let p = d.at(j, f);
-            for k in 0..3 {
-                row[3 * i + k] = w * (p[k] - c[k]);
-            }
-        }
-    };
-
-    let half = opts.pca_window.max(5 * span.len());
-    let lo = span.first.saturating_sub(half);
-    let hi = (span.last + half).min(d.frames - 1);
-    let mut n = 0usize;
-    let mut sum = vec![0.0; dims];
-    let mut cov = vec![0.0; dims * dims];
-    let mut row = vec![0.0; dims];
-    let mut shift: Option<Vec<f64>> = None;
-    for f in lo..=hi {
-        if !(t.ok(f) && nb.iter().all(|&(j, _)| d.ok(j, f))) {
-            continue;
-        }
-        let c = centroid(f);
-        known_row(f, c, &mut row);
-        let p = t.at(f);
+    let mut y = vec![0.0; known];
+    let mut predict = |f: usize| {
+        let c = centroid(t, nb, f);
+        known_row(t, nb, f, c, &mut y);
+        let mut out = [0.0; 3];
         for k in 0..3 {
-            row[known + k] = p[k] - c[k];
+            let brow = &model.bmat[k * known..(k + 1) * known];
+            let v: f64 = brow
+                .iter()
+                .zip(&y)
+                .zip(&model.mean)
+                .map(|((b, yv), m)| b * (yv - m))
+                .sum();
+            out[k] = model.mean[known + k] + v + c[k];
         }
-        // Sums about the first row keep the covariance accurate.
-        let s = shift.get_or_insert_with(|| row.clone());
-        for i in 0..dims {
-            row[i] -= s[i];
-        }
-        n += 1;
-        for i in 0..dims {
-            sum[i] += row[i];
-            let ri = row[i];
-            for jj in i..dims {
-                cov[i * dims + jj] += ri * row[jj];
-            }
+        out
+    };
+    let mut out: Vec<[f64; 3]> = (span.first..=span.last).map(&mut predict).collect();
+    let pb = span.before.map(&mut predict);
+    let pa = span.after.map(&mut predict);
+    blend_edges(&mut out, t, span, pb, pa);
+    Ok(out)
+}
+
+fn centroid(t: &Target, nb: &[(usize, f64)], f: usize) -> [f64; 3] {
+    let mut c = [0.0; 3];
+    for &(j, _) in nb {
+        let p = t.data.at(j, f);
+        for k in 0..3 {
+            c[k] += p[k] / nb.len() as f64;
         }
     }
-    let Some(shift) = shift.filter(|_| n >= MIN_TRAIN) else {
+    c
+}
+
+/// Weighted neighbour offsets from their centroid `c`.
+fn known_row(t: &Target, nb: &[(usize, f64)], f: usize, c: [f64; 3], row: &mut [f64]) {
+    for (i, &(j, w)) in nb.iter().enumerate() {
+        let p = t.data.at(j, f);
+        for k in 0..3 {
+            row[3 * i + k] = w * (p[k] - c[k]);
+        }
+    }
+}
+
+/// Trains on the frames of `region`'s window where the target and all neighbours are valid,
+/// minus the `exclude` ranges.
+fn train(
+    t: &Target,
+    region: Span,
+    nb: &[(usize, f64)],
+    exclude: &[(usize, usize)],
+    opts: &FillOptions,
+) -> Result<Model, SkipReason> {
+    let d = t.data;
+    let known = 3 * nb.len();
+    let dims = known + 3;
+    let half = opts.pca_window.max(5 * region.len());
+    let lo = region.first.saturating_sub(half);
+    let hi = (region.last + half).min(d.frames - 1);
+    let frames: Vec<usize> = (lo..=hi)
+        .filter(|&f| {
+            t.ok(f)
+                && !exclude.iter().any(|&(a, b)| f >= a && f <= b)
+                && nb.iter().all(|&(j, _)| d.ok(j, f))
+        })
+        .collect();
+    let n = frames.len();
+    if n < MIN_TRAIN {
         return Err(SkipReason::NoContext);
-    };
+    }
+    // Rows as columns of a dims × n matrix, shifted by the first row for accuracy.
+    let mut x = DMatrix::<f64>::zeros(dims, n);
+    for (i, &f) in frames.iter().enumerate() {
+        let c = centroid(t, nb, f);
+        let mut col = x.column_mut(i);
+        let s = col.as_mut_slice();
+        known_row(t, nb, f, c, &mut s[..known]);
+        let p = t.at(f);
+        for k in 0..3 {
+            s[known + k] = p[k] - c[k];
+        }
+    }
+    let shift: Vec<f64> = x.column(0).iter().copied().collect();
+    for mut col in x.column_iter_mut() {
+        for (v, s) in col.iter_mut().zip(&shift) {
+            *v -= s;
+        }
+    }
     let nf = n as f64;
+    let sum: Vec<f64> = x.row_iter().map(|r| r.sum()).collect();
     let mean: Vec<f64> = (0..dims).map(|i| shift[i] + sum[i] / nf).collect();
+    // A plain product goes through nalgebra's blocked gemm, much faster than mul_tr here.
+    let xxt = &x * x.transpose();
+    let mut cov = vec![0.0; dims * dims];
     for i in 0..dims {
-        for jj in i..dims {
-            let v = (cov[i * dims + jj] - sum[i] * sum[jj] / nf) / (nf - 1.0);
-            cov[i * dims + jj] = v;
-            cov[jj * dims + i] = v;
+        for j in 0..dims {
+            cov[i * dims + j] = (xxt[(i, j)] - sum[i] * sum[j] / nf) / (nf - 1.0);
         }
     }
     let (vals, vecs) = symmetric_eigen(&cov, dims);
@@ -96,8 +159,7 @@ pub(super) fn fill(t: &Target, span: Span, plan: &Plan, opts: &FillOptions) -> F
         acc += vals[pcs].max(0.0);
         pcs += 1;
     }
-    // Scores from known rows: z = (Vk' Vk)^-1 Vk' y. Precompute B = Vt (Vk' Vk)^-1 Vk'
-    // (3 × known) so each frame costs one small product.
+    // Scores from known rows: z = (Vk' Vk)^-1 Vk' y; B = Vt (Vk' Vk)^-1 Vk' (3 × known).
     let mut g = vec![0.0; pcs * pcs];
     for a in 0..pcs {
         for b in 0..pcs {
@@ -121,23 +183,5 @@ pub(super) fn fill(t: &Target, span: Span, plan: &Plan, opts: &FillOptions) -> F
                 .sum();
         }
     }
-    let mut y = vec![0.0; known];
-    let mut predict = |f: usize| {
-        let c = centroid(f);
-        known_row(f, c, &mut y);
-        let mut out = [0.0; 3];
-        for k in 0..3 {
-            let mut v = mean[known + k];
-            for r in 0..known {
-                v += bmat[k * known + r] * (y[r] - mean[r]);
-            }
-            out[k] = v + c[k];
-        }
-        out
-    };
-    let mut out: Vec<[f64; 3]> = (span.first..=span.last).map(&mut predict).collect();
-    let pb = span.before.map(&mut predict);
-    let pa = span.after.map(&mut predict);
-    blend_edges(&mut out, t, span, pb, pa);
-    Ok(out)
+    Ok(Model { mean, bmat })
 }

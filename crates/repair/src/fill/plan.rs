@@ -1,7 +1,10 @@
 //! Donor choice for one gap, made once and reused when `auto` scores methods on artificial
 //! gaps nearby, so scores describe the fill that will actually be used.
 
-use super::{FillOptions, Span, Target};
+use std::cell::OnceCell;
+
+use super::pca::Model;
+use super::{FillOptions, SkipReason, Span, Target};
 
 /// Candidates are first narrowed to the markers nearest the target at the gap's anchor;
 /// donors that move with the target are near it, and this bounds the work per gap.
@@ -10,7 +13,7 @@ const NEAREST: usize = 24;
 const MIN_COMMON: usize = 10;
 
 /// Donors chosen for one gap.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone)]
 pub(crate) struct Plan {
     /// Rigid donors, smallest distance variation to the target first (empty: none usable).
     pub rigid: Vec<usize>,
@@ -18,6 +21,14 @@ pub(crate) struct Plan {
     pub pattern: Option<usize>,
     /// PCA neighbours (nearest first) with their weights.
     pub pca: Vec<(usize, f64)>,
+    /// The gap the plan was made for (centre of the PCA training window).
+    pub region: Span,
+    /// Frames kept out of PCA training: `auto`'s artificial gaps.
+    pub exclude: Vec<(usize, usize)>,
+    /// The PCA model for the gap itself, trained on first use.
+    pub pca_model: OnceCell<Result<Model, SkipReason>>,
+    /// The PCA model for `auto`'s artificial gaps, trained without any of them.
+    pub pca_scoring_model: OnceCell<Result<Model, SkipReason>>,
 }
 
 struct Stats {
@@ -30,13 +41,26 @@ struct Stats {
 impl Plan {
     /// Chooses donors among markers valid through the gap and its anchors, from their
     /// relation to the target over the valid frames within ±max(60, 2 × gap) frames.
+    /// A plan with no donors (for methods that use none).
+    pub fn empty(span: Span) -> Plan {
+        Plan {
+            rigid: Vec::new(),
+            pattern: None,
+            pca: Vec::new(),
+            region: span,
+            exclude: Vec::new(),
+            pca_model: OnceCell::new(),
+            pca_scoring_model: OnceCell::new(),
+        }
+    }
+
     pub fn build(t: &Target, span: Span, opts: &FillOptions) -> Plan {
         let d = t.data;
         let (lo_o, hi_o) = span.outer();
         let anchor = match (span.before, span.after) {
             (Some(b), _) if t.ok(b) => b,
             (_, Some(a)) if t.ok(a) => a,
-            _ => return Plan::default(),
+            _ => return Plan::empty(span),
         };
         let pa = t.at(anchor);
         let mut cands: Vec<(f64, usize)> = (0..d.xyz.len())
@@ -86,6 +110,10 @@ impl Plan {
             rigid,
             pattern,
             pca,
+            region: span,
+            exclude: Vec::new(),
+            pca_model: OnceCell::new(),
+            pca_scoring_model: OnceCell::new(),
         }
     }
 }
