@@ -118,29 +118,37 @@ fn train(
     if n < MIN_TRAIN {
         return Err(SkipReason::NoContext);
     }
-    // Rows as columns of a dims × n matrix, shifted by the first row for accuracy.
-    let mut x = DMatrix::<f64>::zeros(dims, n);
-    for (i, &f) in frames.iter().enumerate() {
-        let c = centroid(t, nb, f);
-        let mut col = x.column_mut(i);
-        let s = col.as_mut_slice();
-        known_row(t, nb, f, c, &mut s[..known]);
-        let p = t.at(f);
-        for k in 0..3 {
-            s[known + k] = p[k] - c[k];
+    // Rows are accumulated in blocks (columns of a small dims × BLOCK matrix, shifted by the
+    // first row for accuracy) so the cross-products go through nalgebra's blocked gemm
+    // without one large temporary per gap.
+    const BLOCK: usize = 64;
+    let mut shift: Option<Vec<f64>> = None;
+    let mut sum = vec![0.0; dims];
+    let mut xxt = DMatrix::<f64>::zeros(dims, dims);
+    for chunk in frames.chunks(BLOCK) {
+        let mut x = DMatrix::<f64>::zeros(dims, chunk.len());
+        for (i, &f) in chunk.iter().enumerate() {
+            let c = centroid(t, nb, f);
+            let mut col = x.column_mut(i);
+            let s = col.as_mut_slice();
+            known_row(t, nb, f, c, &mut s[..known]);
+            let p = t.at(f);
+            for k in 0..3 {
+                s[known + k] = p[k] - c[k];
+            }
+            let sh = shift.get_or_insert_with(|| s.to_vec());
+            for (k, v) in s.iter_mut().enumerate() {
+                *v -= sh[k];
+                sum[k] += *v;
+            }
         }
+        xxt.gemm(1.0, &x, &x.transpose(), 1.0);
     }
-    let shift: Vec<f64> = x.column(0).iter().copied().collect();
-    for mut col in x.column_iter_mut() {
-        for (v, s) in col.iter_mut().zip(&shift) {
-            *v -= s;
-        }
-    }
+    let Some(shift) = shift else {
+        return Err(SkipReason::NoContext);
+    };
     let nf = n as f64;
-    let sum: Vec<f64> = x.row_iter().map(|r| r.sum()).collect();
     let mean: Vec<f64> = (0..dims).map(|i| shift[i] + sum[i] / nf).collect();
-    // A plain product goes through nalgebra's blocked gemm, much faster than mul_tr here.
-    let xxt = &x * x.transpose();
     let mut cov = vec![0.0; dims * dims];
     for i in 0..dims {
         for j in 0..dims {

@@ -8,7 +8,7 @@ use super::{FillOptions, SkipReason, Span, Target};
 
 /// Candidates are first narrowed to the markers nearest the target at the gap's anchor;
 /// donors that move with the target are near it, and this bounds the work per gap.
-const NEAREST: usize = 24;
+const NEAREST: usize = 16;
 /// Frames both markers must share in the window for their statistics to count.
 const MIN_COMMON: usize = 10;
 
