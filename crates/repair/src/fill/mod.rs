@@ -81,7 +81,7 @@ impl FillMethod {
 }
 
 /// Fill settings. Defaults: `auto`, gaps up to 200 frames, 10 spline samples per side,
-/// 3 rigid donors, 8 PCA neighbours, 99.9 % PCA variance, PCA window ±max(500, 5×gap).
+/// 4 rigid donors, 8 PCA neighbours, 99.9 % PCA variance, PCA window ±max(500, 5×gap).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FillOptions {
     pub method: FillMethod,
@@ -89,7 +89,8 @@ pub struct FillOptions {
     pub max_gap: Option<usize>,
     /// Valid samples per side the spline is fitted through.
     pub spline_context: usize,
-    /// Donor markers per rigid fill (at least 3).
+    /// Donor markers per rigid fill (at least 3; 4 averages out more noise and keeps the
+    /// rotation well defined when three donors lie nearly on a line).
     pub rigid_donors: usize,
     /// Nearest markers the PCA model uses besides the target (at least 2).
     pub pca_neighbours: usize,
@@ -108,7 +109,7 @@ impl Default for FillOptions {
             method: FillMethod::Auto,
             max_gap: Some(200),
             spline_context: 10,
-            rigid_donors: 3,
+            rigid_donors: 4,
             pca_neighbours: 8,
             pca_variance: 0.999,
             pca_window: 250,
