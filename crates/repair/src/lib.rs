@@ -5,6 +5,31 @@
 //! ([`gaps::mask_from_residuals`]) and writes back the samples [`RepairReport::changes`]
 //! marks. Configuration is built and validated once ([`RepairConfig`]); data-driven
 //! problems are reported, never panics.
+//!
+//! ```
+//! use repair::{repair_trial, FillOptions, FilterSpec, RepairConfig, SpikeOptions, Trial};
+//!
+//! // Two markers, 300 frames at 100 Hz; marker 0 loses frames 100..=119.
+//! let xyz: Vec<Vec<[f64; 3]>> = (0..2)
+//!     .map(|m| (0..300).map(|f| [f as f64, 10.0 * m as f64, (f as f64 * 0.05).sin()]).collect())
+//!     .collect();
+//! let mut valid = vec![vec![true; 300]; 2];
+//! valid[0][100..120].iter_mut().for_each(|v| *v = false);
+//! let mut trial = Trial::new(100.0, xyz, valid)?;
+//!
+//! let cfg = RepairConfig::new(
+//!     Some(SpikeOptions::default()),
+//!     FillOptions::default(),
+//!     Some(FilterSpec::Butterworth { order: 4, cutoff_hz: 6.0 }),
+//! )?;
+//! let report = repair_trial(&mut trial, &cfg)?;
+//! assert_eq!(report.gaps.len(), 1);
+//! assert!(trial.valid[0].iter().all(|&v| v));
+//! // Samples the writer must flag as interpolated:
+//! let filled = report.changes[0].iter().filter(|&&c| c & repair::change::FILLED != 0).count();
+//! assert_eq!(filled, 20);
+//! # Ok::<(), repair::RepairError>(())
+//! ```
 
 pub mod error;
 pub mod evaluate;

@@ -81,7 +81,7 @@ impl FillMethod {
 }
 
 /// Fill settings. Defaults: `auto`, gaps up to 200 frames, 10 spline samples per side,
-/// 4 rigid donors, 8 PCA neighbours, 99.9 % PCA variance, PCA window ±max(500, 5×gap).
+/// 4 rigid donors, 8 PCA neighbours, 99.9 % PCA variance, PCA window ±max(250, 5×gap).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FillOptions {
     pub method: FillMethod,
