@@ -35,6 +35,13 @@ fn main() {
             start.elapsed().as_secs_f64(),
             r.unfilled().count()
         );
+        let mut reasons = std::collections::BTreeMap::new();
+        for g in r.unfilled() {
+            *reasons.entry(format!("{:?}", g.outcome)).or_insert(0) += 1;
+        }
+        for (k, v) in reasons {
+            println!("  {v} × {k}");
+        }
     }
     if !only.is_empty() && !only.iter().any(|o| o == "pipeline") {
         return;

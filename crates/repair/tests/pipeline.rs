@@ -224,3 +224,46 @@ fn empty_and_all_invalid_trials_do_not_panic() {
     assert_eq!(r.gaps.len(), 2);
     assert_eq!(r.unfilled().count(), 2);
 }
+
+#[test]
+fn every_gap_of_a_gappy_gait_trial_is_filled_accurately() {
+    use repair::synth::knock_out;
+    let truth = gait_like(40, 8, 3000, 100.0, 0.3, 5);
+    let mut gappy = truth.clone();
+    let knocked = knock_out(&mut gappy, 0.05, 2, 30, 6);
+    assert!(knocked > 5000);
+    let mut errors = Vec::new();
+    for method in [
+        FillMethod::Spline,
+        FillMethod::Rigid,
+        FillMethod::Pattern,
+        FillMethod::Pca,
+        FillMethod::Auto,
+    ] {
+        let mut t = gappy.clone();
+        let r = repair_trial(&mut t, &fill_only(method, None)).unwrap();
+        let interior_unfilled = r.unfilled().filter(|g| !g.gap.touches_edge()).count();
+        assert_eq!(interior_unfilled, 0, "{method:?}");
+        let (mut sum, mut n) = (0.0, 0usize);
+        for (m, ch) in r.changes.iter().enumerate() {
+            for (f, &c) in ch.iter().enumerate() {
+                if c & change::FILLED != 0 {
+                    let (p, q) = (t.xyz[m][f], truth.xyz[m][f]);
+                    sum += ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2))
+                        .sqrt();
+                    n += 1;
+                }
+            }
+        }
+        assert!(n + 100 >= knocked, "{method:?}: {n} of {knocked} filled");
+        errors.push((method, sum / n as f64));
+    }
+    eprintln!("mean fill error per method, mm: {errors:?}");
+    let best = errors[..4]
+        .iter()
+        .map(|e| e.1)
+        .fold(f64::INFINITY, f64::min);
+    let auto = errors[4].1;
+    assert!(auto <= best * 1.05, "auto {auto} vs best {best}");
+    assert!(auto < 1.5, "auto {auto}");
+}

@@ -160,7 +160,9 @@ fn train(
     if total <= 0.0 {
         return Err(SkipReason::Degenerate);
     }
-    let max_pcs = known.min(n - 1).max(1);
+    // Centring on the neighbours' centroid ties their coordinates (they sum to zero once
+    // unweighted), so the known rows carry at most `known - 3` independent directions.
+    let max_pcs = (known - 3).min(n - 1).max(1);
     let mut pcs = 0;
     let mut acc = 0.0;
     while pcs < max_pcs && acc < opts.pca_variance * total {
@@ -168,21 +170,28 @@ fn train(
         pcs += 1;
     }
     // Scores from known rows: z = (Vk' Vk)^-1 Vk' y; B = Vt (Vk' Vk)^-1 Vk' (3 × known).
-    let mut g = vec![0.0; pcs * pcs];
-    for a in 0..pcs {
-        for b in 0..pcs {
-            g[a * pcs + b] = (0..known).map(|r| vecs[(r, a)] * vecs[(r, b)]).sum();
+    // Should the known rows not determine every kept component, drop the weakest.
+    let p = loop {
+        let mut g = vec![0.0; pcs * pcs];
+        for a in 0..pcs {
+            for b in 0..pcs {
+                g[a * pcs + b] = (0..known).map(|r| vecs[(r, a)] * vecs[(r, b)]).sum();
+            }
         }
-    }
-    let mut p = vec![0.0; pcs * known];
-    for a in 0..pcs {
-        for r in 0..known {
-            p[a * known + r] = vecs[(r, a)];
+        let mut p = vec![0.0; pcs * known];
+        for a in 0..pcs {
+            for r in 0..known {
+                p[a * known + r] = vecs[(r, a)];
+            }
         }
-    }
-    if !solve_in_place(&mut g, pcs, &mut p, known) {
-        return Err(SkipReason::Degenerate);
-    }
+        if solve_in_place(&mut g, pcs, &mut p, known) {
+            break p;
+        }
+        if pcs == 1 {
+            return Err(SkipReason::Degenerate);
+        }
+        pcs -= 1;
+    };
     let mut bmat = vec![0.0; 3 * known];
     for k in 0..3 {
         for r in 0..known {
