@@ -6,8 +6,8 @@
 //! anchor errors are then blended out so the fill is continuous with the valid samples.
 //!
 //! The artificial gaps `auto` scores PCA on share one model trained without the frames of
-//! all of them ([`Plan::exclude`]), so scores stay honest at the cost of one extra model per
-//! gap rather than one per artificial gap; the real gap's model uses every valid frame.
+//! all of them ([`Plan::exclude`]), so scores stay honest; it is the real gap's training
+//! sums with those rows subtracted, so it costs one extra eigen-decomposition per gap.
 
 use super::{blend_edges, Fill, FillOptions, Plan, SkipReason, Span, Target};
 use crate::linalg::{solve_in_place, symmetric_eigen};
@@ -31,22 +31,29 @@ pub(super) fn fill(t: &Target, span: Span, plan: &Plan, opts: &FillOptions) -> F
     if nb.len() < 2 || !nb.iter().all(|&(j, _)| d.ok_through(j, lo_o, hi_o)) {
         return Err(SkipReason::NoDonors);
     }
+    let known = 3 * nb.len();
     let real = Target { hole: None, ..*t };
+    let all = || {
+        plan.pca_sums
+            .get_or_init(|| sums(&real, plan.region, nb, opts))
+    };
     let fresh;
     let model = match t.hole {
         None => plan
             .pca_model
-            .get_or_init(|| train(&real, plan.region, nb, &[], opts)),
-        Some((a, b)) if plan.exclude.iter().any(|&(ea, eb)| ea <= a && b <= eb) => plan
-            .pca_scoring_model
-            .get_or_init(|| train(&real, plan.region, nb, &plan.exclude, opts)),
+            .get_or_init(|| model(all().as_ref().map_err(|&e| e)?, known, opts)),
+        Some((a, b)) if plan.exclude.iter().any(|&(ea, eb)| ea <= a && b <= eb) => {
+            plan.pca_scoring_model.get_or_init(|| {
+                let s = all().as_ref().map_err(|&e| e)?;
+                model(&without(s, &real, nb, &plan.exclude), known, opts)
+            })
+        }
         Some(_) => {
-            fresh = train(t, plan.region, nb, &[], opts);
+            fresh = sums(t, plan.region, nb, opts).and_then(|s| model(&s, known, opts));
             &fresh
         }
     };
     let model = model.as_ref().map_err(|&e| e)?;
-    let known = 3 * nb.len();
     let mut y = vec![0.0; known];
     let mut predict = |f: usize| {
         let c = centroid(t, nb, f);
@@ -92,63 +99,108 @@ fn known_row(t: &Target, nb: &[(usize, f64)], f: usize, c: [f64; 3], row: &mut [
     }
 }
 
-/// Trains on the frames of `region`'s window where the target and all neighbours are valid,
-/// minus the `exclude` ranges.
-fn train(
+/// Sums over the training rows: frames of `region`'s window where the target and all
+/// neighbours are valid. Rows are shifted by the first one for accuracy.
+#[derive(Debug, Clone)]
+pub(crate) struct Sums {
+    frames: Vec<usize>,
+    shift: Vec<f64>,
+    sum: Vec<f64>,
+    xxt: DMatrix<f64>,
+}
+
+/// One frame's row (unshifted): weighted neighbour offsets, then the target's offset.
+fn row(t: &Target, nb: &[(usize, f64)], f: usize, out: &mut [f64]) {
+    let known = 3 * nb.len();
+    let c = centroid(t, nb, f);
+    known_row(t, nb, f, c, &mut out[..known]);
+    let p = t.at(f);
+    for k in 0..3 {
+        out[known + k] = p[k] - c[k];
+    }
+}
+
+fn sums(
     t: &Target,
     region: Span,
     nb: &[(usize, f64)],
-    exclude: &[(usize, usize)],
     opts: &FillOptions,
-) -> Result<Model, SkipReason> {
+) -> Result<Sums, SkipReason> {
     let d = t.data;
-    let known = 3 * nb.len();
-    let dims = known + 3;
+    let dims = 3 * nb.len() + 3;
     let half = opts.pca_window.max(5 * region.len());
     let lo = region.first.saturating_sub(half);
     let hi = (region.last + half).min(d.frames - 1);
     let frames: Vec<usize> = (lo..=hi)
-        .filter(|&f| {
-            t.ok(f)
-                && !exclude.iter().any(|&(a, b)| f >= a && f <= b)
-                && nb.iter().all(|&(j, _)| d.ok(j, f))
-        })
+        .filter(|&f| t.ok(f) && nb.iter().all(|&(j, _)| d.ok(j, f)))
         .collect();
-    let n = frames.len();
-    if n < MIN_TRAIN {
+    let Some(&f0) = frames.first() else {
         return Err(SkipReason::NoContext);
-    }
-    // Rows are accumulated in blocks (columns of a small dims × BLOCK matrix, shifted by the
-    // first row for accuracy) so the cross-products go through nalgebra's blocked gemm
-    // without one large temporary per gap.
+    };
+    let mut shift = vec![0.0; dims];
+    row(t, nb, f0, &mut shift);
+    // Rows are accumulated in blocks (columns of a small dims × BLOCK matrix) so the
+    // cross-products go through nalgebra's blocked gemm without a large temporary.
     const BLOCK: usize = 64;
-    let mut shift: Option<Vec<f64>> = None;
     let mut sum = vec![0.0; dims];
     let mut xxt = DMatrix::<f64>::zeros(dims, dims);
     for chunk in frames.chunks(BLOCK) {
         let mut x = DMatrix::<f64>::zeros(dims, chunk.len());
         for (i, &f) in chunk.iter().enumerate() {
-            let c = centroid(t, nb, f);
             let mut col = x.column_mut(i);
             let s = col.as_mut_slice();
-            known_row(t, nb, f, c, &mut s[..known]);
-            let p = t.at(f);
-            for k in 0..3 {
-                s[known + k] = p[k] - c[k];
-            }
-            let sh = shift.get_or_insert_with(|| s.to_vec());
+            row(t, nb, f, s);
             for (k, v) in s.iter_mut().enumerate() {
-                *v -= sh[k];
+                *v -= shift[k];
                 sum[k] += *v;
             }
         }
         xxt.gemm(1.0, &x, &x.transpose(), 1.0);
     }
-    let Some(shift) = shift else {
+    Ok(Sums {
+        frames,
+        shift,
+        sum,
+        xxt,
+    })
+}
+
+/// `s` without the rows of frames inside `exclude` (artificial gaps): a downdate instead
+/// of a second pass over the window.
+fn without(s: &Sums, t: &Target, nb: &[(usize, f64)], exclude: &[(usize, usize)]) -> Sums {
+    let dims = s.shift.len();
+    let mut out = s.clone();
+    let mut r = vec![0.0; dims];
+    for &(a, b) in exclude {
+        let i0 = out.frames.partition_point(|&f| f < a);
+        let i1 = out.frames.partition_point(|&f| f <= b);
+        for &f in &out.frames[i0..i1] {
+            row(t, nb, f, &mut r);
+            for ((v, sh), acc) in r.iter_mut().zip(&out.shift).zip(out.sum.iter_mut()) {
+                *v -= sh;
+                *acc -= *v;
+            }
+            for i in 0..dims {
+                for j in 0..dims {
+                    out.xxt[(i, j)] -= r[i] * r[j];
+                }
+            }
+        }
+        out.frames.drain(i0..i1);
+    }
+    out
+}
+
+/// The model of the rows summed in `s`.
+fn model(s: &Sums, known: usize, opts: &FillOptions) -> Result<Model, SkipReason> {
+    let dims = known + 3;
+    let n = s.frames.len();
+    if n < MIN_TRAIN {
         return Err(SkipReason::NoContext);
-    };
+    }
+    let (sum, xxt) = (&s.sum, &s.xxt);
     let nf = n as f64;
-    let mean: Vec<f64> = (0..dims).map(|i| shift[i] + sum[i] / nf).collect();
+    let mean: Vec<f64> = (0..dims).map(|i| s.shift[i] + sum[i] / nf).collect();
     let mut cov = vec![0.0; dims * dims];
     for i in 0..dims {
         for j in 0..dims {

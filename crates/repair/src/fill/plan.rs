@@ -3,7 +3,7 @@
 
 use std::cell::OnceCell;
 
-use super::pca::Model;
+use super::pca::{Model, Sums};
 use super::{FillOptions, SkipReason, Span, Target};
 
 /// Candidates are first narrowed to the markers nearest the target at the gap's anchor;
@@ -25,6 +25,8 @@ pub(crate) struct Plan {
     pub region: Span,
     /// Frames kept out of PCA training: `auto`'s artificial gaps.
     pub exclude: Vec<(usize, usize)>,
+    /// The PCA training sums for the gap's window, gathered on first use.
+    pub pca_sums: OnceCell<Result<Sums, SkipReason>>,
     /// The PCA model for the gap itself, trained on first use.
     pub pca_model: OnceCell<Result<Model, SkipReason>>,
     /// The PCA model for `auto`'s artificial gaps, trained without any of them.
@@ -49,6 +51,7 @@ impl Plan {
             pca: Vec::new(),
             region: span,
             exclude: Vec::new(),
+            pca_sums: OnceCell::new(),
             pca_model: OnceCell::new(),
             pca_scoring_model: OnceCell::new(),
         }
@@ -112,6 +115,7 @@ impl Plan {
             pca,
             region: span,
             exclude: Vec::new(),
+            pca_sums: OnceCell::new(),
             pca_model: OnceCell::new(),
             pca_scoring_model: OnceCell::new(),
         }
