@@ -139,8 +139,8 @@ fn polar_rotation(a: &Matrix3<f64>) -> Option<Matrix3<f64>> {
         let next = (x * g + inv_t / g) * 0.5;
         let delta = (next - x).norm();
         x = next;
-        if delta < 1e-15 {
-            // One unscaled step polishes the last digits.
+        if delta < 1e-10 {
+            // Convergence is quadratic: one more unscaled step reaches full precision.
             let inv_t = x.try_inverse()?.transpose();
             return Some((x + inv_t) * 0.5);
         }
