@@ -10,6 +10,8 @@ pub enum RepairError {
     FilterOrder,
     #[error("cutoff {cutoff_hz} Hz must be above 0 and below Nyquist ({nyquist_hz} Hz)")]
     Cutoff { cutoff_hz: f64, nyquist_hz: f64 },
+    #[error("cutoff {0} Hz must be above 0")]
+    CutoffNotPositive(f64),
     #[error("stopband attenuation {0} dB must be above 0")]
     Attenuation(f64),
     #[error("sample rate {0} Hz must be finite and above 0")]

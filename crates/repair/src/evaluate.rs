@@ -88,6 +88,11 @@ pub fn evaluate(trial: &Trial, cfg: &EvalConfig) -> Result<Evaluation> {
         ));
     }
     cfg.fill.validate()?;
+    if cfg.gap_lengths.contains(&0) {
+        return Err(RepairError::Option(
+            "evaluation gap lengths must be at least 1".into(),
+        ));
+    }
     let markers: Vec<usize> = match &cfg.markers {
         Some(v) => v.iter().copied().filter(|&m| m < trial.markers()).collect(),
         None => (0..trial.markers()).collect(),

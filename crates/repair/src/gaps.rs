@@ -71,11 +71,16 @@ pub fn valid_segments(valid: &[bool]) -> Vec<(usize, usize)> {
 /// Validity of each sample from its residual, as C3D stores it: a negative residual means
 /// the sample is missing. Many writers also store missing samples as (0, 0, 0) with a
 /// non-negative residual, so `zero_is_invalid` treats exactly-zero coordinates as missing.
-/// Frames beyond the shorter of the two slices are invalid.
-pub fn mask_from_residuals(xyz: &[[f64; 3]], residual: &[f64], zero_is_invalid: bool) -> Vec<bool> {
+/// Non-finite coordinates are invalid too. Frames beyond the residual slice are invalid.
+/// Residuals may be `f32` (as C3D stores them) or `f64`.
+pub fn mask_from_residuals<R: Copy + Into<f64>>(
+    xyz: &[[f64; 3]],
+    residual: &[R],
+    zero_is_invalid: bool,
+) -> Vec<bool> {
     (0..xyz.len())
         .map(|f| {
-            let r = residual.get(f).copied().unwrap_or(-1.0);
+            let r = residual.get(f).map_or(-1.0, |&r| r.into());
             let p = xyz[f];
             let finite = p.iter().all(|c| c.is_finite());
             let zero = p == [0.0, 0.0, 0.0];
@@ -119,7 +124,7 @@ mod tests {
             [1.0, 0.0, 0.0],
             [4.0, 4.0, 4.0],
         ];
-        let res = [0.5, 0.0, 0.0, -1.0];
+        let res = [0.5f32, 0.0, 0.0, -1.0];
         assert_eq!(
             mask_from_residuals(&xyz, &res, false),
             vec![true, true, true, false]

@@ -99,3 +99,36 @@ fn neighbours_missing_together_still_fill() {
         );
     }
 }
+
+#[test]
+fn bad_evaluation_settings_are_typed_errors_and_results_serialize() {
+    let trial = gait_like(6, 2, 200, 100.0, 0.3, 1);
+    for cfg in [
+        EvalConfig {
+            group: 4,
+            ..EvalConfig::default()
+        },
+        EvalConfig {
+            gap_lengths: vec![0],
+            ..EvalConfig::default()
+        },
+    ] {
+        assert!(matches!(
+            evaluate(&trial, &cfg),
+            Err(repair::RepairError::Option(_))
+        ));
+    }
+    let cfg = EvalConfig {
+        gap_lengths: vec![10],
+        gaps_per_length: 3,
+        methods: vec![FillMethod::Linear, FillMethod::None],
+        ..EvalConfig::default()
+    };
+    let e = evaluate(&trial, &cfg).unwrap();
+    let lin = e.score(FillMethod::Linear, 10).unwrap();
+    assert_eq!((lin.gaps, lin.failed, lin.samples), (3, 0, 30));
+    let none = e.score(FillMethod::None, 10).unwrap();
+    assert_eq!((none.failed, none.samples), (3, 0));
+    let json = serde_json::to_string(&e).unwrap();
+    assert!(json.contains("\"method\":\"linear\""));
+}

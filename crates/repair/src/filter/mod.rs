@@ -50,10 +50,7 @@ impl FilterSpec {
             return Err(RepairError::FilterOrder);
         }
         if !(cutoff > 0.0 && cutoff.is_finite()) {
-            return Err(RepairError::Cutoff {
-                cutoff_hz: cutoff,
-                nyquist_hz: f64::NAN,
-            });
+            return Err(RepairError::CutoffNotPositive(cutoff));
         }
         Ok(())
     }
@@ -200,6 +197,14 @@ mod tests {
         }
         .validate()
         .is_err());
+        assert_eq!(
+            FilterSpec::Butterworth {
+                order: 2,
+                cutoff_hz: -1.0
+            }
+            .validate(),
+            Err(RepairError::CutoffNotPositive(-1.0))
+        );
     }
 
     #[test]
