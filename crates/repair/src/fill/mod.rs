@@ -1,6 +1,6 @@
 //! Gap fill methods. Each method fills one span of one marker from data that is only read,
 //! so markers can be filled in parallel and a method can be tried on artificial gaps
-//! (see [`auto`]) without copying the trial.
+//! (see `FillMethod::Auto`) without copying the trial.
 
 mod auto;
 mod linear;
