@@ -1,0 +1,33 @@
+//! Typed errors: configuration and shape problems. Data-driven problems (a gap too long, a
+//! segment too short) are not errors; they are reported in [`crate::RepairReport`].
+
+use thiserror::Error;
+
+/// Everything that makes a repair or a filter design refuse to run.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum RepairError {
+    #[error("filter order must be at least 1")]
+    FilterOrder,
+    #[error("cutoff {cutoff_hz} Hz must be above 0 and below Nyquist ({nyquist_hz} Hz)")]
+    Cutoff { cutoff_hz: f64, nyquist_hz: f64 },
+    #[error("cutoff {0} Hz must be above 0")]
+    CutoffNotPositive(f64),
+    #[error("stopband attenuation {0} dB must be above 0")]
+    Attenuation(f64),
+    #[error("sample rate {0} Hz must be finite and above 0")]
+    SampleRate(f64),
+    #[error("signal of {len} samples is too short for filtfilt (needs more than {padlen})")]
+    TooShort { len: usize, padlen: usize },
+    #[error("marker {marker}: {what} has {got} frames, expected {expected}")]
+    Shape {
+        marker: usize,
+        what: &'static str,
+        got: usize,
+        expected: usize,
+    },
+    #[error("invalid option: {0}")]
+    Option(String),
+}
+
+/// Crate-wide result.
+pub type Result<T> = std::result::Result<T, RepairError>;

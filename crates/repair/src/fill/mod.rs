@@ -1,0 +1,450 @@
+//! Gap fill methods. Each method fills one span of one marker from data that is only read,
+//! so markers can be filled in parallel and a method can be tried on artificial gaps
+//! (see `FillMethod::Auto`) without copying the trial.
+
+mod auto;
+mod linear;
+mod pattern;
+mod pca;
+mod plan;
+mod poly;
+mod rigid;
+mod spline;
+
+use serde::Serialize;
+
+use crate::error::{RepairError, Result};
+use crate::gaps::Gap;
+
+pub(crate) use plan::Plan;
+
+/// How gaps are filled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FillMethod {
+    /// Leave every gap (still reported).
+    None,
+    Linear,
+    /// Quadratic through the 3 valid samples nearest the gap, split across both sides.
+    Lagrange2,
+    /// Quintic through the 6 valid samples nearest the gap, split across both sides.
+    Lagrange5,
+    /// Not-a-knot cubic spline through up to `spline_context` valid samples per side.
+    Spline,
+    /// Rigid-body fill from donor markers that keep their distances to the target.
+    Rigid,
+    /// The best-correlated donor's shape added to the straight line across the gap.
+    Pattern,
+    /// Distance-weighted PCA reconstruction (Gløersen & Federolf 2016).
+    Pca,
+    /// Per gap, the best method (or blend of two) judged on artificial gaps nearby.
+    Auto,
+}
+
+impl FillMethod {
+    /// Every method that fills, for evaluations.
+    pub const ALL: [FillMethod; 8] = [
+        FillMethod::Linear,
+        FillMethod::Lagrange2,
+        FillMethod::Lagrange5,
+        FillMethod::Spline,
+        FillMethod::Rigid,
+        FillMethod::Pattern,
+        FillMethod::Pca,
+        FillMethod::Auto,
+    ];
+
+    /// Whether the method only uses the target's own samples (and so extrapolates a
+    /// polynomial at the trial's ends).
+    pub fn is_polynomial(self) -> bool {
+        matches!(
+            self,
+            FillMethod::Linear | FillMethod::Lagrange2 | FillMethod::Lagrange5 | FillMethod::Spline
+        )
+    }
+
+    /// Parses the snake_case name used in reports (`"lagrange5"`, `"pca"`, ...).
+    pub fn from_name(s: &str) -> Option<FillMethod> {
+        Some(match s {
+            "none" => FillMethod::None,
+            "linear" => FillMethod::Linear,
+            "lagrange2" => FillMethod::Lagrange2,
+            "lagrange5" => FillMethod::Lagrange5,
+            "spline" => FillMethod::Spline,
+            "rigid" => FillMethod::Rigid,
+            "pattern" => FillMethod::Pattern,
+            "pca" => FillMethod::Pca,
+            "auto" => FillMethod::Auto,
+            _ => return None,
+        })
+    }
+}
+
+/// Fill settings. Defaults: `auto`, gaps up to 200 frames, 10 spline samples per side,
+/// 4 rigid donors, 8 PCA neighbours, 99.9 % PCA variance, PCA window ±max(250, 5×gap).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FillOptions {
+    pub method: FillMethod,
+    /// Longer gaps are left and reported; `None` fills any length.
+    pub max_gap: Option<usize>,
+    /// Valid samples per side the spline is fitted through.
+    pub spline_context: usize,
+    /// Donor markers per rigid fill (at least 3; 4 averages out more noise and keeps the
+    /// rotation well defined when three donors lie nearly on a line).
+    pub rigid_donors: usize,
+    /// Nearest markers the PCA model uses besides the target (at least 2).
+    pub pca_neighbours: usize,
+    /// Fraction of the (weighted) variance the kept principal components explain.
+    pub pca_variance: f64,
+    /// Minimum half-width of the PCA training window in frames (the window is
+    /// ±max(pca_window, 5 × gap length) around the gap).
+    pub pca_window: usize,
+    /// Artificial gaps per side `auto` scores candidates on.
+    pub auto_trials: usize,
+}
+
+impl Default for FillOptions {
+    fn default() -> Self {
+        FillOptions {
+            method: FillMethod::Auto,
+            max_gap: Some(200),
+            spline_context: 10,
+            rigid_donors: 4,
+            pca_neighbours: 8,
+            pca_variance: 0.999,
+            pca_window: 250,
+            auto_trials: 2,
+        }
+    }
+}
+
+impl FillOptions {
+    /// Rejects settings no fill could work with.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |s: &str| Err(RepairError::Option(s.to_string()));
+        if self.max_gap == Some(0) {
+            return bad("max_gap must be at least 1 frame");
+        }
+        if self.spline_context < 1 {
+            return bad("spline_context must be at least 1");
+        }
+        if self.rigid_donors < 3 {
+            return bad("rigid_donors must be at least 3");
+        }
+        if self.pca_neighbours < 2 {
+            return bad("pca_neighbours must be at least 2");
+        }
+        if !(self.pca_variance > 0.0 && self.pca_variance <= 1.0) {
+            return bad("pca_variance must be in (0, 1]");
+        }
+        if self.auto_trials < 1 {
+            return bad("auto_trials must be at least 1");
+        }
+        Ok(())
+    }
+}
+
+/// Why a gap was left unfilled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(tag = "reason", rename_all = "snake_case")]
+pub enum SkipReason {
+    /// The method is `none`.
+    MethodNone,
+    /// Longer than `max_gap` frames.
+    TooLong { max_gap: usize },
+    /// Touches the trial's start or end and the method would extrapolate a polynomial.
+    TouchesEdge,
+    /// Not enough donor markers valid through the gap.
+    NoDonors,
+    /// Not enough valid samples around the gap to fit or to train on.
+    NoContext,
+    /// A linear system was singular.
+    Degenerate,
+}
+
+/// What happened to one gap.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "status", rename_all = "snake_case")]
+pub enum FillOutcome {
+    Filled {
+        method: FillMethod,
+        /// `auto` only: the second method blended in, with `weight` its share.
+        #[serde(skip_serializing_if = "Option::is_none")]
+        blended_with: Option<FillMethod>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        weight: Option<f64>,
+        /// `auto` only: mean 3D error of the choice on the artificial gaps it was scored on.
+        #[serde(skip_serializing_if = "Option::is_none")]
+        expected_error: Option<f64>,
+    },
+    Skipped(SkipReason),
+}
+
+/// The trial's data as the fill methods read it.
+#[derive(Clone, Copy)]
+pub(crate) struct Data<'a> {
+    pub xyz: &'a [Vec<[f64; 3]>],
+    pub valid: &'a [Vec<bool>],
+    pub frames: usize,
+}
+
+impl<'a> Data<'a> {
+    pub fn new(xyz: &'a [Vec<[f64; 3]>], valid: &'a [Vec<bool>]) -> Self {
+        let frames = xyz.first().map_or(0, Vec::len);
+        Data { xyz, valid, frames }
+    }
+
+    #[inline]
+    pub fn ok(&self, m: usize, f: usize) -> bool {
+        self.valid[m][f]
+    }
+
+    #[inline]
+    pub fn at(&self, m: usize, f: usize) -> [f64; 3] {
+        self.xyz[m][f]
+    }
+
+    /// Whether marker `m` is valid on every frame of `lo..=hi`.
+    pub fn ok_through(&self, m: usize, lo: usize, hi: usize) -> bool {
+        self.valid[m][lo..=hi].iter().all(|&v| v)
+    }
+}
+
+/// The marker being filled, possibly with an extra artificial hole (frames treated as
+/// invalid) used when `auto` scores methods on data whose truth is known.
+#[derive(Clone, Copy)]
+pub(crate) struct Target<'a> {
+    pub m: usize,
+    pub data: Data<'a>,
+    pub hole: Option<(usize, usize)>,
+}
+
+impl Target<'_> {
+    #[inline]
+    pub fn ok(&self, f: usize) -> bool {
+        self.data.ok(self.m, f) && !self.hole.is_some_and(|(a, b)| f >= a && f <= b)
+    }
+
+    #[inline]
+    pub fn at(&self, f: usize) -> [f64; 3] {
+        self.data.at(self.m, f)
+    }
+
+    /// Up to `k` valid frames before `first`, nearest first.
+    pub fn before(&self, first: usize, k: usize) -> Vec<usize> {
+        (0..first).rev().filter(|&f| self.ok(f)).take(k).collect()
+    }
+
+    /// Up to `k` valid frames after `last`, nearest first.
+    pub fn after(&self, last: usize, k: usize) -> Vec<usize> {
+        (last + 1..self.data.frames)
+            .filter(|&f| self.ok(f))
+            .take(k)
+            .collect()
+    }
+}
+
+/// The frames to fill, inclusive, and the anchors just outside (valid target samples).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Span {
+    pub first: usize,
+    pub last: usize,
+    pub before: Option<usize>,
+    pub after: Option<usize>,
+}
+
+impl Span {
+    pub fn new(first: usize, last: usize, frames: usize) -> Span {
+        Span {
+            first,
+            last,
+            before: first.checked_sub(1),
+            after: (last + 1 < frames).then_some(last + 1),
+        }
+    }
+
+    pub fn of(gap: &Gap, frames: usize) -> Span {
+        Span::new(gap.first, gap.last, frames)
+    }
+
+    pub fn len(&self) -> usize {
+        self.last - self.first + 1
+    }
+
+    /// First and last frame including the anchors that exist.
+    pub fn outer(&self) -> (usize, usize) {
+        (
+            self.before.unwrap_or(self.first),
+            self.after.unwrap_or(self.last),
+        )
+    }
+}
+
+type Fill = std::result::Result<Vec<[f64; 3]>, SkipReason>;
+
+/// Fills `span` of the target with one concrete method (not `auto`/`none`).
+pub(crate) fn fill_with(
+    method: FillMethod,
+    t: &Target,
+    span: Span,
+    plan: &Plan,
+    opts: &FillOptions,
+) -> Fill {
+    match method {
+        FillMethod::None => Err(SkipReason::MethodNone),
+        FillMethod::Linear => linear::fill(t, span),
+        FillMethod::Lagrange2 => poly::lagrange(t, span, 3),
+        FillMethod::Lagrange5 => poly::lagrange(t, span, 6),
+        FillMethod::Spline => spline::fill(t, span, opts.spline_context),
+        FillMethod::Rigid => rigid::fill(t, span, plan),
+        FillMethod::Pattern => pattern::fill(t, span, plan),
+        FillMethod::Pca => pca::fill(t, span, plan, opts),
+        FillMethod::Auto => {
+            let trials = auto::artificial(t, span, opts.auto_trials);
+            auto::fill(t, span, plan, &trials, opts).map(|(v, _)| v)
+        }
+    }
+}
+
+/// Fills one gap of marker `gap.marker` with the configured method, applying `max_gap` and
+/// the edge rule. Returns the samples for `gap.first..=gap.last` and the outcome.
+pub(crate) fn fill_gap(
+    data: Data,
+    gap: &Gap,
+    opts: &FillOptions,
+) -> (Option<Vec<[f64; 3]>>, FillOutcome) {
+    let skip = |r| (None, FillOutcome::Skipped(r));
+    if opts.method == FillMethod::None {
+        return skip(SkipReason::MethodNone);
+    }
+    if let Some(max) = opts.max_gap {
+        if gap.len > max {
+            return skip(SkipReason::TooLong { max_gap: max });
+        }
+    }
+    if gap.touches_edge() && opts.method.is_polynomial() {
+        return skip(SkipReason::TouchesEdge);
+    }
+    if gap.at_start && gap.at_end {
+        return skip(SkipReason::NoContext);
+    }
+    let t = Target {
+        m: gap.marker,
+        data,
+        hole: None,
+    };
+    let span = Span::of(gap, data.frames);
+    let mut plan = if opts.method.is_polynomial() {
+        Plan::empty(span)
+    } else {
+        Plan::build(&t, span, opts)
+    };
+    if opts.method == FillMethod::Auto {
+        let trials = auto::artificial(&t, span, opts.auto_trials);
+        plan.exclude = trials.iter().map(|tr| tr.hole).collect();
+        return match auto::fill(&t, span, &plan, &trials, opts) {
+            Ok((v, choice)) => (Some(v), choice.outcome()),
+            Err(r) => skip(r),
+        };
+    }
+    match fill_with(opts.method, &t, span, &plan, opts) {
+        Ok(v) => (
+            Some(v),
+            FillOutcome::Filled {
+                method: opts.method,
+                blended_with: None,
+                weight: None,
+                expected_error: None,
+            },
+        ),
+        Err(r) => skip(r),
+    }
+}
+
+/// Adds to `fill` the linear blend of the prediction errors at the anchors, so the fill
+/// meets the valid samples at both edges; with one anchor the error is added as a constant.
+/// `pred_before`/`pred_after` are the method's predictions at the anchors.
+pub(crate) fn blend_edges(
+    fill: &mut [[f64; 3]],
+    t: &Target,
+    span: Span,
+    pred_before: Option<[f64; 3]>,
+    pred_after: Option<[f64; 3]>,
+) {
+    let err = |anchor: Option<usize>, pred: Option<[f64; 3]>| {
+        let (f, p) = (anchor?, pred?);
+        let a = t.at(f);
+        Some([a[0] - p[0], a[1] - p[1], a[2] - p[2]])
+    };
+    let eb = err(span.before, pred_before);
+    let ea = err(span.after, pred_after);
+    for (i, v) in fill.iter_mut().enumerate() {
+        let f = span.first + i;
+        let c = match (eb, ea, span.before, span.after) {
+            (Some(b), Some(a), Some(fb), Some(fa)) => {
+                let w = (f - fb) as f64 / (fa - fb) as f64;
+                [
+                    b[0] + w * (a[0] - b[0]),
+                    b[1] + w * (a[1] - b[1]),
+                    b[2] + w * (a[2] - b[2]),
+                ]
+            }
+            (Some(b), None, _, _) => b,
+            (None, Some(a), _, _) => a,
+            _ => [0.0; 3],
+        };
+        for k in 0..3 {
+            v[k] += c[k];
+        }
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod test_util {
+    use super::*;
+
+    /// A one-marker-or-more trial with marker 0's frames `first..=last` invalid.
+    pub fn with_gap(
+        mut xyz: Vec<Vec<[f64; 3]>>,
+        first: usize,
+        last: usize,
+    ) -> (Vec<Vec<[f64; 3]>>, Vec<Vec<bool>>) {
+        let n = xyz[0].len();
+        let mut valid = vec![vec![true; n]; xyz.len()];
+        for f in first..=last {
+            valid[0][f] = false;
+            xyz[0][f] = [f64::NAN; 3];
+        }
+        (xyz, valid)
+    }
+
+    /// Fills marker 0's gap `first..=last` with `method` and returns the fill.
+    pub fn fill(
+        xyz: &[Vec<[f64; 3]>],
+        valid: &[Vec<bool>],
+        first: usize,
+        last: usize,
+        method: FillMethod,
+    ) -> Fill {
+        let data = Data::new(xyz, valid);
+        let t = Target {
+            m: 0,
+            data,
+            hole: None,
+        };
+        let span = Span::new(first, last, data.frames);
+        let opts = FillOptions::default();
+        let plan = Plan::build(&t, span, &opts);
+        fill_with(method, &t, span, &plan, &opts)
+    }
+
+    pub fn max_err(fill: &[[f64; 3]], truth: impl Fn(usize) -> [f64; 3], first: usize) -> f64 {
+        fill.iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let q = truth(first + i);
+                ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+            })
+            .fold(0.0, f64::max)
+    }
+}

@@ -1,0 +1,256 @@
+//! PCA fill after Gløersen & Federolf (2016, PLoS ONE 11(3) e0152616): marker positions are
+//! centred per frame on the neighbours' centroid, weighted by distance to the target, and
+//! a principal component model is trained on nearby frames (±max(pca_window, 5 × gap))
+//! where all of them are valid. In the gap, the component scores are found by least squares
+//! from the neighbours' known coordinates and the target is read back from the model; the
+//! anchor errors are then blended out so the fill is continuous with the valid samples.
+//!
+//! The artificial gaps `auto` scores PCA on share one model trained without the frames of
+//! all of them ([`Plan::exclude`]), so scores stay honest; it is the real gap's training
+//! sums with those rows subtracted, so it costs one extra eigen-decomposition per gap.
+
+use super::{blend_edges, Fill, FillOptions, Plan, SkipReason, Span, Target};
+use crate::linalg::{solve_in_place, symmetric_eigen};
+use nalgebra::DMatrix;
+
+/// Fewest training frames accepted.
+const MIN_TRAIN: usize = 10;
+
+/// A trained model reduced to what prediction needs: the target's centred position is
+/// `mean_t + B (y - mean_k)` for the neighbours' weighted centred coordinates `y`.
+#[derive(Debug, Clone)]
+pub(crate) struct Model {
+    mean: Vec<f64>,
+    bmat: Vec<f64>,
+}
+
+pub(super) fn fill(t: &Target, span: Span, plan: &Plan, opts: &FillOptions) -> Fill {
+    let d = t.data;
+    let nb = &plan.pca;
+    let (lo_o, hi_o) = span.outer();
+    if nb.len() < 2 || !nb.iter().all(|&(j, _)| d.ok_through(j, lo_o, hi_o)) {
+        return Err(SkipReason::NoDonors);
+    }
+    let known = 3 * nb.len();
+    let real = Target { hole: None, ..*t };
+    let all = || {
+        plan.pca_sums
+            .get_or_init(|| sums(&real, plan.region, nb, opts))
+    };
+    let fresh;
+    let model = match t.hole {
+        None => plan
+            .pca_model
+            .get_or_init(|| model(all().as_ref().map_err(|&e| e)?, known, opts)),
+        Some((a, b)) if plan.exclude.iter().any(|&(ea, eb)| ea <= a && b <= eb) => {
+            plan.pca_scoring_model.get_or_init(|| {
+                let s = all().as_ref().map_err(|&e| e)?;
+                model(&without(s, &real, nb, &plan.exclude), known, opts)
+            })
+        }
+        Some(_) => {
+            fresh = sums(t, plan.region, nb, opts).and_then(|s| model(&s, known, opts));
+            &fresh
+        }
+    };
+    let model = model.as_ref().map_err(|&e| e)?;
+    let mut y = vec![0.0; known];
+    let mut predict = |f: usize| {
+        let c = centroid(t, nb, f);
+        known_row(t, nb, f, c, &mut y);
+        let mut out = [0.0; 3];
+        for k in 0..3 {
+            let brow = &model.bmat[k * known..(k + 1) * known];
+            let v: f64 = brow
+                .iter()
+                .zip(&y)
+                .zip(&model.mean)
+                .map(|((b, yv), m)| b * (yv - m))
+                .sum();
+            out[k] = model.mean[known + k] + v + c[k];
+        }
+        out
+    };
+    let mut out: Vec<[f64; 3]> = (span.first..=span.last).map(&mut predict).collect();
+    let pb = span.before.map(&mut predict);
+    let pa = span.after.map(&mut predict);
+    blend_edges(&mut out, t, span, pb, pa);
+    Ok(out)
+}
+
+fn centroid(t: &Target, nb: &[(usize, f64)], f: usize) -> [f64; 3] {
+    let mut c = [0.0; 3];
+    for &(j, _) in nb {
+        let p = t.data.at(j, f);
+        for k in 0..3 {
+            c[k] += p[k] / nb.len() as f64;
+        }
+    }
+    c
+}
+
+/// Weighted neighbour offsets from their centroid `c`.
+fn known_row(t: &Target, nb: &[(usize, f64)], f: usize, c: [f64; 3], row: &mut [f64]) {
+    for (i, &(j, w)) in nb.iter().enumerate() {
+        let p = t.data.at(j, f);
+        for k in 0..3 {
+            row[3 * i + k] = w * (p[k] - c[k]);
+        }
+    }
+}
+
+/// Sums over the training rows: frames of `region`'s window where the target and all
+/// neighbours are valid. Rows are shifted by the first one for accuracy.
+#[derive(Debug, Clone)]
+pub(crate) struct Sums {
+    frames: Vec<usize>,
+    shift: Vec<f64>,
+    sum: Vec<f64>,
+    xxt: DMatrix<f64>,
+}
+
+/// One frame's row (unshifted): weighted neighbour offsets, then the target's offset.
+fn row(t: &Target, nb: &[(usize, f64)], f: usize, out: &mut [f64]) {
+    let known = 3 * nb.len();
+    let c = centroid(t, nb, f);
+    known_row(t, nb, f, c, &mut out[..known]);
+    let p = t.at(f);
+    for k in 0..3 {
+        out[known + k] = p[k] - c[k];
+    }
+}
+
+fn sums(
+    t: &Target,
+    region: Span,
+    nb: &[(usize, f64)],
+    opts: &FillOptions,
+) -> Result<Sums, SkipReason> {
+    let d = t.data;
+    let dims = 3 * nb.len() + 3;
+    let half = opts.pca_window.max(5 * region.len());
+    let lo = region.first.saturating_sub(half);
+    let hi = (region.last + half).min(d.frames - 1);
+    let frames: Vec<usize> = (lo..=hi)
+        .filter(|&f| t.ok(f) && nb.iter().all(|&(j, _)| d.ok(j, f)))
+        .collect();
+    let Some(&f0) = frames.first() else {
+        return Err(SkipReason::NoContext);
+    };
+    let mut shift = vec![0.0; dims];
+    row(t, nb, f0, &mut shift);
+    // Rows are accumulated in blocks (columns of a small dims × BLOCK matrix) so the
+    // cross-products go through nalgebra's blocked gemm without a large temporary.
+    const BLOCK: usize = 64;
+    let mut sum = vec![0.0; dims];
+    let mut xxt = DMatrix::<f64>::zeros(dims, dims);
+    for chunk in frames.chunks(BLOCK) {
+        let mut x = DMatrix::<f64>::zeros(dims, chunk.len());
+        for (i, &f) in chunk.iter().enumerate() {
+            let mut col = x.column_mut(i);
+            let s = col.as_mut_slice();
+            row(t, nb, f, s);
+            for (k, v) in s.iter_mut().enumerate() {
+                *v -= shift[k];
+                sum[k] += *v;
+            }
+        }
+        xxt.gemm(1.0, &x, &x.transpose(), 1.0);
+    }
+    Ok(Sums {
+        frames,
+        shift,
+        sum,
+        xxt,
+    })
+}
+
+/// `s` without the rows of frames inside `exclude` (artificial gaps): a downdate instead
+/// of a second pass over the window.
+fn without(s: &Sums, t: &Target, nb: &[(usize, f64)], exclude: &[(usize, usize)]) -> Sums {
+    let dims = s.shift.len();
+    let mut out = s.clone();
+    let mut r = vec![0.0; dims];
+    for &(a, b) in exclude {
+        let i0 = out.frames.partition_point(|&f| f < a);
+        let i1 = out.frames.partition_point(|&f| f <= b);
+        for &f in &out.frames[i0..i1] {
+            row(t, nb, f, &mut r);
+            for ((v, sh), acc) in r.iter_mut().zip(&out.shift).zip(out.sum.iter_mut()) {
+                *v -= sh;
+                *acc -= *v;
+            }
+            for i in 0..dims {
+                for j in 0..dims {
+                    out.xxt[(i, j)] -= r[i] * r[j];
+                }
+            }
+        }
+        out.frames.drain(i0..i1);
+    }
+    out
+}
+
+/// The model of the rows summed in `s`.
+fn model(s: &Sums, known: usize, opts: &FillOptions) -> Result<Model, SkipReason> {
+    let dims = known + 3;
+    let n = s.frames.len();
+    if n < MIN_TRAIN {
+        return Err(SkipReason::NoContext);
+    }
+    let (sum, xxt) = (&s.sum, &s.xxt);
+    let nf = n as f64;
+    let mean: Vec<f64> = (0..dims).map(|i| s.shift[i] + sum[i] / nf).collect();
+    let mut cov = vec![0.0; dims * dims];
+    for i in 0..dims {
+        for j in 0..dims {
+            cov[i * dims + j] = (xxt[(i, j)] - sum[i] * sum[j] / nf) / (nf - 1.0);
+        }
+    }
+    let (vals, vecs) = symmetric_eigen(&cov, dims);
+    let total: f64 = vals.iter().map(|v| v.max(0.0)).sum();
+    if total <= 0.0 {
+        return Err(SkipReason::Degenerate);
+    }
+    // Centring on the neighbours' centroid ties their coordinates (they sum to zero once
+    // unweighted), so the known rows carry at most `known - 3` independent directions.
+    let max_pcs = (known - 3).min(n - 1).max(1);
+    let mut pcs = 0;
+    let mut acc = 0.0;
+    while pcs < max_pcs && acc < opts.pca_variance * total {
+        acc += vals[pcs].max(0.0);
+        pcs += 1;
+    }
+    // Scores from known rows: z = (Vk' Vk)^-1 Vk' y; B = Vt (Vk' Vk)^-1 Vk' (3 × known).
+    // Should the known rows not determine every kept component, drop the weakest.
+    let p = loop {
+        let mut g = vec![0.0; pcs * pcs];
+        for a in 0..pcs {
+            for b in 0..pcs {
+                g[a * pcs + b] = (0..known).map(|r| vecs[(r, a)] * vecs[(r, b)]).sum();
+            }
+        }
+        let mut p = vec![0.0; pcs * known];
+        for a in 0..pcs {
+            for r in 0..known {
+                p[a * known + r] = vecs[(r, a)];
+            }
+        }
+        if solve_in_place(&mut g, pcs, &mut p, known) {
+            break p;
+        }
+        if pcs == 1 {
+            return Err(SkipReason::Degenerate);
+        }
+        pcs -= 1;
+    };
+    let mut bmat = vec![0.0; 3 * known];
+    for k in 0..3 {
+        for r in 0..known {
+            bmat[k * known + r] = (0..pcs)
+                .map(|a| vecs[(known + k, a)] * p[a * known + r])
+                .sum();
+        }
+    }
+    Ok(Model { mean, bmat })
+}

@@ -1,0 +1,238 @@
+//! Small dense helpers: Gaussian elimination, Kabsch, symmetric eigen (via nalgebra).
+
+use nalgebra::{DMatrix, Matrix3, Vector3};
+
+/// Solves `a x = rhs` in place for `n` unknowns and `r` right-hand sides by Gaussian
+/// elimination with partial pivoting. `a` is row-major n×n, `rhs` row-major n×r. Returns
+/// false when the matrix is singular to working precision.
+pub(crate) fn solve_in_place(a: &mut [f64], n: usize, rhs: &mut [f64], r: usize) -> bool {
+    let scale = a
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        .max(f64::MIN_POSITIVE);
+    for col in 0..n {
+        let mut piv = col;
+        for row in col + 1..n {
+            if a[row * n + col].abs() > a[piv * n + col].abs() {
+                piv = row;
+            }
+        }
+        if a[piv * n + col].abs() <= 1e-13 * scale {
+            return false;
+        }
+        if piv != col {
+            for k in 0..n {
+                a.swap(piv * n + k, col * n + k);
+            }
+            for k in 0..r {
+                rhs.swap(piv * r + k, col * r + k);
+            }
+        }
+        let d = a[col * n + col];
+        for row in col + 1..n {
+            let f = a[row * n + col] / d;
+            if f == 0.0 {
+                continue;
+            }
+            for k in col..n {
+                a[row * n + k] -= f * a[col * n + k];
+            }
+            for k in 0..r {
+                rhs[row * r + k] -= f * rhs[col * r + k];
+            }
+        }
+    }
+    for col in (0..n).rev() {
+        let d = a[col * n + col];
+        for k in 0..r {
+            let mut s = rhs[col * r + k];
+            for j in col + 1..n {
+                s -= a[col * n + j] * rhs[j * r + k];
+            }
+            rhs[col * r + k] = s / d;
+        }
+    }
+    true
+}
+
+/// A rotation and translation, `q = rot * p + trans`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Rigid {
+    pub rot: Matrix3<f64>,
+    pub trans: Vector3<f64>,
+}
+
+impl Rigid {
+    pub fn apply(&self, p: [f64; 3]) -> [f64; 3] {
+        let q = self.rot * Vector3::from(p) + self.trans;
+        [q.x, q.y, q.z]
+    }
+
+    /// The inverse transform applied to `q`.
+    pub fn apply_inverse(&self, q: [f64; 3]) -> [f64; 3] {
+        let p = self.rot.transpose() * (Vector3::from(q) - self.trans);
+        [p.x, p.y, p.z]
+    }
+}
+
+/// Least-squares rigid transform mapping points `p` onto `q` (Kabsch, SVD of the cross
+/// covariance, with the sign fix that rules out reflections). `None` when SVD fails.
+pub(crate) fn kabsch(p: &[[f64; 3]], q: &[[f64; 3]]) -> Option<Rigid> {
+    let n = p.len().min(q.len());
+    if n == 0 {
+        return None;
+    }
+    let mean = |s: &[[f64; 3]]| {
+        let mut c = Vector3::zeros();
+        for v in &s[..n] {
+            c += Vector3::from(*v);
+        }
+        c / n as f64
+    };
+    let (cp, cq) = (mean(p), mean(q));
+    let mut h = Matrix3::zeros();
+    for i in 0..n {
+        h += (Vector3::from(p[i]) - cp) * (Vector3::from(q[i]) - cq).transpose();
+    }
+    if n == 3 {
+        // Three points span a plane, so H has rank 2 and no polar factor. Adding the
+        // outer product of the two planes' unit normals (oriented by the point order) fills
+        // the null space without changing the other singular pairs, so the polar factor is
+        // still Kabsch's rotation.
+        let normal = |s: &[[f64; 3]]| {
+            let (a, b, c) = (
+                Vector3::from(s[0]),
+                Vector3::from(s[1]),
+                Vector3::from(s[2]),
+            );
+            (b - a).cross(&(c - a)).try_normalize(1e-12)
+        };
+        if let (Some(np), Some(nq)) = (normal(p), normal(q)) {
+            h += np * nq.transpose() * h.norm();
+        }
+    }
+    let rot = polar_rotation(&h.transpose()).or_else(|| {
+        let svd = h.svd(true, true);
+        let (u, vt) = (svd.u?, svd.v_t?);
+        let v = vt.transpose();
+        let d = (v * u.transpose()).determinant().signum();
+        let fix = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, if d < 0.0 { -1.0 } else { 1.0 }));
+        Some(v * fix * u.transpose())
+    })?;
+    let trans = cq - rot * cp;
+    Some(Rigid { rot, trans })
+}
+
+/// The orthogonal polar factor of `a` when it is a proper rotation, by scaled Newton
+/// iteration (Higham): for `a = Hᵀ` with `det > 0` it equals Kabsch's `V Uᵀ`, an order of
+/// magnitude faster than a 3×3 SVD. `None` when `det(a) <= 0` (the reflection case needs
+/// the SVD's sign fix) or the iteration does not settle (near-singular donors).
+fn polar_rotation(a: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+    let scale = a.norm();
+    if scale.is_nan() || scale <= 0.0 || a.determinant() <= 1e-12 * scale.powi(3) {
+        return None;
+    }
+    let mut x = a / scale;
+    for _ in 0..40 {
+        let inv_t = x.try_inverse()?.transpose();
+        let g = (inv_t.norm() / x.norm()).sqrt();
+        let next = (x * g + inv_t / g) * 0.5;
+        let delta = (next - x).norm();
+        x = next;
+        if delta < 1e-10 {
+            // Convergence is quadratic: one more unscaled step reaches full precision.
+            let inv_t = x.try_inverse()?.transpose();
+            return Some((x + inv_t) * 0.5);
+        }
+    }
+    None
+}
+
+/// Eigenvalues (descending) and matching eigenvectors (columns) of a symmetric matrix given
+/// row-major.
+pub(crate) fn symmetric_eigen(a: &[f64], n: usize) -> (Vec<f64>, DMatrix<f64>) {
+    let m = DMatrix::from_row_slice(n, n, a);
+    let e = m.symmetric_eigen();
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| e.eigenvalues[j].total_cmp(&e.eigenvalues[i]));
+    let vals = order.iter().map(|&i| e.eigenvalues[i]).collect();
+    let vecs = DMatrix::from_fn(n, n, |r, c| e.eigenvectors[(r, order[c])]);
+    (vals, vecs)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solves_small_system() {
+        let mut a = vec![2.0, 1.0, 1.0, 3.0];
+        let mut b = vec![3.0, 5.0];
+        assert!(solve_in_place(&mut a, 2, &mut b, 1));
+        assert!((b[0] - 0.8).abs() < 1e-12 && (b[1] - 1.4).abs() < 1e-12);
+        let mut s = vec![1.0, 2.0, 2.0, 4.0];
+        assert!(!solve_in_place(&mut s, 2, &mut [1.0, 1.0], 1));
+    }
+
+    fn centroid(s: &[[f64; 3]]) -> Vector3<f64> {
+        s.iter().map(|v| Vector3::from(*v)).sum::<Vector3<f64>>() / s.len() as f64
+    }
+
+    #[test]
+    fn kabsch_recovers_rotation_without_reflection() {
+        let p = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 2.0, 0.0],
+            [0.0, 0.0, 3.0],
+        ];
+        let rot = nalgebra::Rotation3::from_euler_angles(0.3, -0.7, 1.1).into_inner();
+        let t = Rigid {
+            rot,
+            trans: Vector3::new(5.0, -2.0, 1.0),
+        };
+        let q: Vec<[f64; 3]> = p.iter().map(|&x| t.apply(x)).collect();
+        let k = kabsch(&p, &q).unwrap();
+        assert!((k.rot - rot).norm() < 1e-12);
+        assert!((k.trans - t.trans).norm() < 1e-12);
+        // A reflected cloud still gives a proper rotation (the SVD path with the sign fix).
+        let m: Vec<[f64; 3]> = q.iter().map(|v| [v[0], v[1], -v[2]]).collect();
+        let r = kabsch(&p, &m).unwrap();
+        assert!((r.rot.determinant() - 1.0).abs() < 1e-12);
+        // Noisy points: the polar path equals the SVD solution.
+        let noisy: Vec<[f64; 3]> = q
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
+                [
+                    v[0] + 0.01 * i as f64,
+                    v[1] - 0.02,
+                    v[2] + 0.003 * (i * i) as f64,
+                ]
+            })
+            .collect();
+        let k = kabsch(&p, &noisy).unwrap();
+        let (cp, cq) = (centroid(&p), centroid(&noisy));
+        let mut h = Matrix3::zeros();
+        for i in 0..p.len() {
+            h += (Vector3::from(p[i]) - cp) * (Vector3::from(noisy[i]) - cq).transpose();
+        }
+        let svd = h.svd(true, true);
+        let (u, vt) = (svd.u.unwrap(), svd.v_t.unwrap());
+        assert!((k.rot - vt.transpose() * u.transpose()).norm() < 1e-12);
+        // Three noisy points (rank-2 cross-covariance): same as the SVD with its sign fix.
+        let k3 = kabsch(&p[1..], &noisy[1..]).unwrap();
+        let (cp, cq) = (centroid(&p[1..]), centroid(&noisy[1..]));
+        let mut h = Matrix3::zeros();
+        for i in 1..p.len() {
+            h += (Vector3::from(p[i]) - cp) * (Vector3::from(noisy[i]) - cq).transpose();
+        }
+        let svd = h.svd(true, true);
+        let (u, vt) = (svd.u.unwrap(), svd.v_t.unwrap());
+        let v = vt.transpose();
+        let d = (v * u.transpose()).determinant().signum();
+        let want = v * Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, d)) * u.transpose();
+        assert!((k3.rot - want).norm() < 1e-10, "{}", (k3.rot - want).norm());
+        assert!((k3.rot.determinant() - 1.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,261 @@
+//! The repair pipeline: spikes → fill → filter, with a report of everything done or not.
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::error::Result;
+use crate::fill::{fill_gap, Data, FillOptions, FillOutcome};
+use crate::filter::FilterSpec;
+use crate::gaps::{find_gaps, valid_segments, Gap};
+use crate::spikes::{detect, Spike, SpikeMode, SpikeOptions};
+use crate::Trial;
+
+/// Bits of the per-sample change mask ([`RepairReport::changes`]).
+pub mod change {
+    /// Was invalid, now holds a fill.
+    pub const FILLED: u8 = 1;
+    /// Spike coordinates replaced by the window median.
+    pub const DESPIKED: u8 = 2;
+    /// Was valid, judged a spike and made invalid (then possibly `FILLED`).
+    pub const INVALIDATED: u8 = 4;
+    /// Smoothed by the low-pass filter.
+    pub const FILTERED: u8 = 8;
+}
+
+/// Validated settings, built once and applied to any number of trials.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RepairConfig {
+    spikes: Option<SpikeOptions>,
+    fill: FillOptions,
+    filter: Option<FilterSpec>,
+}
+
+impl RepairConfig {
+    /// Checks every option now, so applying the config can only fail on the trial's shape
+    /// or on a cutoff above the trial's Nyquist frequency.
+    pub fn new(
+        spikes: Option<SpikeOptions>,
+        fill: FillOptions,
+        filter: Option<FilterSpec>,
+    ) -> Result<RepairConfig> {
+        if let Some(s) = &spikes {
+            s.validate()?;
+        }
+        fill.validate()?;
+        if let Some(f) = &filter {
+            f.validate()?;
+        }
+        Ok(RepairConfig {
+            spikes,
+            fill,
+            filter,
+        })
+    }
+
+    pub fn spikes(&self) -> Option<&SpikeOptions> {
+        self.spikes.as_ref()
+    }
+
+    pub fn fill(&self) -> &FillOptions {
+        &self.fill
+    }
+
+    pub fn filter(&self) -> Option<&FilterSpec> {
+        self.filter.as_ref()
+    }
+}
+
+/// One gap and what was done with it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct GapRecord {
+    #[serde(flatten)]
+    pub gap: Gap,
+    pub outcome: FillOutcome,
+}
+
+/// One continuous valid segment at the filter step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct SegmentRecord {
+    pub marker: usize,
+    pub first: usize,
+    pub last: usize,
+    pub len: usize,
+    pub filtered: bool,
+    /// Set when skipped: filtfilt needs more than `padlen` samples.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub padlen: Option<usize>,
+}
+
+/// Everything the repair did, per marker and sample.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RepairReport {
+    pub markers: usize,
+    pub frames: usize,
+    pub spikes: Vec<Spike>,
+    /// What happened to spikes: `gap` (refilled by the fill step) or `median`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub spike_mode: Option<SpikeMode>,
+    /// Every gap after spike removal, in marker then frame order.
+    pub gaps: Vec<GapRecord>,
+    pub segments: Vec<SegmentRecord>,
+    /// Samples with any change bit set, per marker.
+    pub changed_per_marker: Vec<usize>,
+    /// `changes[marker][frame]`: [`change`] bits. Not serialized (one byte per sample).
+    #[serde(skip)]
+    pub changes: Vec<Vec<u8>>,
+}
+
+impl RepairReport {
+    /// Per-sample "modified" mask: any change at all.
+    pub fn modified(&self) -> Vec<Vec<bool>> {
+        self.changes
+            .iter()
+            .map(|m| m.iter().map(|&c| c != 0).collect())
+            .collect()
+    }
+
+    /// Gaps left unfilled.
+    pub fn unfilled(&self) -> impl Iterator<Item = &GapRecord> {
+        self.gaps
+            .iter()
+            .filter(|g| matches!(g.outcome, FillOutcome::Skipped(_)))
+    }
+}
+
+/// A gap's record and, when filled, its samples.
+type FilledGap = (GapRecord, Option<Vec<[f64; 3]>>);
+
+/// Repairs `trial` in place: spikes, then gap fill, then zero-phase filtering of each
+/// continuous valid segment. Markers are processed in parallel; each marker's gaps are
+/// filled from the other markers' data as it stood before any fill, so the result does not
+/// depend on marker order.
+pub fn repair_trial(trial: &mut Trial, cfg: &RepairConfig) -> Result<RepairReport> {
+    trial.check()?;
+    let iir = cfg.filter.map(|s| s.design(trial.rate_hz)).transpose()?;
+    let (markers, frames) = (trial.markers(), trial.frames());
+    let mut changes = vec![vec![0u8; frames]; markers];
+
+    // 1. Spikes.
+    let mut spikes = Vec::new();
+    if let Some(opts) = &cfg.spikes {
+        let found: Vec<Vec<Spike>> = trial
+            .xyz
+            .par_iter_mut()
+            .zip(trial.valid.par_iter_mut())
+            .zip(changes.par_iter_mut())
+            .enumerate()
+            .map(|(m, ((xyz, valid), ch))| {
+                let s = detect(xyz, valid, m, opts);
+                for sp in &s {
+                    match opts.mode {
+                        SpikeMode::Gap => {
+                            valid[sp.frame] = false;
+                            ch[sp.frame] |= change::INVALIDATED;
+                        }
+                        SpikeMode::Median => {
+                            for (c, &out) in sp.axes.iter().enumerate() {
+                                if out {
+                                    xyz[sp.frame][c] = sp.median[c];
+                                }
+                            }
+                            ch[sp.frame] |= change::DESPIKED;
+                        }
+                    }
+                }
+                s
+            })
+            .collect();
+        spikes = found.into_iter().flatten().collect();
+    }
+
+    // 2. Fill, reading the spike-free data; writes are applied afterwards.
+    let data = Data::new(&trial.xyz, &trial.valid);
+    let per_marker: Vec<Vec<FilledGap>> = (0..markers)
+        .into_par_iter()
+        .map(|m| {
+            find_gaps(&trial.valid[m], m)
+                .into_iter()
+                .map(|gap| {
+                    let (v, outcome) = fill_gap(data, &gap, &cfg.fill);
+                    (GapRecord { gap, outcome }, v)
+                })
+                .collect()
+        })
+        .collect();
+    let mut gaps = Vec::new();
+    for (m, recs) in per_marker.into_iter().enumerate() {
+        for (rec, v) in recs {
+            if let Some(v) = v {
+                for (i, p) in v.into_iter().enumerate() {
+                    let f = rec.gap.first + i;
+                    trial.xyz[m][f] = p;
+                    trial.valid[m][f] = true;
+                    changes[m][f] |= change::FILLED;
+                }
+            }
+            gaps.push(rec);
+        }
+    }
+
+    // 3. Filter each continuous valid segment.
+    let mut segments = Vec::new();
+    if let Some(iir) = &iir {
+        let padlen = iir.padlen();
+        let recs: Vec<Vec<SegmentRecord>> = trial
+            .xyz
+            .par_iter_mut()
+            .zip(trial.valid.par_iter())
+            .zip(changes.par_iter_mut())
+            .enumerate()
+            .map(|(m, ((xyz, valid), ch))| {
+                let mut buf = Vec::new();
+                valid_segments(valid)
+                    .into_iter()
+                    .map(|(first, last)| {
+                        let len = last - first + 1;
+                        let ok = len > padlen;
+                        if ok {
+                            for c in 0..3 {
+                                buf.clear();
+                                buf.extend(xyz[first..=last].iter().map(|p| p[c]));
+                                // Length checked above, so filtfilt cannot refuse.
+                                if iir.filtfilt(&mut buf).is_ok() {
+                                    for (p, v) in xyz[first..=last].iter_mut().zip(&buf) {
+                                        p[c] = *v;
+                                    }
+                                }
+                            }
+                            for c in &mut ch[first..=last] {
+                                *c |= change::FILTERED;
+                            }
+                        }
+                        SegmentRecord {
+                            marker: m,
+                            first,
+                            last,
+                            len,
+                            filtered: ok,
+                            padlen: (!ok).then_some(padlen),
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        segments = recs.into_iter().flatten().collect();
+    }
+
+    let changed_per_marker = changes
+        .iter()
+        .map(|m| m.iter().filter(|&&c| c != 0).count())
+        .collect();
+    Ok(RepairReport {
+        markers,
+        frames,
+        spikes,
+        spike_mode: cfg.spikes.map(|s| s.mode),
+        gaps,
+        segments,
+        changed_per_marker,
+        changes,
+    })
+}
