@@ -34,18 +34,24 @@ impl Layout {
         }
     }
 
+    // Counts come from the file: products saturate, so an absurd layout compares as larger
+    // than any file instead of wrapping around.
+
     pub fn analog_words(&self) -> usize {
-        self.analog_channels * self.analog_samples_per_frame
+        self.analog_channels
+            .saturating_mul(self.analog_samples_per_frame)
     }
 
     /// Bytes of one 3D frame with its analog samples.
     pub fn frame_bytes(&self) -> usize {
-        (4 * self.points + self.analog_words()) * self.word_bytes()
+        (4 * self.points)
+            .saturating_add(self.analog_words())
+            .saturating_mul(self.word_bytes())
     }
 
     /// Bytes of the whole data section.
     pub fn data_bytes(&self) -> usize {
-        self.frames * self.frame_bytes()
+        self.frames.saturating_mul(self.frame_bytes())
     }
 }
 

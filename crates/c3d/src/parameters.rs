@@ -221,7 +221,12 @@ impl Parameters {
 
     /// Set `group:name` to `value` with `dims`, creating the group and parameter as needed.
     pub fn set(&mut self, group: &str, name: &str, dims: Vec<u8>, value: Value) -> Result<()> {
-        let count: usize = dims.iter().map(|&d| d as usize).product();
+        if dims.len() > 7 {
+            return Err(Error::Misuse(format!(
+                "{group}:{name}: more than 7 dimensions"
+            )));
+        }
+        let count = element_count(&dims).unwrap_or(usize::MAX);
         if count != value.len() {
             return Err(Error::Misuse(format!(
                 "{group}:{name}: dimensions {dims:?} hold {count} elements, value has {}",
@@ -378,7 +383,7 @@ impl Parameter {
         };
         let width = self.dims.first().copied().unwrap_or(1) as usize;
         if width == 0 {
-            let rows: usize = self.dims.iter().skip(1).map(|&d| d as usize).product();
+            let rows = element_count(&self.dims[1..]).unwrap_or(0);
             return vec![String::new(); rows];
         }
         bytes
@@ -386,6 +391,12 @@ impl Parameter {
             .map(|c| latin1(c).trim_end_matches([' ', '\0']).to_string())
             .collect()
     }
+}
+
+/// Number of elements of an array with these dimensions (1 for none); None on overflow.
+pub(crate) fn element_count(dims: &[u8]) -> Option<usize> {
+    dims.iter()
+        .try_fold(1usize, |n, &d| n.checked_mul(d as usize))
 }
 
 /// Where to look for records, computed from the header and the section's prelude.
@@ -647,9 +658,12 @@ fn parse_record(
 fn body_natural_end(file: &[u8], body: usize) -> Option<usize> {
     let t = *file.get(body)? as i8;
     let nd = *file.get(body + 1)? as usize;
+    if nd > 7 {
+        return None;
+    }
     let dims = file.get(body + 2..body + 2 + nd)?;
-    let count: usize = dims.iter().map(|&d| d as usize).product();
-    let data_end = body + 2 + nd + count * (t.unsigned_abs() as usize);
+    let bytes = element_count(dims)?.checked_mul(t.unsigned_abs() as usize)?;
+    let data_end = (body + 2 + nd).checked_add(bytes)?;
     let dl = *file.get(data_end)? as usize;
     Some(data_end + 1 + dl)
 }
@@ -707,11 +721,12 @@ fn read_param_body(
         return Ok(None);
     }
     let dims = file[body + 2..body + 2 + nd].to_vec();
-    let count: usize = dims.iter().map(|&d| d as usize).product();
+    // At most 255^7 elements: fits in usize, but is bounded by the bytes present below.
+    let count = element_count(&dims).unwrap_or(usize::MAX);
     let start = body + 2 + nd;
-    let len = count * elem;
+    let len = count.saturating_mul(elem);
     // `count` is at most 255^7 in principle; bound it by the bytes present before allocating.
-    if start + len > data_lim {
+    if start.saturating_add(len) > data_lim {
         warnings.push(Warning::new(
             sec,
             Some(start),

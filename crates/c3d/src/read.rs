@@ -302,7 +302,12 @@ fn layout(
     }
     let frames_guess = frame_count(h, ps, &mut Vec::new());
     let word_bytes = if scale < 0.0 { 4 } else { 2 };
-    let size = |c: usize, s: usize| frames_guess * (4 * points + c * s) * word_bytes;
+    let size = |c: usize, s: usize| {
+        c.saturating_mul(s)
+            .saturating_add(4 * points)
+            .saturating_mul(word_bytes)
+            .saturating_mul(frames_guess)
+    };
     let pick = candidates
         .iter()
         .position(|&(c, s, _)| size(c, s) <= available && available - size(c, s) < BLOCK)
