@@ -28,6 +28,14 @@ enum Command {
     Diff(commands::diff::Args),
     /// Export point (and analog) data as CSV, TRC or JSON.
     Export(commands::export::Args),
+    /// List every gap of every marker.
+    Gaps(commands::gaps::Args),
+    /// Remove spikes, fill gaps and low-pass filter one file.
+    Repair(commands::repair::Args),
+    /// Repair many files (folders recursively), in parallel.
+    Batch(commands::batch::Args),
+    /// Measure fill accuracy: knock out known data, refill it, report the error per method.
+    Evaluate(commands::evaluate::Args),
 }
 
 fn main() {
@@ -38,6 +46,10 @@ fn main() {
         Command::Convert(a) => commands::convert::run(a),
         Command::Diff(a) => commands::diff::run(a),
         Command::Export(a) => commands::export::run(a),
+        Command::Gaps(a) => commands::gaps::run(a),
+        Command::Repair(a) => commands::repair::run(a),
+        Command::Batch(a) => commands::batch::run(a),
+        Command::Evaluate(a) => commands::evaluate::run(a),
     };
     match result {
         Ok(code) => std::process::exit(code),

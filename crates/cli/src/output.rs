@@ -38,3 +38,23 @@ pub fn write_atomic(path: &Path, bytes: &[u8], force: bool) -> Result<()> {
     }
     result
 }
+
+/// Where `--backup` keeps the original: `FILE.bak` beside it.
+pub fn backup_path(original: &Path) -> std::path::PathBuf {
+    let mut name = original.file_name().unwrap_or_default().to_os_string();
+    name.push(".bak");
+    original.with_file_name(name)
+}
+
+/// Copy `original` to `backup` atomically, unless a backup already exists: the first backup
+/// is the true original, and a second in-place repair must not replace it with a repaired
+/// file. Returns whether a backup was written.
+pub fn write_backup(original: &Path, backup: &Path) -> Result<bool> {
+    if backup.exists() {
+        return Ok(false);
+    }
+    let bytes = std::fs::read(original)
+        .with_context(|| format!("cannot read {} for its backup", original.display()))?;
+    write_atomic(backup, &bytes, false)?;
+    Ok(true)
+}
