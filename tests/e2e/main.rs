@@ -3,6 +3,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+mod repair;
+
 fn c3dfix(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_c3dfix"))
         .args(args)

@@ -1,0 +1,320 @@
+//! `gaps`, `repair`, `batch` and `evaluate` end to end, on the generated walk (which has a
+//! clean truth beside it) and on real files.
+
+use super::{c3dfix, s, sample, stderr, stdout};
+
+#[test]
+fn gaps_lists_every_gap() {
+    let out = c3dfix(&["gaps", "--json", s(&sample("walk_int.c3d"))]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let gaps = v["gaps"].as_array().unwrap();
+    assert_eq!(gaps.len(), 9);
+    let rkne = gaps.iter().find(|g| g["label"] == "RKNE").unwrap();
+    assert_eq!(
+        (rkne["first_frame"].as_u64(), rkne["last_frame"].as_u64()),
+        (Some(331), Some(390))
+    );
+    let rfin = gaps.iter().find(|g| g["label"] == "RFIN").unwrap();
+    assert_eq!(rfin["at_start"], true);
+    let t = stdout(&c3dfix(&["gaps", s(&sample("walk_int.c3d"))]));
+    assert!(
+        t.contains("9 gaps in 35 markers") && t.contains("(at start)"),
+        "{t}"
+    );
+}
+
+#[test]
+fn repair_changes_only_repaired_samples_and_flags_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = sample("walk_int.c3d");
+    let out = dir.path().join("rep.c3d");
+    let report = dir.path().join("rep.json");
+    let o = c3dfix(&["repair", s(&src), "-o", s(&out), "--report", s(&report)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("9 found in 35 markers: 9 filled"),
+        "{}",
+        stdout(&o)
+    );
+
+    // diff shows point changes only, in exactly the markers that had gaps.
+    let d = c3dfix(&["diff", "--json", s(&src), s(&out)]);
+    assert_eq!(d.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&d.stdout).unwrap();
+    let diff = &v["diff"];
+    assert!(diff["header"].as_array().unwrap().is_empty(), "{diff}");
+    assert!(diff["parameters"].as_array().unwrap().is_empty(), "{diff}");
+    assert!(diff["analog"]["channels"].as_array().unwrap().is_empty());
+    let mut changed: Vec<String> = diff["points"]["markers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["label"].as_str().unwrap().to_string())
+        .collect();
+    changed.sort();
+    assert_eq!(
+        changed,
+        ["CLAV", "LASI", "LTOE", "LWRA", "RFIN", "RHEE", "RKNE", "RTIB"]
+    );
+
+    let a = c3d::read_file(&src).unwrap();
+    let b = c3d::read_file(&out).unwrap();
+    let truth = c3d::read_file(sample("walk_truth.c3d")).unwrap();
+    let (pa, pb, pt) = (a.points(), b.points(), truth.points());
+    let (mut filled, mut sum, mut max) = (0usize, 0f64, 0f64);
+    for k in 0..pa.xyz.len() {
+        if pa.residual[k] >= 0.0 {
+            // Untouched samples keep their values and flags exactly.
+            assert_eq!(pa.xyz[k], pb.xyz[k]);
+            assert_eq!(pa.residual[k].to_bits(), pb.residual[k].to_bits());
+            assert_eq!(pa.camera_mask[k], pb.camera_mask[k]);
+        } else {
+            // Filled samples: residual 0 and camera mask 0, close to the truth.
+            assert_eq!((pb.residual[k], pb.camera_mask[k]), (0.0, 0), "sample {k}");
+            let e: f64 = (0..3)
+                .map(|i| (pb.xyz[k][i] as f64 - pt.xyz[k][i] as f64).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            filled += 1;
+            sum += e;
+            max = max.max(e);
+        }
+    }
+    assert_eq!(filled, 221);
+    let mean = sum / filled as f64;
+    assert!(
+        mean < 4.0 && max < 20.0,
+        "fill error vs truth: mean {mean:.2} mm, max {max:.2} mm"
+    );
+
+    // The analog data and the parameter section are byte-identical.
+    let (ba, bb) = (std::fs::read(&src).unwrap(), std::fs::read(&out).unwrap());
+    assert_eq!(ba.len(), bb.len());
+    let data = (a.header.data_start as usize - 1) * 512;
+    assert_eq!(ba[..data], bb[..data]);
+
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(r["gaps"].as_array().unwrap().len(), 9);
+    assert!(r["gaps"][0]["outcome"].is_object() || r["gaps"][0]["outcome"].is_string());
+    assert!(r["gaps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|g| g["label"].is_string()));
+}
+
+#[test]
+fn spikes_and_filter_run_and_are_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("f.c3d");
+    let o = c3dfix(&[
+        "repair",
+        s(&sample("walk_float.c3d")),
+        "-o",
+        s(&out),
+        "--json",
+        "--spikes",
+        "hampel:5:3",
+        "--lowpass",
+        "butterworth:4:6",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["spikes"].as_u64().unwrap() >= 2, "{v}");
+    assert_eq!(v["segments_filtered"], 35);
+    assert_eq!(v["left"], 0);
+    // Filtering marks every sample as processed.
+    let b = c3d::read_file(&out).unwrap();
+    assert!(b.points().residual.iter().all(|&r| r == 0.0));
+    // Chebyshev II too.
+    let out2 = dir.path().join("c.c3d");
+    let o = c3dfix(&[
+        "repair",
+        s(&sample("walk_float.c3d")),
+        "-o",
+        s(&out2),
+        "--lowpass",
+        "cheby2:4:12:40",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn repair_in_place_keeps_the_first_backup() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("trial.c3d");
+    let original = std::fs::read(sample("walk_int.c3d")).unwrap();
+    std::fs::write(&f, &original).unwrap();
+    let o = c3dfix(&["repair", s(&f), "--in-place", "--backup"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bak = dir.path().join("trial.c3d.bak");
+    assert_eq!(std::fs::read(&bak).unwrap(), original);
+    let once = std::fs::read(&f).unwrap();
+    assert_ne!(once, original);
+    let o = c3dfix(&[
+        "repair",
+        s(&f),
+        "--in-place",
+        "--backup",
+        "--lowpass",
+        "butterworth:2:10",
+    ]);
+    assert!(o.status.success());
+    assert_eq!(
+        std::fs::read(&bak).unwrap(),
+        original,
+        "the first backup must survive"
+    );
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name())
+        .collect();
+    assert_eq!(names.len(), 2, "{names:?}");
+}
+
+#[test]
+fn bad_repair_options_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.c3d");
+    let src = sample("walk_int.c3d");
+    for (args, expect) in [
+        (vec!["--lowpass", "butterworth:0:6"], "order"),
+        (vec!["--lowpass", "butterworth:4:50"], "Nyquist"),
+        (vec!["--lowpass", "butterworth:4:-1"], "cutoff"),
+        (vec!["--lowpass", "bessel:4:6"], "expected butterworth"),
+        (vec!["--spikes", "hampel:0"], "window"),
+        (vec!["--fill", "magic"], "unknown fill method"),
+        (vec!["--markers", "NOPE"], "LASI"),
+    ] {
+        let mut all = vec!["repair", s(&src), "-o", s(&out)];
+        all.extend(args.iter());
+        let o = c3dfix(&all);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.to_lowercase().contains(&expect.to_lowercase()),
+            "{args:?}: {e}"
+        );
+        assert!(!out.exists(), "{args:?} wrote a file");
+    }
+    let o = c3dfix(&["repair", s(&src)]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("-o OUT or --in-place"));
+}
+
+#[test]
+fn batch_repairs_folders_and_isolates_failures() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in");
+    std::fs::create_dir_all(input.join("day1")).unwrap();
+    std::fs::create_dir_all(input.join("day2")).unwrap();
+    let good = std::fs::read(sample("walk_int.c3d")).unwrap();
+    for p in ["day1/a.c3d", "day1/b.C3D", "day2/c.c3d"] {
+        std::fs::write(input.join(p), &good).unwrap();
+    }
+    std::fs::write(input.join("day2/broken.c3d"), &good[..3000]).unwrap();
+    std::fs::write(input.join("day2/notes.txt"), b"not a trial").unwrap();
+    let out = dir.path().join("out");
+    let o = c3dfix(&[
+        "batch",
+        s(&input),
+        "--out-dir",
+        s(&out),
+        "--json",
+        "--jobs",
+        "2",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let lines: Vec<serde_json::Value> = stdout(&o)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 5);
+    let summary = &lines[4]["summary"];
+    assert_eq!(
+        (
+            summary["files"].as_u64(),
+            summary["repaired"].as_u64(),
+            summary["failed"].as_u64()
+        ),
+        (Some(4), Some(3), Some(1))
+    );
+    let broken = lines
+        .iter()
+        .find(|l| {
+            l["file"]
+                .as_str()
+                .is_some_and(|f| f.ends_with("broken.c3d"))
+        })
+        .unwrap();
+    assert_eq!(broken["ok"], false);
+    assert!(broken["error"].as_str().unwrap().contains("truncated"));
+    for p in ["day1/a.c3d", "day1/b.C3D", "day2/c.c3d"] {
+        let r = c3d::read_file(out.join(p)).unwrap();
+        assert_eq!(
+            (0..35).map(|i| r.points().gaps(i).len()).sum::<usize>(),
+            0,
+            "{p}"
+        );
+    }
+    assert!(!out.join("day2/broken.c3d").exists());
+
+    // In place: the good files are repaired, the broken one is left exactly as it was.
+    let o = c3dfix(&["batch", s(&input), "--in-place", "--backup"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stdout(&o).contains("4 files: 3 repaired, 1 failed"),
+        "{}",
+        stdout(&o)
+    );
+    assert_eq!(
+        std::fs::read(input.join("day2/broken.c3d")).unwrap(),
+        good[..3000].to_vec()
+    );
+    assert_eq!(std::fs::read(input.join("day1/a.c3d.bak")).unwrap(), good);
+    assert_ne!(std::fs::read(input.join("day1/a.c3d")).unwrap(), good);
+}
+
+#[test]
+fn evaluate_reports_errors_per_method_and_gap_length() {
+    let o = c3dfix(&[
+        "evaluate",
+        s(&sample("walk_truth.c3d")),
+        "--json",
+        "--gap-lengths",
+        "10,40",
+        "--gaps-per-length",
+        "6",
+        "--methods",
+        "linear,rigid,pca,auto",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let scores = v["files"][0]["evaluation"]["scores"].as_array().unwrap();
+    assert_eq!(scores.len(), 8);
+    let get = |m: &str, len: u64| {
+        scores
+            .iter()
+            .find(|x| x["method"] == m && x["gap_len"] == len)
+            .and_then(|x| x["mean"].as_f64())
+            .unwrap()
+    };
+    // On the clean synthetic walk, donor methods are far better than a straight line.
+    assert!(get("rigid", 40) < get("linear", 40) / 3.0);
+    assert!(get("pca", 40) < get("linear", 40) / 3.0);
+    let t = stdout(&c3dfix(&[
+        "evaluate",
+        s(&sample("walk_truth.c3d")),
+        "--gap-lengths",
+        "10",
+        "--gaps-per-length",
+        "4",
+    ]));
+    assert!(
+        t.contains("mean 3D error (mm)") && t.contains("lagrange5"),
+        "{t}"
+    );
+}
