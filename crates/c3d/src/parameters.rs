@@ -791,7 +791,8 @@ fn read_description(
 pub(crate) fn encode_record(r: &Record, p: Processor) -> Vec<u8> {
     let mut out = Vec::new();
     let (name, locked, id): (&str, bool, i8) = match r {
-        Record::Group(g) => (&g.name, g.locked, -(g.id as i8)),
+        // Group numbers are stored negated; 128 (from -128) must round-trip, hence wrapping.
+        Record::Group(g) => (&g.name, g.locked, (g.id as i8).wrapping_neg()),
         Record::Parameter(prm) => (&prm.name, prm.locked, prm.group_id as i8),
     };
     let name_b = to_latin1(name);
