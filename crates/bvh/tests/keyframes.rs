@@ -3,6 +3,7 @@
 
 use bvh::error_metric::{Effectors, Evaluator};
 use bvh::interp::{Interp, Interpolator};
+use bvh::keyframes::optimal::Cap;
 use bvh::keyframes::{greedy, optimal, Target};
 
 /// A root moving along a piecewise-linear path (breakpoints at frames 7, 20 and 31 of 41) and
@@ -42,16 +43,16 @@ fn greedy_and_optimal_find_exactly_the_breakpoints() {
         let g = greedy::reduce(&eval, Target::Keys(6)).expect("greedy");
         assert_eq!(g.keys, BREAKPOINTS, "greedy {mode:?}");
         assert!(g.total_error < 1e-12, "{}", g.total_error);
-        let o = optimal::reduce(&eval, Target::Keys(6), None).expect("optimal");
+        let o = optimal::reduce(&eval, Target::Keys(6), Cap::None).expect("optimal");
         assert_eq!(o.keys, BREAKPOINTS, "optimal {mode:?}");
         assert!(o.total_error < 1e-12);
         // With one key fewer, some breakpoint must go and the error becomes positive.
-        let o5 = optimal::reduce(&eval, Target::Keys(5), None).expect("optimal");
+        let o5 = optimal::reduce(&eval, Target::Keys(5), Cap::Auto).expect("optimal");
         assert!(o5.total_error > 1e-3, "{}", o5.total_error);
         // An error bound of zero (up to rounding) needs exactly the breakpoints too.
         let gb = greedy::reduce(&eval, Target::MaxError(1e-6)).expect("greedy");
         assert_eq!(gb.keys, BREAKPOINTS, "greedy bound {mode:?}");
-        let ob = optimal::reduce(&eval, Target::MaxError(1e-6), None).expect("optimal");
+        let ob = optimal::reduce(&eval, Target::MaxError(1e-6), Cap::Auto).expect("optimal");
         assert_eq!(ob.keys, BREAKPOINTS, "optimal bound {mode:?}");
     }
 }
@@ -74,9 +75,9 @@ fn bad_targets_are_errors() {
     let eval = Evaluator::new(Interpolator::new(&b, Interp::Euler), Effectors::EndSites);
     assert!(greedy::reduce(&eval, Target::Keys(1)).is_err());
     assert!(greedy::reduce(&eval, Target::Keys(42)).is_err());
-    assert!(optimal::reduce(&eval, Target::MaxError(f64::NAN), None).is_err());
+    assert!(optimal::reduce(&eval, Target::MaxError(f64::NAN), Cap::None).is_err());
     // Four segments of at most 5 frames cannot cover 40 frames.
-    assert!(optimal::reduce(&eval, Target::Keys(5), Some(5)).is_err());
+    assert!(optimal::reduce(&eval, Target::Keys(5), Cap::Frames(5)).is_err());
 }
 
 /// The straightforward O(n²) per-key-count DP with exact segment costs: the oracle for the
@@ -119,7 +120,7 @@ fn optimal_matches_brute_force_and_beats_greedy_on_real_files() {
         for mode in [Interp::Euler, Interp::Quat] {
             let eval = Evaluator::new(Interpolator::new(&b, mode), Effectors::EndSites);
             let g = greedy::reduce(&eval, Target::Keys(keys)).expect("greedy");
-            let o = optimal::reduce(&eval, Target::Keys(keys), None).expect("optimal");
+            let o = optimal::reduce(&eval, Target::Keys(keys), Cap::None).expect("optimal");
             assert_eq!(g.keys.len(), keys);
             assert_eq!(o.keys.len(), keys);
             assert_eq!((o.keys[0], o.keys[keys - 1]), (0, b.motion.frames() - 1));
@@ -128,6 +129,15 @@ fn optimal_matches_brute_force_and_beats_greedy_on_real_files() {
                 "{file} {mode:?}: optimal {} > greedy {}",
                 o.total_error,
                 g.total_error
+            );
+            let auto = optimal::reduce(&eval, Target::Keys(keys), Cap::Auto).expect("capped");
+            assert!(
+                auto.total_error <= g.total_error * (1.0 + 1e-9),
+                "{file} {mode:?}"
+            );
+            assert!(
+                auto.total_error >= o.total_error * (1.0 - 1e-9),
+                "{file} {mode:?}"
             );
             let bf = brute_force(&eval, keys);
             assert!(

@@ -22,12 +22,15 @@ struct Cli {
 enum Command {
     /// Header, formats, counts, rates, gaps per marker, parameter groups, warnings.
     Info(commands::info::Args),
+    /// Reduce a BVH motion to key frames; rebuild it by interpolation and report the error.
+    Keyframes(commands::keyframes::Args),
 }
 
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Info(a) => commands::info::run(a),
+        Command::Keyframes(a) => commands::keyframes::run(a),
     };
     match result {
         Ok(code) => std::process::exit(code),
