@@ -46,6 +46,11 @@ fn keyframes_finds_breakpoints_and_writes_a_parsable_file() {
         );
         assert!(report["total_error"].as_f64().expect("number") < 1e-12);
         assert_eq!(report["frame_errors"].as_array().expect("array").len(), 21);
+        // Removing 0..=19 frames; flat at zero until a breakpoint has to go (17 removed).
+        let curve = report["greedy_curve"].as_array().expect("curve");
+        assert_eq!(curve.len(), 20);
+        assert!(curve[17][1].as_f64().expect("error") < 1e-12);
+        assert!(curve[18][1].as_f64().expect("error") > 1e-3);
         let written = ::bvh::read(&out).expect("output parses");
         let original = ::bvh::read(&input).expect("input parses");
         assert_eq!(written.motion.frames(), 21);

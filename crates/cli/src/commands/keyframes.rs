@@ -86,6 +86,8 @@ struct Report<'a> {
     rms_distance: f64,
     max_frame_error: f64,
     frame_errors: &'a [f64],
+    /// Greedy accumulated error as frames are removed: (removed frames, total error).
+    greedy_curve: Vec<(usize, f64)>,
     output: Option<String>,
     plot: Option<String>,
 }
@@ -104,6 +106,7 @@ pub fn run(a: Args) -> Result<i32> {
         (None, None) => anyhow::bail!("give --keys or --max-error"),
     };
     let eval = Evaluator::new(Interpolator::new(&b, mode), effectors);
+    let run = greedy::run(&eval);
     let reduction: Reduction = match a.method {
         Method::Greedy => greedy::reduce(&eval, target)?,
         Method::Optimal => {
@@ -151,6 +154,7 @@ pub fn run(a: Args) -> Result<i32> {
         rms_distance: rms(&eval, total),
         max_frame_error: max,
         frame_errors: &frame_errors,
+        greedy_curve: run.curve(),
         output: a.output.as_ref().map(|p| p.display().to_string()),
         plot: a.plot.as_ref().map(|p| p.display().to_string()),
     };
@@ -176,6 +180,19 @@ fn print_text(r: &Report) {
     println!(
         "  total error {:.6} (sum of squared distances), mean per frame {:.6}, max per frame {:.6}, RMS distance {:.6}",
         r.total_error, r.mean_frame_error, r.max_frame_error, r.rms_distance
+    );
+    // About ten points of the curve, enough to see where the error takes off.
+    let step = (r.greedy_curve.len() / 10).max(1);
+    let points: Vec<String> = r
+        .greedy_curve
+        .iter()
+        .step_by(step)
+        .chain(r.greedy_curve.last())
+        .map(|(removed, e)| format!("{removed}:{e:.3}"))
+        .collect();
+    println!(
+        "  greedy curve (removed frames:total error): {}",
+        points.join(" ")
     );
     let errors: Vec<String> = r.frame_errors.iter().map(|e| format!("{e:.4}")).collect();
     println!("  error per frame: {}", errors.join(" "));
