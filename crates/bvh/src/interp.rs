@@ -74,6 +74,18 @@ impl<'a> Interpolator<'a> {
         self.bvh
     }
 
+    /// True when joint `j`'s rotation is slerped (rather than linear in its angles).
+    pub fn is_slerped(&self, j: usize) -> bool {
+        self.slerped.get(j).is_some_and(|o| o.is_some())
+    }
+
+    /// The original local rotation of joint `j` at frame `f`, when that joint is slerped.
+    pub fn key_rotation(&self, f: usize, j: usize) -> Option<Quat> {
+        let nj = self.bvh.skeleton.joints.len();
+        self.slerped.get(j)?.as_ref()?;
+        self.quats.get(f * nj + j).copied()
+    }
+
     pub fn mode(&self) -> Interp {
         self.mode
     }

@@ -43,6 +43,16 @@ impl Quat {
         self.w * o.w + self.x * o.x + self.y * o.y + self.z * o.z
     }
 
+    /// The inverse rotation (for unit quaternions).
+    pub fn conj(self) -> Quat {
+        Quat {
+            w: self.w,
+            x: -self.x,
+            y: -self.y,
+            z: -self.z,
+        }
+    }
+
     pub fn normalized(self) -> Quat {
         let n = self.dot(self).sqrt();
         if n > 0.0 {
@@ -245,26 +255,33 @@ pub fn quat_to_euler(order: [usize; 3], q: Quat) -> Vec3 {
 
 /// Spherical linear interpolation from `a` (t = 0) to `b` (t = 1) along the shorter arc:
 /// `q` and `-q` are the same rotation, so `b` is negated when that brings it closer to `a`.
+///
+/// Computed as `a · (a⁻¹ b)^t`, which stays exact for tiny angles (no switch to a normalised
+/// lerp), so that stepping by `(a⁻¹ b)^(1/n)` frame after frame gives the same rotations.
 pub fn slerp(a: Quat, b: Quat, t: f64) -> Quat {
-    let mut b = b;
-    let mut d = a.dot(b);
-    if d < 0.0 {
-        b = -b;
-        d = -d;
-    }
-    let (wa, wb) = if d > 0.9995 {
-        // Nearly parallel: sin θ ≈ 0, so fall back to a normalised lerp.
-        (1.0 - t, t)
+    a * pow(shortest_relative(a, b), t)
+}
+
+/// `a⁻¹ b`, negated if needed so that it rotates by at most 180°.
+pub fn shortest_relative(a: Quat, b: Quat) -> Quat {
+    let r = a.conj() * b;
+    if r.w < 0.0 {
+        -r
     } else {
-        let theta = d.clamp(-1.0, 1.0).acos();
-        let s = theta.sin();
-        (((1.0 - t) * theta).sin() / s, (t * theta).sin() / s)
-    };
-    Quat {
-        w: wa * a.w + wb * b.w,
-        x: wa * a.x + wb * b.x,
-        y: wa * a.y + wb * b.y,
-        z: wa * a.z + wb * b.z,
+        r
     }
-    .normalized()
+}
+
+/// `q^t` for a unit quaternion: the same axis, `t` times the angle.
+pub fn pow(q: Quat, t: f64) -> Quat {
+    let s = (q.x * q.x + q.y * q.y + q.z * q.z).sqrt();
+    let half = s.atan2(q.w);
+    // sin(t·φ)/sin(φ) tends to t as φ → 0.
+    let k = if s > 1e-12 { (t * half).sin() / s } else { t };
+    Quat {
+        w: (t * half).cos(),
+        x: q.x * k,
+        y: q.y * k,
+        z: q.z * k,
+    }
 }
