@@ -9,14 +9,19 @@
 //! once, right when its `D[·][i]` is final. A segment is abandoned as soon as its partial error
 //! exceeds the remaining budget (the greedy solution's error, or the error bound, minus the
 //! least error needed to reach its first key), visiting frames from the middle outwards where
-//! errors are largest; this pruning is exact.
+//! errors are largest; this pruning is exact. Segment frames are reached incrementally
+//! ([`Evaluator::segment_cost`]): one quaternion product per rotation factor per frame.
 //!
 //! `L` decides the running time. Without a cap it is `n - K + 1`, the longest segment any
 //! `K`-key solution can have, and the result is the true optimum — but every pair of frames is
 //! then looked at, which takes minutes on thousands of frames. By default ([`Cap::Auto`]) `L` is
 //! twice the average key spacing, raised to the longest segment of the greedy solution; the
 //! result is then optimal among key sets whose gaps are at most `L` frames, and never worse than
-//! greedy (the greedy key set is one of them). Measured on the 2752-frame CMU file, see
+//! greedy (the greedy key set is one of them).
+//!
+//! Measured on the 2752-frame, 31-joint CMU file (one core, quaternion interpolation): 1000 keys
+//! 0.4 s, 400 keys 1.5 s, 100 keys 6.5 s with the default cap (47 s uncapped, same result),
+//! 20 keys 166 s (the cap is then 514 frames: the cost grows like n³/K²). See
 //! `benches/keyframes.rs`.
 
 use super::greedy;
