@@ -36,6 +36,8 @@ enum Command {
     Batch(commands::batch::Args),
     /// Measure fill accuracy: knock out known data, refill it, report the error per method.
     Evaluate(commands::evaluate::Args),
+    /// Reduce a BVH motion to key frames; rebuild it by interpolation and report the error.
+    Keyframes(commands::keyframes::Args),
 }
 
 fn main() {
@@ -50,6 +52,7 @@ fn main() {
         Command::Repair(a) => commands::repair::run(a),
         Command::Batch(a) => commands::batch::run(a),
         Command::Evaluate(a) => commands::evaluate::run(a),
+        Command::Keyframes(a) => commands::keyframes::run(a),
     };
     match result {
         Ok(code) => std::process::exit(code),

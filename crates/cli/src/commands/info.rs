@@ -66,7 +66,7 @@ pub fn run(a: Args) -> Result<i32> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("bvh"));
     if is_bvh {
-        anyhow::bail!("{}: BVH files are not supported yet", a.file.display());
+        return crate::commands::bvh_info::run(&a.file, a.json);
     }
     let c = read_c3d(&a.file)?;
     let pts = c.points();

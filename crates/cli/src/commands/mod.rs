@@ -1,11 +1,13 @@
 //! One module per subcommand; each has `Args` (clap) and `run(Args) -> anyhow::Result<i32>`.
 
 pub mod batch;
+pub mod bvh_info;
 pub mod convert;
 pub mod diff;
 pub mod evaluate;
 pub mod export;
 pub mod gaps;
 pub mod info;
+pub mod keyframes;
 pub mod repair;
 pub mod repair_io;

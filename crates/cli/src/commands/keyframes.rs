@@ -1,0 +1,263 @@
+//! `c3dfix keyframes`: reduce a BVH motion to key frames and rebuild it by interpolation.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use bvh::error_metric::{Effectors, Evaluator};
+use bvh::interp::{Interp, Interpolator};
+use bvh::keyframes::optimal::Cap;
+use bvh::keyframes::{greedy, optimal, rms, Reduction, Target};
+use serde::Serialize;
+
+use crate::output::write_atomic;
+
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum Method {
+    /// Drop the cheapest key repeatedly (fast).
+    Greedy,
+    /// Dynamic programming over key sets (slower, least error).
+    Optimal,
+}
+
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum InterpArg {
+    /// Slerp each joint's rotation.
+    Quat,
+    /// Linear in each Euler angle.
+    Euler,
+}
+
+impl From<InterpArg> for Interp {
+    fn from(a: InterpArg) -> Interp {
+        match a {
+            InterpArg::Quat => Interp::Quat,
+            InterpArg::Euler => Interp::Euler,
+        }
+    }
+}
+
+#[derive(clap::Args)]
+#[command(group(clap::ArgGroup::new("target").required(true).args(["keys", "max_error"])))]
+pub struct Args {
+    /// The BVH file to reduce.
+    pub input: PathBuf,
+    /// Keep exactly this many key frames (first and last included).
+    #[arg(long)]
+    pub keys: Option<usize>,
+    /// Keep as few keys as possible with an RMS End Site distance at most this (file units).
+    #[arg(long, value_name = "MM")]
+    pub max_error: Option<f64>,
+    #[arg(long, value_enum, default_value = "greedy")]
+    pub method: Method,
+    #[arg(long, value_enum, default_value = "quat")]
+    pub interp: InterpArg,
+    /// Optimal method: longest gap between keys it considers (0: none, exact but slow;
+    /// default: twice the average spacing, at least greedy's longest gap).
+    #[arg(long, value_name = "FRAMES")]
+    pub max_segment: Option<usize>,
+    /// Measure error on every joint, not only End Sites.
+    #[arg(long)]
+    pub all_joints: bool,
+    /// Write the motion rebuilt from the keys (every frame) to this BVH file.
+    #[arg(short, long, value_name = "OUT.bvh")]
+    pub output: Option<PathBuf>,
+    /// Print a JSON report instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Overwrite existing output files.
+    #[arg(long)]
+    pub force: bool,
+    /// Draw accumulated error against removed frames (greedy, Euler and quaternion) as SVG.
+    #[arg(long, value_name = "CURVE.svg")]
+    pub plot: Option<PathBuf>,
+}
+
+#[derive(Serialize)]
+struct Report<'a> {
+    file: String,
+    method: &'static str,
+    interp: &'static str,
+    effectors: &'static str,
+    frames: usize,
+    /// Key frame indices, 0-based.
+    keys: &'a [usize],
+    total_error: f64,
+    mean_frame_error: f64,
+    rms_distance: f64,
+    max_frame_error: f64,
+    frame_errors: &'a [f64],
+    /// Greedy accumulated error as frames are removed: (removed frames, total error).
+    greedy_curve: Vec<(usize, f64)>,
+    output: Option<String>,
+    plot: Option<String>,
+}
+
+pub fn run(a: Args) -> Result<i32> {
+    let b = bvh::read(&a.input)?;
+    let mode: Interp = a.interp.into();
+    let effectors = if a.all_joints {
+        Effectors::AllJoints
+    } else {
+        Effectors::EndSites
+    };
+    let target = match (a.keys, a.max_error) {
+        (Some(k), _) => Target::Keys(k),
+        (None, Some(e)) => Target::MaxError(e),
+        (None, None) => anyhow::bail!("give --keys or --max-error"),
+    };
+    let eval = Evaluator::new(Interpolator::new(&b, mode), effectors);
+    let run = greedy::run(&eval);
+    let reduction: Reduction = match a.method {
+        Method::Greedy => greedy::reduce(&eval, target)?,
+        Method::Optimal => {
+            let cap = match a.max_segment {
+                None => Cap::Auto,
+                Some(0) => Cap::None,
+                Some(f) => Cap::Frames(f),
+            };
+            optimal::reduce(&eval, target, cap)?
+        }
+    };
+    let frame_errors = eval.frame_errors(&reduction.keys);
+    let frames = b.motion.frames();
+    let total: f64 = frame_errors.iter().sum();
+    let max = frame_errors.iter().copied().fold(0.0, f64::max);
+
+    if let Some(out) = &a.output {
+        let rebuilt = bvh::Bvh {
+            skeleton: b.skeleton.clone(),
+            motion: eval.interpolator().resample(&reduction.keys),
+        };
+        write_atomic(out, bvh::write(&rebuilt).as_bytes(), a.force)?;
+    }
+    if let Some(path) = &a.plot {
+        let svg = plot_svg(&b, effectors, &a.input)?;
+        write_atomic(path, svg.as_bytes(), a.force)?;
+    }
+
+    let report = Report {
+        file: a.input.display().to_string(),
+        method: match a.method {
+            Method::Greedy => "greedy",
+            Method::Optimal => "optimal",
+        },
+        interp: mode.name(),
+        effectors: if a.all_joints {
+            "all-joints"
+        } else {
+            "end-sites"
+        },
+        frames,
+        keys: &reduction.keys,
+        total_error: total,
+        mean_frame_error: total / frames.max(1) as f64,
+        rms_distance: rms(&eval, total),
+        max_frame_error: max,
+        frame_errors: &frame_errors,
+        greedy_curve: run.curve(),
+        output: a.output.as_ref().map(|p| p.display().to_string()),
+        plot: a.plot.as_ref().map(|p| p.display().to_string()),
+    };
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print_text(&report);
+    }
+    Ok(0)
+}
+
+fn print_text(r: &Report) {
+    println!("{}: {} frames", r.file, r.frames);
+    println!(
+        "{} keys ({}, {} interpolation, error on {}):",
+        r.keys.len(),
+        r.method,
+        r.interp,
+        r.effectors
+    );
+    let keys: Vec<String> = r.keys.iter().map(|k| k.to_string()).collect();
+    println!("  keys (0-based frames): {}", keys.join(" "));
+    println!(
+        "  total error {:.6} (sum of squared distances), mean per frame {:.6}, max per frame {:.6}, RMS distance {:.6}",
+        r.total_error, r.mean_frame_error, r.max_frame_error, r.rms_distance
+    );
+    // About ten points of the curve, enough to see where the error takes off.
+    let step = (r.greedy_curve.len() / 10).max(1);
+    let points: Vec<String> = r
+        .greedy_curve
+        .iter()
+        .step_by(step)
+        .chain(r.greedy_curve.last())
+        .map(|(removed, e)| format!("{removed}:{e:.3}"))
+        .collect();
+    println!(
+        "  greedy curve (removed frames:total error): {}",
+        points.join(" ")
+    );
+    let errors: Vec<String> = r.frame_errors.iter().map(|e| format!("{e:.4}")).collect();
+    println!("  error per frame: {}", errors.join(" "));
+    if let Some(o) = &r.output {
+        println!("  wrote {o}");
+    }
+    if let Some(p) = &r.plot {
+        println!("  plotted {p}");
+    }
+}
+
+/// Greedy accumulated-error curves for Euler and quaternion interpolation, side by side.
+fn plot_svg(b: &bvh::Bvh, effectors: Effectors, input: &Path) -> Result<String> {
+    use plotters::prelude::*;
+    let curves: Vec<(Interp, Vec<(usize, f64)>)> = [Interp::Euler, Interp::Quat]
+        .into_iter()
+        .map(|m| {
+            let eval = Evaluator::new(Interpolator::new(b, m), effectors);
+            (m, greedy::run(&eval).curve())
+        })
+        .collect();
+    let frames = b.motion.frames();
+    let y_max = curves
+        .iter()
+        .flat_map(|(_, c)| c.iter().map(|p| p.1))
+        .fold(0.0, f64::max)
+        .max(1e-9);
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (1000, 450)).into_drawing_area();
+        root.fill(&WHITE).context("plot")?;
+        let name = input
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let root = root
+            .titled(
+                &format!("{name}: greedy keyframe reduction"),
+                ("sans-serif", 18),
+            )
+            .context("plot")?;
+        let panels = root.split_evenly((1, 2));
+        for ((mode, curve), panel) in curves.iter().zip(panels.iter()) {
+            let mut chart = ChartBuilder::on(panel)
+                .caption(format!("{} interpolation", mode.name()), ("sans-serif", 16))
+                .margin(10)
+                .x_label_area_size(40)
+                .y_label_area_size(70)
+                .build_cartesian_2d(0..frames.max(1), 0.0..y_max * 1.05)
+                .context("plot")?;
+            chart
+                .configure_mesh()
+                .x_desc("removed frames")
+                .y_desc("total error (squared distance)")
+                .draw()
+                .context("plot")?;
+            let colour = match mode {
+                Interp::Euler => RED,
+                Interp::Quat => BLUE,
+            };
+            chart
+                .draw_series(LineSeries::new(curve.iter().copied(), &colour))
+                .context("plot")?;
+        }
+        root.present().context("plot")?;
+    }
+    Ok(svg)
+}
