@@ -4,6 +4,8 @@
 
 mod commands;
 mod output;
+mod plot;
+mod view;
 
 use clap::{Parser, Subcommand};
 
@@ -28,6 +30,10 @@ enum Command {
     Diff(commands::diff::Args),
     /// Export point (and analog) data as CSV, TRC or JSON.
     Export(commands::export::Args),
+    /// Draw marker x, y, z against time (optionally over the original) as SVG or PNG.
+    Plot(commands::plot::Args),
+    /// Write a self-contained HTML page that plays the trial in 3D (offline, no network).
+    View(commands::view::Args),
 }
 
 fn main() {
@@ -38,6 +44,8 @@ fn main() {
         Command::Convert(a) => commands::convert::run(a),
         Command::Diff(a) => commands::diff::run(a),
         Command::Export(a) => commands::export::run(a),
+        Command::Plot(a) => commands::plot::run(a),
+        Command::View(a) => commands::view::run(a),
     };
     match result {
         Ok(code) => std::process::exit(code),

@@ -4,3 +4,5 @@ pub mod convert;
 pub mod diff;
 pub mod export;
 pub mod info;
+pub mod plot;
+pub mod view;
