@@ -145,6 +145,26 @@ fn plot_against_the_original_marks_the_repairs() {
     ] {
         assert!(text.contains(want), "{want} missing");
     }
+    // The same as PNG, kept beside the build to look at.
+    let art = testkit::workspace_root()
+        .join("target")
+        .join("e2e-artifacts");
+    std::fs::create_dir_all(&art).unwrap();
+    let png = art.join("plot_against.png");
+    let out = c3dfix(&[
+        "plot",
+        s(&rep),
+        "--against",
+        s(&sample("walk_int.c3d")),
+        "--marker",
+        "RKNE,LTOE",
+        "--analog",
+        "1",
+        "-o",
+        s(&png),
+        "--force",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
 }
 
 #[test]

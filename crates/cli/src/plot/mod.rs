@@ -402,6 +402,21 @@ fn draw_axis<DB: DrawingBackend>(
             .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 16, y + 5)], shade));
     }
     let line = |v: &[f32], ok: &[bool]| decimate::polylines(0.0, dx, v, ok, columns);
+    // The repaired line goes under the original, wider, so both show where they agree.
+    let (colour, label, width) = if m.original.is_some() {
+        (REPAIRED, "repaired", 2)
+    } else {
+        (ORIGINAL, "data", 1)
+    };
+    chart
+        .draw_series(
+            line(&shown_v, &m.shown.valid)
+                .into_iter()
+                .map(move |p| PathElement::new(p, colour.stroke_width(width))),
+        )
+        .map_err(err)?
+        .label(label)
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], colour.stroke_width(2)));
     if let (Some(o), Some(ov)) = (&m.original, &orig_v) {
         chart
             .draw_series(
@@ -413,20 +428,6 @@ fn draw_axis<DB: DrawingBackend>(
             .label("original")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], ORIGINAL.stroke_width(2)));
     }
-    let (colour, label) = if m.original.is_some() {
-        (REPAIRED, "repaired")
-    } else {
-        (ORIGINAL, "data")
-    };
-    chart
-        .draw_series(
-            line(&shown_v, &m.shown.valid)
-                .into_iter()
-                .map(move |p| PathElement::new(p, colour.stroke_width(1))),
-        )
-        .map_err(err)?
-        .label(label)
-        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], colour.stroke_width(2)));
     let filled = decimate::thin(&m.filled, n, columns / 3);
     if !filled.is_empty() {
         chart

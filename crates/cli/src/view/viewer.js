@@ -75,7 +75,7 @@
 
   const home = () => ({
     target: [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2],
-    yaw: -Math.PI / 3, pitch: 0.35, dist: size * 1.6,
+    yaw: -Math.PI / 3, pitch: 0.3, dist: size * 1.15,
   });
   let cam = home();
 
