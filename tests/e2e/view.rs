@@ -396,6 +396,21 @@ fn the_viewer_plays_in_a_browser() {
 }
 
 #[test]
+fn a_long_trial_plots_small() {
+    let dir = tempfile::tempdir().unwrap();
+    let long = dir.path().join("long.c3d");
+    synthetic(&long, 2, 100_000);
+    let svg = dir.path().join("long.svg");
+    let out = c3dfix(&["plot", s(&long), "--marker", "M001", "-o", s(&svg)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let size = std::fs::metadata(&svg).unwrap().len();
+    // Min/max per pixel column: the drawing does not grow with the trial.
+    assert!(size < 1_500_000, "{size}");
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("M001") && text.contains("Time (s)"));
+}
+
+#[test]
 fn a_large_trial_makes_a_compact_page_that_plays() {
     let dir = tempfile::tempdir().unwrap();
     let big = dir.path().join("big.c3d");

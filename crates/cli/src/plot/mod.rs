@@ -26,6 +26,8 @@ const ANALOG: RGBColor = RGBColor(90, 90, 90);
 const PANEL_W: u32 = 640;
 const PANEL_H: u32 = 250;
 const TITLE_H: u32 = 44;
+/// Columns of panels one picture holds before they get too narrow to read.
+const MAX_MARKERS: usize = 6;
 
 /// Output picture format, chosen from the output file's extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -159,6 +161,12 @@ impl Plot {
         if markers.is_empty() {
             bail!("no marker given (--marker NAME[,NAME…])");
         }
+        if markers.len() > MAX_MARKERS {
+            bail!(
+                "{} markers given; one plot shows at most {MAX_MARKERS} (make several plots)",
+                markers.len()
+            );
+        }
         let mut out = Vec::new();
         for m in markers {
             let i = marker_index(c, m, name)?;
@@ -243,7 +251,7 @@ impl Plot {
 
     /// Picture size in pixels: one column of panels per marker, rows x, y, z (+ analog).
     pub fn size(&self) -> (u32, u32) {
-        let cols = self.markers.len().clamp(1, 6) as u32;
+        let cols = self.markers.len().clamp(1, MAX_MARKERS) as u32;
         let rows = 3 + u32::from(self.analog.is_some());
         (PANEL_W * cols, TITLE_H + PANEL_H * rows)
     }
@@ -315,7 +323,7 @@ fn draw<DB: DrawingBackend>(plot: &Plot, root: &DrawingArea<DB, Shift>) -> Resul
         }
         None => (body, None),
     };
-    let shown = plot.markers.iter().take(6).collect::<Vec<_>>();
+    let shown = plot.markers.iter().take(MAX_MARKERS).collect::<Vec<_>>();
     let panels = top.split_evenly((3, shown.len().max(1)));
     let (dx, xdesc) = if plot.rate > 0.0 {
         (1.0 / plot.rate, "Time (s)")
