@@ -131,7 +131,7 @@ fn plot_against_the_original_marks_the_repairs() {
         "--against",
         s(&sample("walk_int.c3d")),
         "--marker",
-        "RKNE",
+        "RKNE,LKNE",
         "-o",
         s(&svg),
     ]);
@@ -142,6 +142,7 @@ fn plot_against_the_original_marks_the_repairs() {
         "repaired",
         "gap in original",
         "filled (residual 0)",
+        "removed as spike",
     ] {
         assert!(text.contains(want), "{want} missing");
     }
@@ -157,7 +158,7 @@ fn plot_against_the_original_marks_the_repairs() {
         "--against",
         s(&sample("walk_int.c3d")),
         "--marker",
-        "RKNE,LTOE",
+        "RKNE,LKNE",
         "--analog",
         "1",
         "-o",

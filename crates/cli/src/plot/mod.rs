@@ -333,7 +333,8 @@ fn draw<DB: DrawingBackend>(plot: &Plot, root: &DrawingArea<DB, Shift>) -> Resul
     for (col, m) in shown.iter().enumerate() {
         for axis in 0..3 {
             let area = &panels[axis * shown.len() + col];
-            draw_axis(plot, m, axis, dx, xdesc, area, col == 0 && axis == 0)?;
+            // A legend atop each marker's column: what is marked differs per marker.
+            draw_axis(plot, m, axis, dx, xdesc, area, axis == 0)?;
         }
     }
     if let (Some(a), Some(area)) = (&plot.analog, bottom) {
