@@ -1,6 +1,7 @@
 //! End-to-end tests of the `c3dfix` binary, run in temporary folders.
 
 mod bvh;
+mod view;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -4,6 +4,8 @@
 
 mod commands;
 mod output;
+mod plot;
+mod view;
 
 use clap::{Parser, Subcommand};
 
@@ -38,6 +40,10 @@ enum Command {
     Evaluate(commands::evaluate::Args),
     /// Reduce a BVH motion to key frames; rebuild it by interpolation and report the error.
     Keyframes(commands::keyframes::Args),
+    /// Draw marker x, y, z against time (optionally over the original) as SVG or PNG.
+    Plot(commands::plot::Args),
+    /// Write a self-contained HTML page that plays the trial in 3D (offline, no network).
+    View(commands::view::Args),
 }
 
 fn main() {
@@ -53,6 +59,8 @@ fn main() {
         Command::Batch(a) => commands::batch::run(a),
         Command::Evaluate(a) => commands::evaluate::run(a),
         Command::Keyframes(a) => commands::keyframes::run(a),
+        Command::Plot(a) => commands::plot::run(a),
+        Command::View(a) => commands::view::run(a),
     };
     match result {
         Ok(code) => std::process::exit(code),

@@ -207,6 +207,7 @@ fn print_text(r: &Report) {
 /// Greedy accumulated-error curves for Euler and quaternion interpolation, side by side.
 fn plot_svg(b: &bvh::Bvh, effectors: Effectors, input: &Path) -> Result<String> {
     use plotters::prelude::*;
+    let family = crate::plot::font()?;
     let curves: Vec<(Interp, Vec<(usize, f64)>)> = [Interp::Euler, Interp::Quat]
         .into_iter()
         .map(|m| {
@@ -229,15 +230,12 @@ fn plot_svg(b: &bvh::Bvh, effectors: Effectors, input: &Path) -> Result<String> 
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
         let root = root
-            .titled(
-                &format!("{name}: greedy keyframe reduction"),
-                ("sans-serif", 18),
-            )
+            .titled(&format!("{name}: greedy keyframe reduction"), (family, 18))
             .context("plot")?;
         let panels = root.split_evenly((1, 2));
         for ((mode, curve), panel) in curves.iter().zip(panels.iter()) {
             let mut chart = ChartBuilder::on(panel)
-                .caption(format!("{} interpolation", mode.name()), ("sans-serif", 16))
+                .caption(format!("{} interpolation", mode.name()), (family, 16))
                 .margin(10)
                 .x_label_area_size(40)
                 .y_label_area_size(70)

@@ -9,5 +9,7 @@ pub mod export;
 pub mod gaps;
 pub mod info;
 pub mod keyframes;
+pub mod plot;
 pub mod repair;
 pub mod repair_io;
+pub mod view;

@@ -1,0 +1,50 @@
+//! `c3dfix plot`: marker coordinates against time, optionally over the original they were
+//! repaired from, as SVG or PNG.
+
+use crate::commands::info::read_c3d;
+use crate::output::write_atomic;
+use crate::plot::{render, Format, Plot};
+use anyhow::Result;
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The C3D file to plot (the repaired one when comparing).
+    pub file: PathBuf,
+    /// Marker label(s), comma-separated; a "Subject:" prefix and case are ignored.
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub marker: Vec<String>,
+    /// The original file: drawn beside FILE, with its gaps shaded and the repairs marked.
+    #[arg(long)]
+    pub against: Option<PathBuf>,
+    /// An analog channel (label or 1-based number) drawn in physical units below.
+    #[arg(long)]
+    pub analog: Option<String>,
+    /// Output picture: .svg or .png.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Replace an existing output file.
+    #[arg(long)]
+    pub force: bool,
+}
+
+fn name(p: &Path) -> String {
+    p.file_name()
+        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
+}
+
+pub fn run(a: Args) -> Result<i32> {
+    let format = Format::from_path(&a.output)?;
+    let c = read_c3d(&a.file)?;
+    let orig = a.against.as_deref().map(read_c3d).transpose()?;
+    let (fname, oname) = (name(&a.file), a.against.as_deref().map(name));
+    let plot = Plot::gather(
+        (&c, &fname),
+        orig.as_ref().zip(oname.as_deref()),
+        &a.marker,
+        a.analog.as_deref(),
+    )?;
+    let bytes = render(&plot, format)?;
+    write_atomic(&a.output, &bytes, a.force)?;
+    Ok(0)
+}

@@ -1,0 +1,434 @@
+//! `c3dfix plot` and `c3dfix view`: the pictures and pages people judge a repair by.
+
+use super::{c3dfix, s, sample, stderr};
+use c3d::{Analog, C3d, Parameters, Points, Processor};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A stand-in for a repaired `walk_int.c3d`: gaps filled and spikes replaced from the truth,
+/// marked as the repair pipeline marks them (residual 0, camera mask 0).
+fn repaired(dir: &Path) -> PathBuf {
+    let truth = c3d::read_file(sample("walk_truth.c3d")).unwrap();
+    let mut c = c3d::read_file(sample("walk_int.c3d")).unwrap();
+    let t = truth.points().clone();
+    let p = c.points_mut();
+    for k in 0..p.xyz.len() {
+        let off = p.xyz[k]
+            .iter()
+            .zip(&t.xyz[k])
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f32::max);
+        if p.residual[k] < 0.0 || off > 20.0 {
+            p.xyz[k] = t.xyz[k];
+            p.residual[k] = 0.0;
+            p.camera_mask[k] = 0;
+        }
+    }
+    let out = dir.join("walk_repaired.c3d");
+    std::fs::write(&out, c.to_bytes().unwrap()).unwrap();
+    out
+}
+
+/// A synthetic trial of `markers` × `frames`, some samples invalid and some filled.
+fn synthetic(path: &Path, markers: usize, frames: usize) {
+    let mut pts = Points::new(frames, markers);
+    for f in 0..frames {
+        for i in 0..markers {
+            let k = pts.index(f, i);
+            let a = f as f32 * 0.01 + i as f32 * 0.3;
+            pts.xyz[k] = [
+                f as f32 * 0.5 + 100.0 * a.cos(),
+                (i % 10) as f32 * 40.0 + 50.0 * a.sin(),
+                (i / 10) as f32 * 160.0 + 100.0,
+            ];
+            pts.residual[k] = match (f + i * 7) % 97 {
+                0..=2 => -1.0,
+                3 => 0.0,
+                _ => 0.5,
+            };
+        }
+    }
+    let mut ps = Parameters::new();
+    ps.set_f32("POINT", "RATE", 100.0).unwrap();
+    let labels: Vec<String> = (0..markers).map(|i| format!("M{i:03}")).collect();
+    ps.set_strings("POINT", "LABELS", &labels).unwrap();
+    let c = C3d::new(pts, Analog::new(frames, 0, 1), ps, Processor::Intel, -1.0);
+    std::fs::write(path, c.to_bytes().unwrap()).unwrap();
+}
+
+fn no_leftovers(dir: &Path) {
+    let left: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().contains("c3dfix-tmp"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+}
+
+#[test]
+fn plot_writes_svg_and_png_with_labels() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("rkne.svg");
+    let out = c3dfix(&[
+        "plot",
+        s(&sample("walk_int.c3d")),
+        "--marker",
+        "RKNE,lank",
+        "--analog",
+        "1",
+        "-o",
+        s(&svg),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg"), "{}", &text[..100]);
+    assert!(text.trim_end().ends_with("</svg>"));
+    for want in [
+        "walk_int.c3d",
+        "RKNE",
+        "LANK",
+        "Time (s)",
+        "X (mm)",
+        "Z (mm)",
+        "analog",
+    ] {
+        assert!(text.contains(want), "{want} missing");
+    }
+    let png = dir.path().join("rkne.png");
+    let out = c3dfix(&[
+        "plot",
+        s(&sample("walk_float.c3d")),
+        "--marker",
+        "RKNE",
+        "-o",
+        s(&png),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let bytes = std::fs::read(&png).unwrap();
+    assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"));
+    // No overwrite without --force.
+    let out = c3dfix(&[
+        "plot",
+        s(&sample("walk_int.c3d")),
+        "--marker",
+        "RKNE",
+        "-o",
+        s(&svg),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("--force"));
+}
+
+#[test]
+fn plot_against_the_original_marks_the_repairs() {
+    let dir = tempfile::tempdir().unwrap();
+    let rep = repaired(dir.path());
+    let svg = dir.path().join("cmp.svg");
+    let out = c3dfix(&[
+        "plot",
+        s(&rep),
+        "--against",
+        s(&sample("walk_int.c3d")),
+        "--marker",
+        "RKNE,LKNE",
+        "-o",
+        s(&svg),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    for want in [
+        "original",
+        "repaired",
+        "gap in original",
+        "filled (residual 0)",
+        "removed as spike",
+    ] {
+        assert!(text.contains(want), "{want} missing");
+    }
+    // The same as PNG, kept beside the build to look at.
+    let art = testkit::workspace_root()
+        .join("target")
+        .join("e2e-artifacts");
+    std::fs::create_dir_all(&art).unwrap();
+    let png = art.join("plot_against.png");
+    let out = c3dfix(&[
+        "plot",
+        s(&rep),
+        "--against",
+        s(&sample("walk_int.c3d")),
+        "--marker",
+        "RKNE,LKNE",
+        "--analog",
+        "1",
+        "-o",
+        s(&png),
+        "--force",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+}
+
+#[test]
+fn bad_plot_and_view_requests_say_why_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let walk = sample("walk_int.c3d");
+    let svg = dir.path().join("x.svg");
+    let html = dir.path().join("x.html");
+    let sticks = dir.path().join("sticks.json");
+    std::fs::write(&sticks, r#"[["LKNE", "NOSE"]]"#).unwrap();
+    let empty = dir.path().join("empty.c3d");
+    let c = C3d::new(
+        Points::new(10, 0),
+        Analog::new(10, 1, 1),
+        Parameters::new(),
+        Processor::Intel,
+        -1.0,
+    );
+    std::fs::write(&empty, c.to_bytes().unwrap()).unwrap();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["plot", s(&walk), "--marker", "NOSE", "-o", s(&svg)],
+            "NOSE",
+        ),
+        (
+            vec![
+                "plot",
+                s(&walk),
+                "--marker",
+                "RKNE",
+                "--analog",
+                "EMG9",
+                "-o",
+                s(&svg),
+            ],
+            "EMG9",
+        ),
+        (
+            vec!["plot", s(&walk), "--marker", "RKNE", "-o", s(&html)],
+            ".svg or .png",
+        ),
+        (
+            vec!["plot", s(&empty), "--marker", "RKNE", "-o", s(&svg)],
+            "no 3D points",
+        ),
+        (
+            vec!["view", s(&walk), "--sticks", s(&sticks), "-o", s(&html)],
+            "NOSE",
+        ),
+        (vec!["view", s(&empty), "-o", s(&html)], "no 3D points"),
+    ];
+    for (args, want) in cases {
+        let out = c3dfix(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let e = stderr(&out);
+        assert!(e.contains(want), "{args:?}: {e}");
+        assert!(!e.contains("panicked"), "{e}");
+        if want == "NOSE" {
+            assert!(
+                e.contains("available") && e.contains("LASI") && e.contains("RKNE"),
+                "{e}"
+            );
+        }
+        assert!(!svg.exists() && !html.exists(), "{args:?} wrote output");
+    }
+    no_leftovers(dir.path());
+}
+
+/// The page must work offline: nothing in it may point at the network.
+fn assert_offline(html: &str) {
+    for bad in ["http://", "https://", "src=", "href=", "@import", "url("] {
+        assert!(!html.contains(bad), "page contains {bad:?}");
+    }
+}
+
+#[test]
+fn view_writes_a_self_contained_page() {
+    let dir = tempfile::tempdir().unwrap();
+    let rep = repaired(dir.path());
+    let html = dir.path().join("walk.html");
+    let out = c3dfix(&[
+        "view",
+        s(&rep),
+        "--against",
+        s(&sample("walk_int.c3d")),
+        "-o",
+        s(&html),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&html).unwrap();
+    assert_offline(&text);
+    for want in [
+        "window.c3dfixViewer",
+        "id=\"frame\"",
+        "\"RKNE\"",
+        "walk_repaired.c3d",
+    ] {
+        assert!(text.contains(want), "{want} missing");
+    }
+}
+
+/// A headless Chromium, or `None` (after saying so) when there is none outside CI.
+fn chromium() -> Option<PathBuf> {
+    let names = ["chromium", "chromium-browser", "google-chrome"];
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    let found = std::env::split_paths(&path)
+        .flat_map(|d| names.iter().map(move |n| d.join(n)))
+        .find(|p| p.is_file());
+    if found.is_none() {
+        let ci = std::env::var_os("CI").is_some_and(|v| !v.is_empty() && v != "false" && v != "0");
+        assert!(!ci, "CI needs chromium for the viewer's browser test");
+        eprintln!("skipping: chromium not found (install chromium to run the browser test)");
+    }
+    found
+}
+
+/// Run headless Chromium with `args` then `url`, and give back its standard output.
+fn run_chromium(bin: &Path, profile: &Path, args: &[&str], url: &str) -> String {
+    let mut child = Command::new(bin)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--no-first-run",
+            "--hide-scrollbars",
+            "--window-size=1200,800",
+        ])
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .args(args)
+        .arg(url)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start chromium");
+    let mut out = child.stdout.take().expect("chromium stdout");
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        let _ = std::io::Read::read_to_string(&mut out, &mut s);
+        s
+    });
+    let start = Instant::now();
+    loop {
+        if child.try_wait().expect("wait for chromium").is_some() {
+            break;
+        }
+        if start.elapsed() > Duration::from_secs(180) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("chromium did not finish in 180 s");
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    reader.join().expect("chromium output")
+}
+
+/// The page's own self-test (`?selftest=1`) under virtual time: no console errors, a painted
+/// canvas, play advancing the frame counter, the slider moving the frame.
+fn selftest(bin: &Path, page: &Path, profile: &Path) -> serde_json::Value {
+    let url = format!("file://{}?selftest=1", page.display());
+    let dom = run_chromium(
+        bin,
+        profile,
+        &["--virtual-time-budget=5000", "--dump-dom"],
+        &url,
+    );
+    let start = dom.find("<pre id=\"selftest\">").expect("self-test ran") + 19;
+    let end = start + dom[start..].find("</pre>").expect("self-test closed");
+    let json = dom[start..end]
+        .replace("&amp;", "&")
+        .replace("&lt;", "<")
+        .replace("&gt;", ">");
+    serde_json::from_str(&json).expect("self-test JSON")
+}
+
+#[test]
+fn the_viewer_plays_in_a_browser() {
+    let Some(bin) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let rep = repaired(dir.path());
+    let page = dir.path().join("walk.html");
+    let out = c3dfix(&[
+        "view",
+        s(&rep),
+        "--against",
+        s(&sample("walk_int.c3d")),
+        "-o",
+        s(&page),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let r = selftest(&bin, &page, &dir.path().join("profile"));
+    assert_eq!(r["errors"], serde_json::json!([]), "{r}");
+    assert!(r["painted_pixels"].as_u64().unwrap() > 500, "{r}");
+    assert!(r["markers_drawn"].as_u64().unwrap() > 20, "{r}");
+    assert!(
+        r["played_to"].as_u64().unwrap() > 0,
+        "play did not advance: {r}"
+    );
+    assert!(r["counter_after_play"] != "Frame 1 (1/400) 0.000 s", "{r}");
+    assert_eq!(r["slider_frame"], 7, "{r}");
+    assert!(
+        r["counter_after_slider"]
+            .as_str()
+            .unwrap()
+            .contains("(8/400)"),
+        "{r}"
+    );
+    assert_eq!(r["ok"], true, "{r}");
+
+    // A screenshot to look at, kept beside the build.
+    let art = testkit::workspace_root()
+        .join("target")
+        .join("e2e-artifacts");
+    std::fs::create_dir_all(&art).unwrap();
+    let shot = art.join("viewer.png");
+    let _ = std::fs::remove_file(&shot);
+    let url = format!("file://{}", page.display());
+    let arg = format!("--screenshot={}", shot.display());
+    run_chromium(
+        &bin,
+        &dir.path().join("profile"),
+        &["--virtual-time-budget=2000", &arg],
+        &url,
+    );
+    let png = std::fs::read(&shot).expect("screenshot written");
+    assert!(png.starts_with(b"\x89PNG"));
+}
+
+#[test]
+fn a_long_trial_plots_small() {
+    let dir = tempfile::tempdir().unwrap();
+    let long = dir.path().join("long.c3d");
+    synthetic(&long, 2, 100_000);
+    let svg = dir.path().join("long.svg");
+    let out = c3dfix(&["plot", s(&long), "--marker", "M001", "-o", s(&svg)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let size = std::fs::metadata(&svg).unwrap().len();
+    // Min/max per pixel column: the drawing does not grow with the trial.
+    assert!(size < 1_500_000, "{size}");
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("M001") && text.contains("Time (s)"));
+}
+
+#[test]
+fn a_large_trial_makes_a_compact_page_that_plays() {
+    let dir = tempfile::tempdir().unwrap();
+    let big = dir.path().join("big.c3d");
+    synthetic(&big, 100, 10_000);
+    let page = dir.path().join("big.html");
+    let t = Instant::now();
+    let out = c3dfix(&["view", s(&big), "-o", s(&page)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let size = std::fs::metadata(&page).unwrap().len();
+    eprintln!(
+        "100 markers x 10 000 frames: {size} bytes in {:?}",
+        t.elapsed()
+    );
+    // 12 MB of floats in base64 plus a byte of flags per sample, and little else.
+    assert!(size < 18_000_000, "{size}");
+    assert_offline(&std::fs::read_to_string(&page).unwrap());
+    let Some(bin) = chromium() else { return };
+    let r = selftest(&bin, &page, &dir.path().join("profile"));
+    assert_eq!(r["ok"], true, "{r}");
+}
