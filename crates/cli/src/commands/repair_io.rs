@@ -27,6 +27,10 @@ pub struct RepairArgs {
     /// (keeps measurement noise on still coordinates from being flagged).
     #[arg(long, default_value_t = 5.0)]
     pub spike_min_mm: f64,
+    /// Judge raw coordinates (the classic Hampel identifier, as MATLAB's hampel) instead of
+    /// residuals from a local robust prediction, which also finds spikes along fast motion.
+    #[arg(long)]
+    pub spike_classic: bool,
     /// Low-pass filter, zero-phase: `butterworth:ORDER:CUTOFF_HZ` or
     /// `cheby2:ORDER:CUTOFF_HZ:ATTEN_DB`. Off by default.
     #[arg(long)]
@@ -74,7 +78,7 @@ fn number<T: std::str::FromStr>(what: &str, s: &str) -> Result<T> {
 }
 
 /// Parse `--spikes hampel[:K[:NSIGMA]]`.
-pub fn spike_options(spec: &str, mode: &str, min_dev: f64) -> Result<SpikeOptions> {
+pub fn spike_options(spec: &str, mode: &str, min_dev: f64, classic: bool) -> Result<SpikeOptions> {
     let mut parts = spec.split(':');
     let kind = parts.next().unwrap_or_default();
     if !kind.eq_ignore_ascii_case("hampel") {
@@ -96,6 +100,7 @@ pub fn spike_options(spec: &str, mode: &str, min_dev: f64) -> Result<SpikeOption
         _ => bail!("--spike-mode {mode:?}: expected gap or median"),
     };
     o.min_deviation = min_dev;
+    o.detrend = !classic;
     Ok(o)
 }
 
@@ -131,7 +136,14 @@ impl RepairArgs {
         let spikes = self
             .spikes
             .as_deref()
-            .map(|s| spike_options(s, &self.spike_mode, self.spike_min_mm / mm_per_unit(units)))
+            .map(|s| {
+                spike_options(
+                    s,
+                    &self.spike_mode,
+                    self.spike_min_mm / mm_per_unit(units),
+                    self.spike_classic,
+                )
+            })
             .transpose()?;
         let filter = self.lowpass.as_deref().map(filter_spec).transpose()?;
         RepairConfig::new(spikes, fill, filter).map_err(|e| anyhow::anyhow!("{e}"))
@@ -260,17 +272,19 @@ mod tests {
 
     #[test]
     fn option_strings_parse() {
-        let s = spike_options("hampel:7:2.5", "median", 4.0).unwrap();
+        let s = spike_options("hampel:7:2.5", "median", 4.0, false).unwrap();
         assert_eq!(
             (s.half_window, s.nsigma, s.mode, s.min_deviation),
             (7, 2.5, SpikeMode::Median, 4.0)
         );
         assert_eq!(
-            spike_options("hampel", "gap", 0.0).unwrap().half_window,
+            spike_options("hampel", "gap", 0.0, true)
+                .unwrap()
+                .half_window,
             SpikeOptions::default().half_window
         );
-        assert!(spike_options("median:3", "gap", 0.0).is_err());
-        assert!(spike_options("hampel:x", "gap", 0.0)
+        assert!(spike_options("median:3", "gap", 0.0, false).is_err());
+        assert!(spike_options("hampel:x", "gap", 0.0, false)
             .unwrap_err()
             .to_string()
             .contains("not a valid number"));
