@@ -5,6 +5,7 @@
 
 use crate::commands::repair::{print_summary, repair_file, Summary};
 use crate::commands::repair_io::RepairArgs;
+use crate::output::write_atomic;
 use anyhow::{bail, Result};
 use rayon::prelude::*;
 use std::io::{IsTerminal, Write};
@@ -122,6 +123,23 @@ pub fn run(a: Args) -> Result<i32> {
                     if !overwrite && output.exists() {
                         bail!("{} exists (use --force to overwrite)", output.display());
                     }
+                    // A trial without points (EMG only) has nothing to repair: it is skipped,
+                    // and copied unchanged so the output folder holds every trial.
+                    let bytes = std::fs::read(input)
+                        .map_err(|e| anyhow::anyhow!("{}: {e}", input.display()))?;
+                    if let Ok(c) = c3d::read(bytes.clone()) {
+                        if c.points().count() == 0 {
+                            if !a.in_place {
+                                write_atomic(output, &bytes, overwrite)?;
+                            }
+                            return Ok(Summary {
+                                file: input.display().to_string(),
+                                output: output.display().to_string(),
+                                skipped: Some("no points".into()),
+                                ..Summary::default()
+                            });
+                        }
+                    }
                     repair_file(input, output, &a.repair, a.backup, overwrite).map(|(_, s)| s)
                 })()
                 .map_err(|e| format!("{e:#}"));
@@ -152,6 +170,7 @@ pub fn run(a: Args) -> Result<i32> {
     }
     let ok: Vec<&Summary> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
     let failed = results.len() - ok.len();
+    let skipped = ok.iter().filter(|s| s.skipped.is_some()).count();
     let filled: usize = ok.iter().map(|s| s.filled).sum();
     let gaps: usize = ok.iter().map(|s| s.gaps).sum();
     let spikes: usize = ok.iter().map(|s| s.spikes).sum();
@@ -159,7 +178,7 @@ pub fn run(a: Args) -> Result<i32> {
     if a.json {
         println!(
             "{}",
-            serde_json::json!({"summary": {"files": results.len(), "repaired": ok.len(), "failed": failed,
+            serde_json::json!({"summary": {"files": results.len(), "repaired": ok.len() - skipped, "skipped": skipped, "failed": failed,
                 "gaps": gaps, "filled": filled, "spikes": spikes, "samples_changed": changed}})
         );
     } else {
@@ -167,9 +186,9 @@ pub fn run(a: Args) -> Result<i32> {
             ok.iter().for_each(|s| print_summary(s));
         }
         println!(
-            "{} files: {} repaired, {} failed; {gaps} gaps, {filled} filled, {spikes} spikes, {changed} samples changed",
+            "{} files: {} repaired, {skipped} skipped (no points), {} failed; {gaps} gaps, {filled} filled, {spikes} spikes, {changed} samples changed",
             results.len(),
-            ok.len(),
+            ok.len() - skipped,
             failed
         );
     }

@@ -52,9 +52,14 @@ pub struct Summary {
     pub segments_filtered: usize,
     pub segments_too_short: usize,
     pub samples_changed: usize,
+    /// Repaired samples clamped to the integer range of POINT:SCALE (integer files only).
+    pub samples_clamped: usize,
     pub markers_changed: usize,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub backup: Option<String>,
+    /// Why the file was left as it was (batch only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub skipped: Option<String>,
 }
 
 /// Repair `input` into `output`; the full report as JSON, and the summary.
@@ -132,8 +137,9 @@ pub fn repair_file(
             s.segments_too_short += 1;
         }
     }
-    s.samples_changed =
-        repair_io::write_back(&mut c, &trial, &points, &report.changes, only.as_deref());
+    let wb = repair_io::write_back(&mut c, &trial, &points, &report.changes, only.as_deref());
+    s.samples_changed = wb.changed;
+    s.samples_clamped = wb.clamped;
     s.markers_changed = (0..points.len())
         .filter(|&r| in_scope(r) && report.changes[r].iter().any(|&x| x != 0))
         .count();

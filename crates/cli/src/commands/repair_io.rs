@@ -216,17 +216,22 @@ pub fn select(c: &c3d::C3d, names: &Option<Vec<String>>) -> Result<Option<Vec<us
 /// Write the repair of `points` (trial rows) back into the file: filled, despiked and filtered
 /// samples get the new coordinates with residual 0 and camera mask 0 (the C3D manual's mark
 /// for processed points); samples invalidated and not refilled become gaps; the others keep
-/// their bits. Only markers in `only` (point indices) are written when given. Returns the
-/// number of samples changed.
+/// their bits. Only markers in `only` (point indices) are written when given.
 pub fn write_back(
     c: &mut c3d::C3d,
     trial: &repair::Trial,
     points: &[usize],
     changes: &[Vec<u8>],
     only: Option<&[usize]>,
-) -> usize {
-    let mut n = 0;
+) -> WriteBack {
+    let mut w = WriteBack::default();
     let frames = c.points().frames();
+    // Integer files hold ±32767 × POINT:SCALE at most; a filter's overshoot or a fill near
+    // that edge is clamped to it (and counted) rather than making the file unwritable.
+    let limit = match c.format() {
+        c3d::NumberFormat::Integer => Some(c.layout().point_scale as f64 * 32767.0),
+        c3d::NumberFormat::Float => None,
+    };
     let pts = c.points_mut();
     for (row, &i) in points.iter().enumerate() {
         if only.is_some_and(|o| !o.contains(&i)) {
@@ -240,20 +245,35 @@ pub fn write_back(
             if ch & (change::FILLED | change::DESPIKED | change::FILTERED) != 0
                 && trial.valid[row][f]
             {
-                let v = trial.xyz[row][f];
+                let mut v = trial.xyz[row][f];
+                if let Some(l) = limit {
+                    if v.iter().any(|x| x.abs() > l) {
+                        w.clamped += 1;
+                        v = v.map(|x| x.clamp(-l, l));
+                    }
+                }
                 pts.xyz[k] = [v[0] as f32, v[1] as f32, v[2] as f32];
                 pts.residual[k] = 0.0;
                 pts.camera_mask[k] = 0;
-                n += 1;
+                w.changed += 1;
             } else if ch & change::INVALIDATED != 0 {
                 pts.xyz[k] = [0.0; 3];
                 pts.residual[k] = -1.0;
                 pts.camera_mask[k] = 0;
-                n += 1;
+                w.changed += 1;
             }
         }
     }
-    n
+    w
+}
+
+/// What [`write_back`] did.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct WriteBack {
+    /// Samples given new values or flags.
+    pub changed: usize,
+    /// Of those, samples clamped to the integer range of the file's POINT:SCALE.
+    pub clamped: usize,
 }
 
 /// Where to write: `-o OUT`, or the input itself with `--in-place`.
