@@ -6,6 +6,7 @@
 //! another processor or number format is [`C3d::convert`].
 
 mod analog;
+mod checks;
 mod data;
 pub mod diff;
 mod error;

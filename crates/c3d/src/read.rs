@@ -155,6 +155,14 @@ pub fn read(bytes: Vec<u8>) -> Result<C3d> {
             ));
         }
     }
+    crate::checks::check(
+        &header,
+        &parameters,
+        &layout,
+        &points,
+        &analog,
+        &mut warnings,
+    );
     let source = Source {
         header: header.clone(),
         processor,
