@@ -5,9 +5,9 @@
 //! from the neighbours' known coordinates and the target is read back from the model; the
 //! anchor errors are then blended out so the fill is continuous with the valid samples.
 //!
-//! The artificial gaps `auto` scores PCA on share one model trained without the frames of
-//! all of them ([`Plan::exclude`]), so scores stay honest; it is the real gap's training
-//! sums with those rows subtracted, so it costs one extra eigen-decomposition per gap.
+//! Each artificial gap `auto` scores PCA on gets a model trained without the gap's frames,
+//! so scores stay honest: the real gap's training sums with those rows subtracted, so it
+//! costs one eigen-decomposition per artificial gap but no second pass over the window.
 
 use super::{blend_edges, Fill, FillOptions, Plan, SkipReason, Span, Target};
 use crate::linalg::{solve_in_place, symmetric_eigen};
@@ -32,23 +32,28 @@ pub(super) fn fill(t: &Target, span: Span, plan: &Plan, opts: &FillOptions) -> F
         return Err(SkipReason::NoDonors);
     }
     let known = 3 * nb.len();
-    let real = Target { hole: None, ..*t };
+    // The target as the plan saw it (with the plan's own hole, if any).
+    let base = Target {
+        hole: plan.hole,
+        ..*t
+    };
     let all = || {
         plan.pca_sums
-            .get_or_init(|| sums(&real, plan.region, nb, opts))
+            .get_or_init(|| sums(&base, plan.region, nb, opts))
     };
     let fresh;
-    let model = match t.hole {
-        None => plan
+    let model = match (t.hole, plan.hole) {
+        (h, p) if h == p => plan
             .pca_model
             .get_or_init(|| model(all().as_ref().map_err(|&e| e)?, known, opts)),
-        Some((a, b)) if plan.exclude.iter().any(|&(ea, eb)| ea <= a && b <= eb) => {
-            plan.pca_scoring_model.get_or_init(|| {
-                let s = all().as_ref().map_err(|&e| e)?;
-                model(&without(s, &real, nb, &plan.exclude), known, opts)
-            })
+        (Some(h), None) => {
+            fresh = all()
+                .as_ref()
+                .map_err(|&e| e)
+                .and_then(|s| model(&without(s, &base, nb, &[h]), known, opts));
+            &fresh
         }
-        Some(_) => {
+        _ => {
             fresh = sums(t, plan.region, nb, opts).and_then(|s| model(&s, known, opts));
             &fresh
         }
