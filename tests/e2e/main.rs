@@ -1,5 +1,7 @@
 //! End-to-end tests of the `c3dfix` binary, run in temporary folders.
 
+mod auto_eval;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

@@ -100,8 +100,13 @@ pub(super) fn fill(
         return Ok((v, Choice::single(m)));
     }
 
-    let want = opts.auto_trials;
     let len = span.len();
+    // Short gaps: polynomials and donors differ clearly, half the trials tell them apart.
+    let want = if len >= LONG {
+        opts.auto_trials
+    } else {
+        opts.auto_trials.div_ceil(2)
+    };
     let enough = want.div_ceil(2);
     let mut trials = same_marker(t, span, plan, len, want, opts);
     let full = trials.len();
@@ -122,6 +127,14 @@ pub(super) fn fill(
         }
         other_markers(t, span, plan, want - full, opts, &mut trials, &mut plans);
     }
+    // PCA may train one scoring model without several of the target's holes.
+    let _ = plan.exclude.set(
+        trials
+            .iter()
+            .filter(|tr| tr.plan.is_none())
+            .map(|tr| tr.hole)
+            .collect(),
+    );
     // Shorter holes flatter polynomials, which are far off on long gaps anyway.
     if shortened && fills.iter().any(|(m, _)| !m.is_polynomial()) {
         fills.retain(|(m, _)| !m.is_polynomial());

@@ -99,7 +99,8 @@ pub struct FillOptions {
     /// Minimum half-width of the PCA training window in frames (the window is
     /// ±max(pca_window, 5 × gap length) around the gap).
     pub pca_window: usize,
-    /// Artificial gaps `auto` scores candidates on (per gap).
+    /// Artificial gaps `auto` scores candidates on per gap (half as many for gaps
+    /// shorter than 20 frames).
     pub auto_trials: usize,
 }
 
@@ -113,7 +114,7 @@ impl Default for FillOptions {
             pca_neighbours: 8,
             pca_variance: 0.999,
             pca_window: 250,
-            auto_trials: 12,
+            auto_trials: 10,
         }
     }
 }

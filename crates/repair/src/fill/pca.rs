@@ -6,12 +6,16 @@
 //! anchor errors are then blended out so the fill is continuous with the valid samples.
 //!
 //! Each artificial gap `auto` scores PCA on gets a model trained without the gap's frames,
-//! so scores stay honest: the real gap's training sums with those rows subtracted, so it
-//! costs one eigen-decomposition per artificial gap but no second pass over the window.
+//! so scores stay honest: the real gap's training sums with those rows subtracted (no
+//! second pass over the window). Nearby artificial gaps share a model trained without all
+//! of them while together they hold at most a tenth of the training rows, which saves
+//! eigen-decompositions.
 
+use super::plan::ScoringModels;
 use super::{blend_edges, Fill, FillOptions, Plan, SkipReason, Span, Target};
 use crate::linalg::{solve_in_place, symmetric_eigen};
 use nalgebra::DMatrix;
+use std::cell::OnceCell;
 
 /// Fewest training frames accepted.
 const MIN_TRAIN: usize = 10;
@@ -46,6 +50,21 @@ pub(super) fn fill(t: &Target, span: Span, plan: &Plan, opts: &FillOptions) -> F
         (h, p) if h == p => plan
             .pca_model
             .get_or_init(|| model(all().as_ref().map_err(|&e| e)?, known, opts)),
+        (Some(h), None) if plan.exclude.get().is_some_and(|v| v.contains(&h)) => {
+            let s = all().as_ref().map_err(|&e| e)?;
+            let holes = plan.exclude.get().map_or(&[][..], Vec::as_slice);
+            let (group_of, models) = plan.pca_scoring_models.get_or_init(|| groups(s, holes));
+            let g = group_of[holes.iter().position(|&x| x == h).unwrap_or(0)];
+            models[g].get_or_init(|| {
+                let members: Vec<(usize, usize)> = holes
+                    .iter()
+                    .zip(group_of)
+                    .filter(|&(_, &k)| k == g)
+                    .map(|(&x, _)| x)
+                    .collect();
+                model(&without(s, &base, nb, &members), known, opts)
+            })
+        }
         (Some(h), None) => {
             fresh = all()
                 .as_ref()
@@ -168,6 +187,27 @@ fn sums(
         sum,
         xxt,
     })
+}
+
+/// Holes sharing a scoring model: consecutive ones while together they remove at most
+/// `1 / SHARE` of the training rows (at least one hole per model). Fewer
+/// eigen-decompositions, and every model still trains on nearly all the window.
+fn groups(s: &Sums, holes: &[(usize, usize)]) -> ScoringModels {
+    const SHARE: usize = 10;
+    let cap = s.frames.len() / SHARE;
+    let mut group_of = Vec::with_capacity(holes.len());
+    let (mut g, mut used) = (0, 0);
+    for (i, &(a, b)) in holes.iter().enumerate() {
+        let n = b - a + 1;
+        if i > 0 && used + n > cap {
+            g += 1;
+            used = 0;
+        }
+        used += n;
+        group_of.push(g);
+    }
+    let models = (0..=g).map(|_| OnceCell::new()).collect();
+    (group_of, models)
 }
 
 /// `s` without the rows of frames inside `exclude` (artificial gaps): a downdate instead

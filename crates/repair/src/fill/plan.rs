@@ -30,7 +30,17 @@ pub(crate) struct Plan {
     pub pca_sums: OnceCell<Result<Sums, SkipReason>>,
     /// The PCA model for the gap itself, trained on first use.
     pub pca_model: OnceCell<Result<Model, SkipReason>>,
+    /// `auto`'s artificial holes in the target, nearest the gap first: PCA scores them
+    /// with models trained without a few of them at a time (see `pca::fill`).
+    pub exclude: OnceCell<Vec<(usize, usize)>>,
+    /// Per hole of `exclude`, the index of its model in `pca_scoring_models`.
+    pub pca_scoring_models: OnceCell<ScoringModels>,
 }
+
+/// A lazily trained PCA model.
+pub(crate) type LazyModel = OnceCell<Result<Model, SkipReason>>;
+/// Per artificial hole its model's index, and the models.
+pub(crate) type ScoringModels = (Vec<usize>, Vec<LazyModel>);
 
 struct Stats {
     m: usize,
@@ -52,6 +62,8 @@ impl Plan {
             hole: None,
             pca_sums: OnceCell::new(),
             pca_model: OnceCell::new(),
+            exclude: OnceCell::new(),
+            pca_scoring_models: OnceCell::new(),
         }
     }
 
@@ -120,6 +132,8 @@ impl Plan {
             hole: t.hole,
             pca_sums: OnceCell::new(),
             pca_model: OnceCell::new(),
+            exclude: OnceCell::new(),
+            pca_scoring_models: OnceCell::new(),
         }
     }
 }
