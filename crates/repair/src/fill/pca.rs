@@ -8,7 +8,7 @@
 //! Each artificial gap `auto` scores PCA on gets a model trained without the gap's frames,
 //! so scores stay honest: the real gap's training sums with those rows subtracted (no
 //! second pass over the window). Nearby artificial gaps share a model trained without all
-//! of them while together they hold at most a tenth of the training rows, which saves
+//! of them while together they hold at most a fifth of the training rows, which saves
 //! eigen-decompositions.
 
 use super::plan::ScoringModels;
@@ -193,7 +193,7 @@ fn sums(
 /// `1 / SHARE` of the training rows (at least one hole per model). Fewer
 /// eigen-decompositions, and every model still trains on nearly all the window.
 fn groups(s: &Sums, holes: &[(usize, usize)]) -> ScoringModels {
-    const SHARE: usize = 10;
+    const SHARE: usize = 5;
     let cap = s.frames.len() / SHARE;
     let mut group_of = Vec::with_capacity(holes.len());
     let (mut g, mut used) = (0, 0);
