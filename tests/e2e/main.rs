@@ -1,12 +1,12 @@
 //! End-to-end tests of the `c3dfix` binary, run in temporary folders.
 
-mod bvh;
-mod view;
-
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+mod auto_eval;
+mod bvh;
 mod repair;
+mod view;
 
 fn c3dfix(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_c3dfix"))

@@ -1,15 +1,22 @@
 //! `auto`: for each gap, every applicable method fills the gap and also artificial gaps of
-//! the same length cut from the same marker's valid data nearby (same donors, whose truth
-//! is known). The method with the lowest mean error is used, or the inverse-error-weighted
-//! blend of the best two when that scores lower still. Without room for artificial gaps,
-//! a fixed preference order decides.
+//! the same length whose truth is known, and the fill that scores lowest there is used:
+//! one method, or the blend of the best two or three weighted by inverse squared error.
+//!
+//! Artificial gaps are cut first from the same marker, anywhere in the PCA training window
+//! where it and its donors are valid (nearest the real gap first, non-overlapping first),
+//! with the same donors, so scores describe the fill that will be used. When the marker has
+//! too little room (short trials, long gaps), the real gap's frames are knocked out of
+//! other markers valid there (each with its own donors), which tells how hard these frames
+//! are for each method; long gaps are also scored on the marker's own shorter holes (then
+//! among the donor methods only, since short holes flatter polynomials). The PCA model a
+//! trial is scored with never saw the trial's hole.
+//! Without any artificial gap, PCA is used for long gaps and the quintic for short ones.
 
-use super::{
-    fill_with, Fill, FillMethod, FillOptions, FillOutcome, Plan, SkipReason, Span, Target,
-};
+use super::{fill_with, FillMethod, FillOptions, FillOutcome, Plan, SkipReason, Span, Target};
 
 /// Candidates for gaps with valid data on both sides.
-const INTERIOR: [FillMethod; 6] = [
+const INTERIOR: [FillMethod; 7] = [
+    FillMethod::Lagrange5,
     FillMethod::Spline,
     FillMethod::Rigid,
     FillMethod::Pca,
@@ -19,39 +26,58 @@ const INTERIOR: [FillMethod; 6] = [
 ];
 /// Candidates at the trial's edges (no polynomial extrapolation).
 const EDGE: [FillMethod; 3] = [FillMethod::Rigid, FillMethod::Pca, FillMethod::Pattern];
-/// Positions tried per side when looking for room for artificial gaps.
-const TRIES: usize = 6;
+/// Other markers tried at most when the target has too little room.
+const OTHER_MARKERS: usize = 4;
+/// Gap length from which the target's shorter holes stand in for missing room.
+const LONG: usize = 20;
+/// Most candidates blended.
+const BLEND: usize = 3;
 
 /// What `auto` chose for one gap.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Choice {
     pub method: FillMethod,
+    /// Methods blended in, with their shares (the first method has the rest).
     pub second: Option<(FillMethod, f64)>,
+    pub third: Option<(FillMethod, f64)>,
     pub expected_error: Option<f64>,
 }
 
 impl Choice {
+    fn single(method: FillMethod) -> Choice {
+        Choice {
+            method,
+            second: None,
+            third: None,
+            expected_error: None,
+        }
+    }
+
     pub fn outcome(&self) -> FillOutcome {
         FillOutcome::Filled {
             method: self.method,
             blended_with: self.second.map(|s| s.0),
             weight: self.second.map(|s| s.1),
+            blended_with_2: self.third.map(|s| s.0),
+            weight_2: self.third.map(|s| s.1),
             expected_error: self.expected_error,
         }
     }
 }
 
-/// An artificial gap: the span handed to the methods and the frames scored.
-pub(super) struct Trial {
-    pub span: Span,
-    pub hole: (usize, usize),
+/// An artificial gap: the marker, the span handed to the methods (its anchors), and the
+/// hole (frames treated as invalid and scored); `plan` is `None` for the target's own plan.
+struct Trial {
+    m: usize,
+    span: Span,
+    hole: (usize, usize),
+    plan: Option<usize>,
 }
 
 pub(super) fn fill(
     t: &Target,
     span: Span,
     plan: &Plan,
-    trials: &[Trial],
     opts: &FillOptions,
 ) -> Result<(Vec<[f64; 3]>, Choice), SkipReason> {
     let edge = span.before.is_none() || span.after.is_none();
@@ -71,188 +97,293 @@ pub(super) fn fill(
     }
     if fills.len() == 1 {
         let (m, v) = fills.remove(0);
-        let choice = Choice {
-            method: m,
-            second: None,
-            expected_error: None,
-        };
-        return Ok((v, choice));
+        return Ok((v, Choice::single(m)));
     }
 
-    // errs[c][i]: per-sample errors of candidate c over the artificial gaps where every
-    // candidate succeeded (so all are compared on the same samples).
-    let mut errs: Vec<Vec<f64>> = vec![Vec::new(); fills.len()];
+    let len = span.len();
+    // Short gaps: polynomials and donors differ clearly, half the trials tell them apart.
+    let want = if len >= LONG {
+        opts.auto_trials
+    } else {
+        opts.auto_trials.div_ceil(2)
+    };
+    let enough = want.div_ceil(2);
+    let mut trials = same_marker(t, span, plan, len, want, opts);
+    let full = trials.len();
+    let mut plans: Vec<Plan> = Vec::new();
+    let mut shortened = false;
+    if full < enough {
+        // Too little room for the gap's length: the marker's own shorter holes (for long
+        // gaps) say which donors serve it; the real gap's frames in other markers say how
+        // hard these frames are.
+        if len >= LONG {
+            let mut l = len / 2;
+            while l >= 5 && trials.len() < enough {
+                let more = same_marker(t, span, plan, l, want - trials.len(), opts);
+                shortened |= !more.is_empty();
+                trials.extend(more);
+                l /= 2;
+            }
+        }
+        other_markers(t, span, plan, want - full, opts, &mut trials, &mut plans);
+    }
+    // PCA may train one scoring model without several of the target's holes.
+    let _ = plan.exclude.set(
+        trials
+            .iter()
+            .filter(|tr| tr.plan.is_none())
+            .map(|tr| tr.hole)
+            .collect(),
+    );
+    // Shorter holes flatter polynomials, which are far off on long gaps anyway.
+    if shortened && fills.iter().any(|(m, _)| !m.is_polynomial()) {
+        fills.retain(|(m, _)| !m.is_polynomial());
+    }
+    if fills.len() == 1 {
+        let (m, v) = fills.remove(0);
+        return Ok((v, Choice::single(m)));
+    }
+
+    // preds[c]: candidate c's predictions over the artificial gaps where every candidate
+    // succeeded (so all are compared on the same samples), truth: the true samples.
     let mut preds: Vec<Vec<[f64; 3]>> = vec![Vec::new(); fills.len()];
     let mut truth: Vec<[f64; 3]> = Vec::new();
-    for tr in trials {
+    for tr in &trials {
         let tt = Target {
+            m: tr.m,
             hole: Some(tr.hole),
-            ..*t
+            data: t.data,
         };
-        let got: Vec<Fill> = fills
-            .iter()
-            .map(|(m, _)| fill_with(*m, &tt, tr.span, plan, opts))
-            .collect();
-        if got.iter().any(|g| g.is_err()) {
+        let p = tr.plan.map_or(plan, |i| &plans[i]);
+        let mut got = Vec::with_capacity(fills.len());
+        for (m, _) in &fills {
+            match fill_with(*m, &tt, tr.span, p, opts) {
+                Ok(v) => got.push(v),
+                Err(_) => break,
+            }
+        }
+        if got.len() < fills.len() {
             continue;
         }
         let skip = tr.hole.0 - tr.span.first;
-        let len = tr.hole.1 - tr.hole.0 + 1;
-        truth.extend((tr.hole.0..=tr.hole.1).map(|f| t.at(f)));
-        for (c, g) in got.into_iter().enumerate() {
-            if let Ok(v) = g {
-                preds[c].extend_from_slice(&v[skip..skip + len]);
-            }
+        let n = tr.hole.1 - tr.hole.0 + 1;
+        truth.extend((tr.hole.0..=tr.hole.1).map(|f| tt.at(f)));
+        for (c, v) in got.into_iter().enumerate() {
+            preds[c].extend_from_slice(&v[skip..skip + n]);
         }
     }
     if truth.is_empty() {
-        let v = fallback(fills, span.len());
-        return Ok(v);
+        return Ok(fallback(fills, len));
     }
-    for c in 0..fills.len() {
-        errs[c] = preds[c]
+    let score = |blend: &[(usize, f64)]| {
+        let e: f64 = truth
             .iter()
-            .zip(&truth)
-            .map(|(p, q)| dist(*p, *q))
-            .collect();
-    }
-    let mean = |e: &[f64]| e.iter().sum::<f64>() / e.len() as f64;
-    let mut order: Vec<(f64, usize)> = errs.iter().map(|e| mean(e)).zip(0..).collect();
-    order.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let (e1, c1) = order[0];
-    let (e2, c2) = order[1];
-    let mut choice = Choice {
-        method: fills[c1].0,
-        second: None,
-        expected_error: Some(e1),
+            .enumerate()
+            .map(|(i, q)| dist(combine(blend, |c| preds[c][i]), *q))
+            .sum();
+        e / truth.len() as f64
     };
-    let mut out = fills[c1].1.clone();
-    if e1 > 0.0 && e2.is_finite() {
-        // Inverse-error weights: the second method's share is e1 / (e1 + e2).
-        let w2 = e1 / (e1 + e2);
-        let eb = mean(
-            &preds[c1]
-                .iter()
-                .zip(&preds[c2])
-                .zip(&truth)
-                .map(|((a, b), q)| dist(mix(*a, *b, w2), *q))
-                .collect::<Vec<_>>(),
-        );
-        if eb < e1 {
-            for (o, b) in out.iter_mut().zip(&fills[c2].1) {
-                *o = mix(*o, *b, w2);
-            }
-            choice.second = Some((fills[c2].0, w2));
-            choice.expected_error = Some(eb);
+    let mut order: Vec<(f64, usize)> = (0..fills.len()).map(|c| (score(&[(c, 1.0)]), c)).collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // The best method alone, or the best two or three blended with weights 1 / error²
+    // (inverse expected variance), whichever scores lowest.
+    let mut best = (order[0].0, vec![(order[0].1, 1.0)]);
+    for k in 2..=order.len().min(BLEND) {
+        let inv: Vec<f64> = order[..k]
+            .iter()
+            .map(|&(e, _)| 1.0 / e.max(1e-12).powi(2))
+            .collect();
+        let total: f64 = inv.iter().sum();
+        if !total.is_finite() {
+            break;
+        }
+        let blend: Vec<(usize, f64)> = order[..k]
+            .iter()
+            .zip(&inv)
+            .map(|(&(_, c), w)| (c, w / total))
+            .collect();
+        let e = score(&blend);
+        if e < best.0 {
+            best = (e, blend);
         }
     }
+    let (e, blend) = best;
+    let out: Vec<[f64; 3]> = (0..len)
+        .map(|i| combine(&blend, |c| fills[c].1[i]))
+        .collect();
+    let others: Vec<(FillMethod, f64)> = blend[1..].iter().map(|&(c, w)| (fills[c].0, w)).collect();
+    let choice = Choice {
+        method: fills[blend[0].0].0,
+        second: others.first().copied(),
+        third: others.get(1).copied(),
+        expected_error: Some(e),
+    };
     Ok((out, choice))
 }
 
-/// Without artificial gaps to judge by: donors first for long gaps, the spline for short.
+/// The weighted sum of candidates' predictions (weights sum to 1).
+fn combine(blend: &[(usize, f64)], pred: impl Fn(usize) -> [f64; 3]) -> [f64; 3] {
+    let mut o = [0.0; 3];
+    for &(c, w) in blend {
+        let p = pred(c);
+        for k in 0..3 {
+            o[k] += w * p[k];
+        }
+    }
+    o
+}
+
+/// Without artificial gaps to judge by: the quintic (then the spline) for short interior
+/// gaps, PCA (then rigid) otherwise — the best methods a priori on gait data.
 fn fallback(mut fills: Vec<(FillMethod, Vec<[f64; 3]>)>, len: usize) -> (Vec<[f64; 3]>, Choice) {
     let pref: &[FillMethod] = if len <= 10 {
-        &[FillMethod::Spline, FillMethod::Rigid, FillMethod::Pca]
+        &[
+            FillMethod::Lagrange5,
+            FillMethod::Spline,
+            FillMethod::Pca,
+            FillMethod::Rigid,
+        ]
     } else {
-        &[FillMethod::Rigid, FillMethod::Pca, FillMethod::Spline]
+        &[FillMethod::Pca, FillMethod::Rigid, FillMethod::Spline]
     };
     let pick = pref
         .iter()
         .find_map(|m| fills.iter().position(|(f, _)| f == m))
         .unwrap_or(0);
     let (method, v) = fills.swap_remove(pick);
-    let choice = Choice {
-        method,
-        second: None,
-        expected_error: None,
-    };
-    (v, choice)
-}
-
-fn mix(a: [f64; 3], b: [f64; 3], w: f64) -> [f64; 3] {
-    [
-        a[0] + w * (b[0] - a[0]),
-        a[1] + w * (b[1] - a[1]),
-        a[2] + w * (b[2] - a[2]),
-    ]
+    (v, Choice::single(method))
 }
 
 fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 
-/// Artificial gaps of the gap's length in the target's valid data: up to `per_side` on each
-/// side for an interior gap, leaving a few valid samples between them and the real gap; for
-/// a gap at a trial edge, the gap extended inwards by its length (same one-sided situation).
-pub(super) fn artificial(t: &Target, span: Span, per_side: usize) -> Vec<Trial> {
-    let n = t.data.frames;
-    let len = span.len();
-    let ok_run = |a: usize, b: usize| (a..=b).all(|f| t.ok(f));
-    let mut out = Vec::new();
-    match (span.before, span.after) {
-        (Some(_), Some(_)) => {
-            let step = len + 2;
-            let gap0 = 2 + len / 2;
-            let mut found = 0;
-            for j in 0..TRIES {
-                // Before: hole a..=b ends `g` valid frames before the gap.
-                let g = gap0 + j * step;
-                let Some(b) = span.first.checked_sub(1 + g) else {
-                    break;
-                };
-                let Some(a) = (b + 1).checked_sub(len) else {
-                    break;
-                };
-                if a >= 1 && ok_run(a - 1, b + 1) {
-                    out.push(Trial {
-                        span: Span::new(a, b, n),
-                        hole: (a, b),
-                    });
-                    found += 1;
-                    if found == per_side {
-                        break;
-                    }
-                }
-            }
-            found = 0;
-            for j in 0..TRIES {
-                let a = span.last + 1 + gap0 + j * step;
-                let b = a + len - 1;
-                if b + 1 >= n {
-                    break;
-                }
-                if ok_run(a - 1, b + 1) {
-                    out.push(Trial {
-                        span: Span::new(a, b, n),
-                        hole: (a, b),
-                    });
-                    found += 1;
-                    if found == per_side {
-                        break;
-                    }
-                }
-            }
-        }
-        (None, Some(after)) => {
-            let b = after + len - 1;
-            if b + 1 < n && ok_run(after, b + 1) {
-                out.push(Trial {
-                    span: Span::new(span.first, b, n),
-                    hole: (after, b),
-                });
-            }
-        }
-        (Some(before), None) => {
-            if let Some(a) = (before + 1).checked_sub(len) {
-                if a >= 1 && ok_run(a - 1, before) {
-                    out.push(Trial {
-                        span: Span::new(a, span.last, n),
-                        hole: (a, before),
-                    });
-                }
-            }
-        }
-        (None, None) => {}
+/// The span of an artificial hole `a..=b`, one-sided like the real gap when that touches
+/// an edge of the trial.
+fn trial_span(real: Span, a: usize, b: usize, n: usize) -> Span {
+    let mut s = Span::new(a, b, n);
+    if real.before.is_none() {
+        s.before = None;
     }
-    out
+    if real.after.is_none() {
+        s.after = None;
+    }
+    s
+}
+
+/// Up to `want` artificial gaps of the real gap's length in the target's own data, within
+/// the PCA training window, where the target is valid on the hole and its anchors and
+/// every donor of the plan is valid too; at least `2 + len / 2` frames from the real gap.
+/// Nearest the real gap first; non-overlapping holes before half-overlapping ones.
+fn same_marker(
+    t: &Target,
+    span: Span,
+    plan: &Plan,
+    len: usize,
+    want: usize,
+    opts: &FillOptions,
+) -> Vec<Trial> {
+    let n = t.data.frames;
+    let sep = 2 + len / 2;
+    let half = opts.pca_window.max(5 * span.len());
+    let lo = span.first.saturating_sub(half);
+    let hi = (span.last + half).min(n - 1);
+    let mut donors: Vec<usize> = plan.rigid.clone();
+    donors.extend(plan.pca.iter().map(|&(j, _)| j));
+    donors.extend(plan.pattern);
+    donors.sort_unstable();
+    donors.dedup();
+    let good: Vec<bool> = (lo..=hi)
+        .map(|f| t.ok(f) && donors.iter().all(|&j| t.data.ok(j, f)))
+        .collect();
+    let (need_before, need_after) = (span.before.is_some(), span.after.is_some());
+    // Maximal runs of good frames; holes `a..=b` with the anchors that the real gap has
+    // inside the run.
+    let mut cands: Vec<(usize, usize, usize)> = Vec::new(); // (distance, a, phase)
+    let mut f = lo;
+    while f <= hi {
+        if !good[f - lo] {
+            f += 1;
+            continue;
+        }
+        let r0 = f;
+        while f <= hi && good[f - lo] {
+            f += 1;
+        }
+        let r1 = f - 1;
+        let a0 = r0 + usize::from(need_before);
+        let Some(a1) = (r1 + 1).checked_sub(len + usize::from(need_after)) else {
+            continue;
+        };
+        if a0 > a1 {
+            continue;
+        }
+        for (phase, start) in [(0, a0), (1, a0 + len.div_ceil(2))] {
+            let mut a = start;
+            while a <= a1 {
+                let b = a + len - 1;
+                let d = if b < span.first {
+                    span.first - b
+                } else {
+                    a.saturating_sub(span.last)
+                };
+                if d > sep {
+                    cands.push((d, a, phase));
+                }
+                a += len + 1;
+            }
+        }
+    }
+    cands.sort_unstable_by_key(|&(d, a, phase)| (phase, d, a));
+    cands
+        .into_iter()
+        .take(want)
+        .map(|(_, a, _)| Trial {
+            m: t.m,
+            span: trial_span(span, a, a + len - 1, n),
+            hole: (a, a + len - 1),
+            plan: None,
+        })
+        .collect()
+}
+
+/// Up to `want` (at most [`OTHER_MARKERS`]) artificial gaps over the real gap's own frames
+/// in the markers nearest the target that are valid there, each with a plan of its own
+/// made without the hole.
+fn other_markers(
+    t: &Target,
+    span: Span,
+    plan: &Plan,
+    want: usize,
+    opts: &FillOptions,
+    trials: &mut Vec<Trial>,
+    plans: &mut Vec<Plan>,
+) {
+    let (lo, hi) = span.outer();
+    let mut ms: Vec<usize> = plan.pca.iter().map(|&(j, _)| j).collect();
+    for &j in &plan.rigid {
+        if !ms.contains(&j) {
+            ms.push(j);
+        }
+    }
+    for j in ms {
+        if plans.len() >= want.min(OTHER_MARKERS) {
+            break;
+        }
+        if !t.data.ok_through(j, lo, hi) {
+            continue;
+        }
+        let tt = Target {
+            m: j,
+            data: t.data,
+            hole: Some((span.first, span.last)),
+        };
+        plans.push(Plan::build(&tt, span, opts));
+        trials.push(Trial {
+            m: j,
+            span,
+            hole: (span.first, span.last),
+            plan: Some(plans.len() - 1),
+        });
+    }
 }

@@ -37,7 +37,7 @@ pub enum FillMethod {
     Pattern,
     /// Distance-weighted PCA reconstruction (Gløersen & Federolf 2016).
     Pca,
-    /// Per gap, the best method (or blend of two) judged on artificial gaps nearby.
+    /// Per gap, the best method (or blend of up to three) judged on artificial gaps.
     Auto,
 }
 
@@ -99,7 +99,8 @@ pub struct FillOptions {
     /// Minimum half-width of the PCA training window in frames (the window is
     /// ±max(pca_window, 5 × gap length) around the gap).
     pub pca_window: usize,
-    /// Artificial gaps per side `auto` scores candidates on.
+    /// Artificial gaps `auto` scores candidates on per gap (half as many for gaps
+    /// shorter than 20 frames).
     pub auto_trials: usize,
 }
 
@@ -113,7 +114,7 @@ impl Default for FillOptions {
             pca_neighbours: 8,
             pca_variance: 0.999,
             pca_window: 250,
-            auto_trials: 2,
+            auto_trials: 10,
         }
     }
 }
@@ -173,6 +174,12 @@ pub enum FillOutcome {
         blended_with: Option<FillMethod>,
         #[serde(skip_serializing_if = "Option::is_none")]
         weight: Option<f64>,
+        /// `auto` only: a third method blended in, with `weight_2` its share (`method` has
+        /// what `weight` and `weight_2` leave).
+        #[serde(skip_serializing_if = "Option::is_none")]
+        blended_with_2: Option<FillMethod>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        weight_2: Option<f64>,
         /// `auto` only: mean 3D error of the choice on the artificial gaps it was scored on.
         #[serde(skip_serializing_if = "Option::is_none")]
         expected_error: Option<f64>,
@@ -299,10 +306,7 @@ pub(crate) fn fill_with(
         FillMethod::Rigid => rigid::fill(t, span, plan),
         FillMethod::Pattern => pattern::fill(t, span, plan),
         FillMethod::Pca => pca::fill(t, span, plan, opts),
-        FillMethod::Auto => {
-            let trials = auto::artificial(t, span, opts.auto_trials);
-            auto::fill(t, span, plan, &trials, opts).map(|(v, _)| v)
-        }
+        FillMethod::Auto => auto::fill(t, span, plan, opts).map(|(v, _)| v),
     }
 }
 
@@ -334,15 +338,13 @@ pub(crate) fn fill_gap(
         hole: None,
     };
     let span = Span::of(gap, data.frames);
-    let mut plan = if opts.method.is_polynomial() {
+    let plan = if opts.method.is_polynomial() {
         Plan::empty(span)
     } else {
         Plan::build(&t, span, opts)
     };
     if opts.method == FillMethod::Auto {
-        let trials = auto::artificial(&t, span, opts.auto_trials);
-        plan.exclude = trials.iter().map(|tr| tr.hole).collect();
-        return match auto::fill(&t, span, &plan, &trials, opts) {
+        return match auto::fill(&t, span, &plan, opts) {
             Ok((v, choice)) => (Some(v), choice.outcome()),
             Err(r) => skip(r),
         };
@@ -354,6 +356,8 @@ pub(crate) fn fill_gap(
                 method: opts.method,
                 blended_with: None,
                 weight: None,
+                blended_with_2: None,
+                weight_2: None,
                 expected_error: None,
             },
         ),

@@ -5,13 +5,17 @@
 //! from the neighbours' known coordinates and the target is read back from the model; the
 //! anchor errors are then blended out so the fill is continuous with the valid samples.
 //!
-//! The artificial gaps `auto` scores PCA on share one model trained without the frames of
-//! all of them ([`Plan::exclude`]), so scores stay honest; it is the real gap's training
-//! sums with those rows subtracted, so it costs one extra eigen-decomposition per gap.
+//! Each artificial gap `auto` scores PCA on gets a model trained without the gap's frames,
+//! so scores stay honest: the real gap's training sums with those rows subtracted (no
+//! second pass over the window). Nearby artificial gaps share a model trained without all
+//! of them while together they hold at most a fifth of the training rows, which saves
+//! eigen-decompositions.
 
+use super::plan::ScoringModels;
 use super::{blend_edges, Fill, FillOptions, Plan, SkipReason, Span, Target};
 use crate::linalg::{solve_in_place, symmetric_eigen};
 use nalgebra::DMatrix;
+use std::cell::OnceCell;
 
 /// Fewest training frames accepted.
 const MIN_TRAIN: usize = 10;
@@ -32,23 +36,43 @@ pub(super) fn fill(t: &Target, span: Span, plan: &Plan, opts: &FillOptions) -> F
         return Err(SkipReason::NoDonors);
     }
     let known = 3 * nb.len();
-    let real = Target { hole: None, ..*t };
+    // The target as the plan saw it (with the plan's own hole, if any).
+    let base = Target {
+        hole: plan.hole,
+        ..*t
+    };
     let all = || {
         plan.pca_sums
-            .get_or_init(|| sums(&real, plan.region, nb, opts))
+            .get_or_init(|| sums(&base, plan.region, nb, opts))
     };
     let fresh;
-    let model = match t.hole {
-        None => plan
+    let model = match (t.hole, plan.hole) {
+        (h, p) if h == p => plan
             .pca_model
             .get_or_init(|| model(all().as_ref().map_err(|&e| e)?, known, opts)),
-        Some((a, b)) if plan.exclude.iter().any(|&(ea, eb)| ea <= a && b <= eb) => {
-            plan.pca_scoring_model.get_or_init(|| {
-                let s = all().as_ref().map_err(|&e| e)?;
-                model(&without(s, &real, nb, &plan.exclude), known, opts)
+        (Some(h), None) if plan.exclude.get().is_some_and(|v| v.contains(&h)) => {
+            let s = all().as_ref().map_err(|&e| e)?;
+            let holes = plan.exclude.get().map_or(&[][..], Vec::as_slice);
+            let (group_of, models) = plan.pca_scoring_models.get_or_init(|| groups(s, holes));
+            let g = group_of[holes.iter().position(|&x| x == h).unwrap_or(0)];
+            models[g].get_or_init(|| {
+                let members: Vec<(usize, usize)> = holes
+                    .iter()
+                    .zip(group_of)
+                    .filter(|&(_, &k)| k == g)
+                    .map(|(&x, _)| x)
+                    .collect();
+                model(&without(s, &base, nb, &members), known, opts)
             })
         }
-        Some(_) => {
+        (Some(h), None) => {
+            fresh = all()
+                .as_ref()
+                .map_err(|&e| e)
+                .and_then(|s| model(&without(s, &base, nb, &[h]), known, opts));
+            &fresh
+        }
+        _ => {
             fresh = sums(t, plan.region, nb, opts).and_then(|s| model(&s, known, opts));
             &fresh
         }
@@ -163,6 +187,27 @@ fn sums(
         sum,
         xxt,
     })
+}
+
+/// Holes sharing a scoring model: consecutive ones while together they remove at most
+/// `1 / SHARE` of the training rows (at least one hole per model). Fewer
+/// eigen-decompositions, and every model still trains on nearly all the window.
+fn groups(s: &Sums, holes: &[(usize, usize)]) -> ScoringModels {
+    const SHARE: usize = 5;
+    let cap = s.frames.len() / SHARE;
+    let mut group_of = Vec::with_capacity(holes.len());
+    let (mut g, mut used) = (0, 0);
+    for (i, &(a, b)) in holes.iter().enumerate() {
+        let n = b - a + 1;
+        if i > 0 && used + n > cap {
+            g += 1;
+            used = 0;
+        }
+        used += n;
+        group_of.push(g);
+    }
+    let models = (0..=g).map(|_| OnceCell::new()).collect();
+    (group_of, models)
 }
 
 /// `s` without the rows of frames inside `exclude` (artificial gaps): a downdate instead

@@ -23,15 +23,24 @@ pub(crate) struct Plan {
     pub pca: Vec<(usize, f64)>,
     /// The gap the plan was made for (centre of the PCA training window).
     pub region: Span,
-    /// Frames kept out of PCA training: `auto`'s artificial gaps.
-    pub exclude: Vec<(usize, usize)>,
+    /// The artificial hole the target had when the plan was made (`auto` scoring on
+    /// another marker): kept out of PCA training like the target's invalid frames.
+    pub hole: Option<(usize, usize)>,
     /// The PCA training sums for the gap's window, gathered on first use.
     pub pca_sums: OnceCell<Result<Sums, SkipReason>>,
     /// The PCA model for the gap itself, trained on first use.
     pub pca_model: OnceCell<Result<Model, SkipReason>>,
-    /// The PCA model for `auto`'s artificial gaps, trained without any of them.
-    pub pca_scoring_model: OnceCell<Result<Model, SkipReason>>,
+    /// `auto`'s artificial holes in the target, nearest the gap first: PCA scores them
+    /// with models trained without a few of them at a time (see `pca::fill`).
+    pub exclude: OnceCell<Vec<(usize, usize)>>,
+    /// Per hole of `exclude`, the index of its model in `pca_scoring_models`.
+    pub pca_scoring_models: OnceCell<ScoringModels>,
 }
+
+/// A lazily trained PCA model.
+pub(crate) type LazyModel = OnceCell<Result<Model, SkipReason>>;
+/// Per artificial hole its model's index, and the models.
+pub(crate) type ScoringModels = (Vec<usize>, Vec<LazyModel>);
 
 struct Stats {
     m: usize,
@@ -50,10 +59,11 @@ impl Plan {
             pattern: None,
             pca: Vec::new(),
             region: span,
-            exclude: Vec::new(),
+            hole: None,
             pca_sums: OnceCell::new(),
             pca_model: OnceCell::new(),
-            pca_scoring_model: OnceCell::new(),
+            exclude: OnceCell::new(),
+            pca_scoring_models: OnceCell::new(),
         }
     }
 
@@ -63,7 +73,12 @@ impl Plan {
         let anchor = match (span.before, span.after) {
             (Some(b), _) if t.ok(b) => b,
             (_, Some(a)) if t.ok(a) => a,
-            _ => return Plan::empty(span),
+            _ => {
+                return Plan {
+                    hole: t.hole,
+                    ..Plan::empty(span)
+                }
+            }
         };
         let pa = t.at(anchor);
         let mut cands: Vec<(f64, usize)> = (0..d.xyz.len())
@@ -114,10 +129,11 @@ impl Plan {
             pattern,
             pca,
             region: span,
-            exclude: Vec::new(),
+            hole: t.hole,
             pca_sums: OnceCell::new(),
             pca_model: OnceCell::new(),
-            pca_scoring_model: OnceCell::new(),
+            exclude: OnceCell::new(),
+            pca_scoring_models: OnceCell::new(),
         }
     }
 }
