@@ -32,6 +32,9 @@ const OTHER_MARKERS: usize = 4;
 const LONG: usize = 20;
 /// Most candidates blended.
 const BLEND: usize = 3;
+/// Candidates this many times worse than the best after the first third of the trials are
+/// no longer scored.
+const PRUNE: f64 = 3.0;
 
 /// What `auto` chose for one gap.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -148,7 +151,26 @@ pub(super) fn fill(
     // succeeded (so all are compared on the same samples), truth: the true samples.
     let mut preds: Vec<Vec<[f64; 3]>> = vec![Vec::new(); fills.len()];
     let mut truth: Vec<[f64; 3]> = Vec::new();
+    // After the first third of the trials, candidates already far behind the best are dropped:
+    // with weights 1 / error², one PRUNE times worse would carry under 1/PRUNE² of the
+    // weight, and scoring it further (PCA above all) is most of auto's cost.
+    let first_look = trials.len().div_ceil(3).max(2);
+    let mut scored = 0;
     for tr in &trials {
+        if scored == first_look && fills.len() > 1 {
+            let err: Vec<f64> = preds
+                .iter()
+                .map(|p| p.iter().zip(&truth).map(|(a, b)| dist(*a, *b)).sum::<f64>())
+                .collect();
+            let best = err.iter().copied().fold(f64::INFINITY, f64::min);
+            let keep: Vec<bool> = err.iter().map(|&e| e <= PRUNE * best).collect();
+            if keep.iter().any(|k| !k) {
+                let mut k = keep.iter();
+                fills.retain(|_| *k.next().unwrap_or(&true));
+                let mut k = keep.iter();
+                preds.retain(|_| *k.next().unwrap_or(&true));
+            }
+        }
         let tt = Target {
             m: tr.m,
             hole: Some(tr.hole),
@@ -165,6 +187,7 @@ pub(super) fn fill(
         if got.len() < fills.len() {
             continue;
         }
+        scored += 1;
         let skip = tr.hole.0 - tr.span.first;
         let n = tr.hole.1 - tr.hole.0 + 1;
         truth.extend((tr.hole.0..=tr.hole.1).map(|f| tt.at(f)));

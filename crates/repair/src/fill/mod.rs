@@ -81,7 +81,8 @@ impl FillMethod {
 }
 
 /// Fill settings. Defaults: `auto`, gaps up to 200 frames, 10 spline samples per side,
-/// 4 rigid donors, 8 PCA neighbours, 99.9 % PCA variance, PCA window ±max(250, 5×gap).
+/// 4 rigid donors, 8 PCA neighbours, 99.9 % PCA variance, PCA window ±max(250, 5×gap),
+/// 6 artificial gaps per `auto` choice.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FillOptions {
     pub method: FillMethod,
@@ -100,7 +101,9 @@ pub struct FillOptions {
     /// ±max(pca_window, 5 × gap length) around the gap).
     pub pca_window: usize,
     /// Artificial gaps `auto` scores candidates on per gap (half as many for gaps
-    /// shorter than 20 frames).
+    /// shorter than 20 frames). 6 by default: on the real gait trials of the evaluation
+    /// test, 10 chose no better (per-file losses to the best single method: 10–13 of 30
+    /// cells either way) at 1.25× the cost.
     pub auto_trials: usize,
 }
 
@@ -114,7 +117,7 @@ impl Default for FillOptions {
             pca_neighbours: 8,
             pca_variance: 0.999,
             pca_window: 250,
-            auto_trials: 10,
+            auto_trials: 6,
         }
     }
 }
