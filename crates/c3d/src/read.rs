@@ -141,8 +141,24 @@ pub fn read(bytes: Vec<u8>) -> Result<C3d> {
             ),
         ));
     }
+    // `need` fits in what remains (checked above); a data start beyond the end of the file is
+    // only possible when nothing is stored, and is then worth a warning.
+    let data = match bytes.get(data_offset..data_offset + need) {
+        Some(d) => d,
+        None => {
+            warnings.push(Warning::new(
+                Section::Header,
+                Some(16),
+                format!(
+                    "data section starts at byte {data_offset}, beyond the end of the {}-byte file",
+                    bytes.len()
+                ),
+            ));
+            &[]
+        }
+    };
     let (points, analog) = processor.dispatch(Decode {
-        bytes: &bytes[data_offset..data_offset + need],
+        bytes: data,
         layout,
     });
     if points.count() > 0 && points.frames() > 0 && points.residual.iter().all(|&r| r < 0.0) {

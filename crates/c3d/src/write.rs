@@ -124,8 +124,9 @@ impl C3d {
             }
         }
         header.encode_into(&mut out[..BLOCK], p, Some(&src.header));
-        if self.points_dirty || self.analog_dirty {
-            let need = l.data_bytes();
+        let need = l.data_bytes();
+        // With no data bytes there is nothing to patch (and the data start may lie anywhere).
+        if (self.points_dirty || self.analog_dirty) && need > 0 {
             p.dispatch(Encode {
                 out: &mut out[data_offset..data_offset + need],
                 layout: l,
