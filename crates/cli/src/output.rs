@@ -58,3 +58,9 @@ pub fn write_backup(original: &Path, backup: &Path) -> Result<bool> {
     write_atomic(backup, &bytes, false)?;
     Ok(true)
 }
+
+/// A path's file name for titles and messages (the whole path when it has none).
+pub fn file_name(p: &Path) -> String {
+    p.file_name()
+        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
+}

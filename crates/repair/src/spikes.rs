@@ -124,18 +124,9 @@ pub fn detect(xyz: &[[f64; 3]], valid: &[bool], marker: usize, opts: &SpikeOptio
                     continue;
                 }
             }
-            let med = median_of(&mut buf);
+            let (outlier, med) = hampel(x, &mut buf, opts.min_deviation, opts.nsigma);
             median[c] = med;
-            let dev = (x - med).abs();
-            // A sample equal to its median is never an outlier: skip the MAD.
-            if dev <= opts.min_deviation || dev.is_nan() {
-                continue;
-            }
-            for v in buf.iter_mut() {
-                *v = (*v - med).abs();
-            }
-            let s = 1.4826 * median_of(&mut buf);
-            axes[c] = dev > opts.nsigma * s;
+            axes[c] = outlier;
         }
         if axes.iter().any(|&a| a) {
             out.push(Spike {
@@ -217,16 +208,7 @@ fn detect_detrended(
             if buf.len() < MIN_WINDOW {
                 continue;
             }
-            let med = median_of(&mut buf);
-            let dev = (r - med).abs();
-            if dev <= floor {
-                continue;
-            }
-            for v in buf.iter_mut() {
-                *v = (*v - med).abs();
-            }
-            let s = 1.4826 * median_of(&mut buf);
-            axes[c] = dev > opts.nsigma * s;
+            axes[c] = hampel(r, &mut buf, floor, opts.nsigma).0;
         }
         if axes.iter().any(|&a| a) {
             let mut median = xyz[f];
@@ -244,6 +226,22 @@ fn detect_detrended(
         }
     }
     out
+}
+
+/// The Hampel rule for `x` against its `window` (which it reorders): an outlier when it lies
+/// more than `floor` and more than `nsigma` scaled MADs (1.4826 × MAD) from the window's
+/// median. Returns the verdict and the median.
+fn hampel(x: f64, window: &mut [f64], floor: f64, nsigma: f64) -> (bool, f64) {
+    let med = median_of(window);
+    let dev = (x - med).abs();
+    // Within the floor (or equal to the median) a sample is never an outlier: skip the MAD.
+    if dev <= floor || dev.is_nan() {
+        return (false, med);
+    }
+    for v in window.iter_mut() {
+        *v = (*v - med).abs();
+    }
+    (dev > nsigma * 1.4826 * median_of(window), med)
 }
 
 /// Median (mean of the middle two for even counts, as MATLAB's median).

@@ -5,7 +5,7 @@ use crate::commands::info::read_c3d;
 use crate::output::write_atomic;
 use crate::plot::{render, Format, Plot};
 use anyhow::Result;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -28,16 +28,14 @@ pub struct Args {
     pub force: bool,
 }
 
-fn name(p: &Path) -> String {
-    p.file_name()
-        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
-}
-
 pub fn run(a: Args) -> Result<i32> {
     let format = Format::from_path(&a.output)?;
     let c = read_c3d(&a.file)?;
     let orig = a.against.as_deref().map(read_c3d).transpose()?;
-    let (fname, oname) = (name(&a.file), a.against.as_deref().map(name));
+    let (fname, oname) = (
+        crate::output::file_name(&a.file),
+        a.against.as_deref().map(crate::output::file_name),
+    );
     let plot = Plot::gather(
         (&c, &fname),
         orig.as_ref().zip(oname.as_deref()),

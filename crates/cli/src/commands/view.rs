@@ -26,16 +26,11 @@ pub struct Args {
     pub force: bool,
 }
 
-fn name(p: &Path) -> String {
-    p.file_name()
-        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
-}
-
 pub fn run(a: Args) -> Result<i32> {
     let c = read_c3d(&a.file)?;
-    let fname = name(&a.file);
+    let fname = crate::output::file_name(&a.file);
     let orig = a.against.as_deref().map(read_c3d).transpose()?;
-    let oname = a.against.as_deref().map(name);
+    let oname = a.against.as_deref().map(crate::output::file_name);
     let pairs = match &a.sticks {
         Some(path) => {
             let text = std::fs::read_to_string(path)
