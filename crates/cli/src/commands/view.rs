@@ -5,7 +5,7 @@ use crate::output::write_atomic;
 use crate::plot::marker_index;
 use crate::view::{page, sticks};
 use anyhow::{Context, Result};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct Args {
