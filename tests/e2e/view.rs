@@ -432,3 +432,71 @@ fn a_large_trial_makes_a_compact_page_that_plays() {
     let r = selftest(&bin, &page, &dir.path().join("profile"));
     assert_eq!(r["ok"], true, "{r}");
 }
+
+/// The shared BVH sample of a walk, or `None` (after saying so) without the corpus.
+fn bvh_walk() -> Option<PathBuf> {
+    let dir = testkit::bvh_samples()?;
+    Some(dir.join("bvhtoolbox_walk01.bvh"))
+}
+
+#[test]
+fn view_draws_a_bvh_skeleton_against_its_keyframed_rebuild() {
+    let Some(walk) = bvh_walk() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let rebuilt = dir.path().join("rebuilt.bvh");
+    let out = c3dfix(&["keyframes", s(&walk), "--keys", "8", "-o", s(&rebuilt)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let html = dir.path().join("walk.html");
+    let out = c3dfix(&["view", s(&rebuilt), "--against", s(&walk), "-o", s(&html)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&html).unwrap();
+    assert_offline(&text);
+    for want in [
+        "\"kind\":\"bvh\"",
+        "units of the file",
+        "\"Hips\"",
+        "_End\"",
+        "rebuilt.bvh vs bvhtoolbox_walk01.bvh",
+    ] {
+        assert!(text.contains(want), "{want} missing");
+    }
+
+    // A different skeleton is refused, naming what differs; nothing is written.
+    let other = dir.path().join("other.bvh");
+    let renamed = std::fs::read_to_string(&walk)
+        .unwrap()
+        .replacen("Hips", "Pelvis", 1);
+    std::fs::write(&other, renamed).unwrap();
+    let bad = dir.path().join("bad.html");
+    let out = c3dfix(&["view", s(&walk), "--against", s(&other), "-o", s(&bad)]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("only in bvhtoolbox_walk01.bvh: [Hips]"),
+        "{err}"
+    );
+    assert!(err.contains("only in other.bvh: [Pelvis]"), "{err}");
+    assert!(!bad.exists());
+
+    let Some(bin) = chromium() else { return };
+    let r = selftest(&bin, &html, &dir.path().join("profile"));
+    assert_eq!(r["errors"], serde_json::json!([]), "{r}");
+    assert!(r["painted_pixels"].as_u64().unwrap() > 500, "{r}");
+    assert!(r["markers_drawn"].as_u64().unwrap() > 15, "{r}");
+    assert_eq!(r["ok"], true, "{r}");
+    let art = testkit::workspace_root()
+        .join("target")
+        .join("e2e-artifacts");
+    std::fs::create_dir_all(&art).unwrap();
+    let shot = art.join("viewer_bvh.png");
+    let _ = std::fs::remove_file(&shot);
+    let arg = format!("--screenshot={}", shot.display());
+    let url = format!("file://{}", html.display());
+    run_chromium(
+        &bin,
+        &dir.path().join("profile"),
+        &["--virtual-time-budget=2000", &arg],
+        &url,
+    );
+    assert!(std::fs::read(&shot).unwrap().starts_with(b"\x89PNG"));
+}

@@ -88,3 +88,60 @@ pub fn forward(bvh: &Bvh, frame: usize) -> Pose {
     world_pose(&bvh.skeleton, &local, &mut pose);
     pose
 }
+
+/// Every joint and End Site of a file as points, for drawing the skeleton.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Positions {
+    /// Joint names, End Sites as `<joint>_End`, in file order (each End Site right after its
+    /// joint).
+    pub labels: Vec<String>,
+    /// Bones as point index pairs: parent joint → joint, joint → its End Site.
+    pub bones: Vec<(usize, usize)>,
+    /// Indices of the End Site points.
+    pub end_sites: Vec<usize>,
+    /// World positions, frame-major: point `p` of frame `f` is at `f * labels.len() + p`.
+    pub xyz: Vec<Vec3>,
+}
+
+/// World positions of every joint and End Site in every frame (forward kinematics), with the
+/// bones that join them: what a viewer needs to draw the skeleton move.
+pub fn all_positions(bvh: &Bvh) -> Positions {
+    let skeleton = &bvh.skeleton;
+    let mut labels = Vec::new();
+    let mut bones = Vec::new();
+    let mut end_sites = Vec::new();
+    // Point index of each joint, so children can name their parent's point.
+    let mut point_of = Vec::with_capacity(skeleton.joints.len());
+    for joint in &skeleton.joints {
+        let p = labels.len();
+        point_of.push(p);
+        labels.push(joint.name.clone());
+        if let Some(&parent) = joint.parent.and_then(|q| point_of.get(q)) {
+            bones.push((parent, p));
+        }
+        if joint.end_site.is_some() {
+            bones.push((p, labels.len()));
+            end_sites.push(labels.len());
+            labels.push(format!("{}_End", joint.name));
+        }
+    }
+    let frames = bvh.motion.frames();
+    let mut xyz = Vec::with_capacity(frames * labels.len());
+    let mut pose = Pose::default();
+    for f in 0..frames {
+        let local = local_pose(skeleton, bvh.motion.frame(f));
+        world_pose(skeleton, &local, &mut pose);
+        for (p, e) in pose.positions.iter().zip(&pose.end_sites) {
+            xyz.push(*p);
+            if let Some(e) = e {
+                xyz.push(*e);
+            }
+        }
+    }
+    Positions {
+        labels,
+        bones,
+        end_sites,
+        xyz,
+    }
+}

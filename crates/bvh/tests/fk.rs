@@ -96,3 +96,24 @@ fn position_channels_on_a_child_replace_its_offset() {
         [5.0, 2.0, 3.0]
     ));
 }
+
+#[test]
+fn all_positions_give_every_point_and_bone_per_frame() {
+    let bvh = bvh::parse(TWO_JOINTS).expect("parses");
+    let p = bvh::fk::all_positions(&bvh);
+    assert_eq!(p.labels, ["Hips", "Upper Arm", "Upper Arm_End"]);
+    assert_eq!(p.bones, [(0, 1), (1, 2)]);
+    assert_eq!(p.end_sites, [2]);
+    assert_eq!(p.xyz.len(), 2 * 3);
+    let want = [
+        [1.0, 2.0, 3.0],
+        [1.0, 12.0, 3.0],
+        [6.0, 12.0, 3.0],
+        [1.0, 2.0, 3.0],
+        [-9.0, 2.0, 3.0],
+        [-9.0, 7.0, 3.0],
+    ];
+    for (got, want) in p.xyz.iter().zip(want) {
+        assert!(close(*got, want), "{got:?} vs {want:?}");
+    }
+}

@@ -4,29 +4,38 @@
 //! frames `0..=j` with `k` keys ending at `j`. The answer is `D[K][n-1]`; it is exact.
 //!
 //! Complexity, with `n` frames, `K` keys, `L` the longest segment considered and `J` joints:
-//! segment costs take O(n · L² · J) in the worst case and the recurrence O(n · L · K), in
-//! O(n · K) memory; no cost table is stored, since each key's outgoing segments are evaluated
-//! once, right when its `D[·][i]` is final. A segment is abandoned as soon as its partial error
-//! exceeds the remaining budget (the greedy solution's error, or the error bound, minus the
-//! least error needed to reach its first key), visiting frames from the middle outwards where
-//! errors are largest; this pruning is exact. Segment frames are reached incrementally
-//! ([`Evaluator::segment_cost`]): one quaternion product per rotation factor per frame.
+//! in the worst case O(n · L² · J) for segment costs plus O(n · L · K) for the recurrence, in
+//! O(n · K) memory (no cost table is stored). The work actually done is much less, and the
+//! result still exact, thanks to branch and bound:
+//! - the DP pulls: for each end frame `j`, the candidate segments `(i, j)` are tried with the
+//!   best predecessors of `j - 1` first, then the rest; a segment is evaluated (from the middle
+//!   outwards, where errors are largest) only while, for some key count `k` from which `i` can
+//!   still lead to a full solution, `D[k][i] + partial cost` beats both the best way into `j`
+//!   found so far and the budget. A segment abandoned past these bounds is in no better
+//!   solution;
+//! - the budget is the greedy solution's error after a few sweeps of local search (each key
+//!   moved to its best frame between its neighbours), which is much closer to the optimum;
+//! - the candidates of each `j` are evaluated in parallel (rayon); segment frames are reached
+//!   incrementally ([`Evaluator::segment_cost`]): one quaternion product per rotation factor.
 //!
 //! `L` decides the running time. Without a cap it is `n - K + 1`, the longest segment any
-//! `K`-key solution can have, and the result is the true optimum — but every pair of frames is
-//! then looked at, which takes minutes on thousands of frames. By default ([`Cap::Auto`]) `L` is
-//! twice the average key spacing, raised to the longest segment of the greedy solution; the
-//! result is then optimal among key sets whose gaps are at most `L` frames, and never worse than
-//! greedy (the greedy key set is one of them).
+//! `K`-key solution can have, and the result is the true optimum. By default ([`Cap::Auto`])
+//! `L` is twice the average key spacing, raised to the longest segment of the greedy solution;
+//! the result is then optimal among key sets whose gaps are at most `L` frames, and never worse
+//! than greedy (the greedy key set is one of them).
 //!
-//! Measured on the 2752-frame, 31-joint CMU file (one core, quaternion interpolation): 1000 keys
-//! 0.4 s, 400 keys 1.5 s, 100 keys 6.5 s with the default cap (47 s uncapped, same result),
-//! 20 keys 166 s (the cap is then 514 frames: the cost grows like n³/K²). See
-//! `benches/keyframes.rs`.
+//! Measured on the 2752-frame, 31-joint CMU file (2 cores, quaternion interpolation, default
+//! cap, `c3dfix keyframes … --method optimal`): 400 keys 1.1 s (was 1.4 s), 100 keys 2.9 s
+//! (was 6.4 s), 20 keys 57 s (was 166–237 s; the cap is then 514 frames and the cost still
+//! grows like n³/K²). See `benches/keyframes.rs`.
 
 use super::greedy;
 use super::{check, total_bound, KeyframeError, Reduction, Target};
 use crate::error_metric::{Evaluator, Scratch};
+use rayon::prelude::*;
+
+/// Local-search sweeps over the greedy keys before the DP (see [`polish`]).
+const POLISH_SWEEPS: usize = 4;
 
 /// The longest gap between consecutive keys that the search considers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -73,7 +82,14 @@ pub fn reduce(eval: &Evaluator, target: Target, cap: Cap) -> Result<Reduction, K
             total_error: 0.0,
         });
     }
-    // Slack for rounding, so the greedy solution itself is never pruned away.
+    let budget = match target {
+        Target::Keys(_) => {
+            let mut keys = g.keys.clone();
+            budget.min(polish(eval, &mut keys, cap, POLISH_SWEEPS))
+        }
+        Target::MaxError(_) => budget,
+    };
+    // Slack for rounding, so the solution that set the budget is never pruned away.
     let budget = budget * (1.0 + 1e-9) + 1e-12;
     let max_len = cap.min(n - k_max + 1).max(1);
     let dp = solve(eval, k_max, max_len, budget);
@@ -93,6 +109,51 @@ pub fn reduce(eval: &Evaluator, target: Target, cap: Cap) -> Result<Reduction, K
         // answer is then the best we can honestly offer.
         None => Ok(g),
     }
+}
+
+/// Improve a key set by moving one interior key at a time to the best frame between its
+/// neighbours (gaps kept within `cap`), sweeping until nothing moves or `sweeps` run out.
+/// Returns the new total error. Its only purpose is a tighter budget for the DP's pruning: the
+/// closer the budget is to the optimum, the sooner hopeless segments are abandoned.
+fn polish(eval: &Evaluator, keys: &mut [usize], cap: usize, sweeps: usize) -> f64 {
+    let mut s = Scratch::default();
+    let mut seg: Vec<f64> = keys
+        .windows(2)
+        .map(|w| eval.segment_cost(w[0], w[1], f64::INFINITY, &mut s))
+        .collect();
+    for _ in 0..sweeps {
+        let mut moved = false;
+        for k in 1..keys.len().saturating_sub(1) {
+            let (a, p, b) = (keys[k - 1], keys[k], keys[k + 1]);
+            let now = seg[k - 1] + seg[k];
+            let lo = (a + 1).max(b.saturating_sub(cap));
+            let hi = (b - 1).min(a + cap);
+            let best = (lo..hi + 1)
+                .into_par_iter()
+                .with_min_len(4)
+                .map_init(Scratch::default, |s, q| {
+                    let left = eval.segment_cost(a, q, now, s);
+                    if left > now {
+                        return (f64::INFINITY, 0.0, 0.0, q);
+                    }
+                    let right = eval.segment_cost(q, b, now - left, s);
+                    (left + right, left, right, q)
+                })
+                .min_by(|x, y| x.0.total_cmp(&y.0).then(x.3.cmp(&y.3)));
+            if let Some((total, left, right, q)) = best {
+                if q != p && total < now {
+                    keys[k] = q;
+                    seg[k - 1] = left;
+                    seg[k] = right;
+                    moved = true;
+                }
+            }
+        }
+        if !moved {
+            break;
+        }
+    }
+    eval.frame_errors(keys).iter().sum()
 }
 
 struct Dp {
@@ -135,34 +196,91 @@ fn solve(eval: &Evaluator, k_max: usize, max_len: usize, budget: f64) -> Dp {
         from: vec![0; k_max * n],
     };
     dp.d[0] = 0.0;
-    let mut s = Scratch::default();
-    for i in 0..n - 1 {
-        // Key counts (0-based layer k = keys - 1) with which key i can still lead to a
-        // solution with at most k_max keys; D[k][i] is final here, as all segments into i
-        // start before i.
-        let layers = 0..(k_max - 1).min(i + 1);
-        let reach = layers
-            .clone()
-            .map(|k| dp.d[k * n + i])
-            .fold(f64::INFINITY, f64::min);
-        if !reach.is_finite() || reach > budget {
-            continue;
-        }
-        let room = budget - reach;
-        for j in i + 1..=(i + max_len).min(n - 1) {
-            let c = eval.segment_cost(i, j, room, &mut s);
-            if c > room {
-                continue;
-            }
-            for k in layers.clone() {
-                let v = dp.d[k * n + i] + c;
-                let slot = (k + 1) * n + j;
-                if v < dp.d[slot] {
-                    dp.d[slot] = v;
-                    dp.from[slot] = i as u32;
+    let mut seeds = Vec::new();
+    let mut rest = Vec::new();
+    for j in 1..n {
+        let first = j.saturating_sub(max_len);
+        // Seeds: the best predecessors of j - 1, which are usually near-best for j too, so
+        // that the bounds below are tight before the bulk of the candidates is looked at.
+        seeds.clear();
+        seeds.push(j - 1);
+        if j >= 2 {
+            for k in 1..k_max {
+                let slot = k * n + j - 1;
+                let i = dp.from[slot] as usize;
+                if dp.d[slot].is_finite() && i >= first {
+                    seeds.push(i);
                 }
             }
         }
+        seeds.sort_unstable();
+        seeds.dedup();
+        relax(eval, &mut dp, (budget, max_len), j, &seeds);
+        rest.clear();
+        rest.extend((first..j).filter(|i| seeds.binary_search(i).is_err()));
+        relax(eval, &mut dp, (budget, max_len), j, &rest);
     }
     dp
+}
+
+/// Try segments `(i, j)` for every `i` of `starts` (all before `j`). A segment is evaluated only
+/// as far as it can still matter: its cost must stay within the budget left after the cheapest
+/// way to reach `i`, and, for some key count, must improve on the best way into `j` found so
+/// far. Both bounds are exact: a segment abandoned past them is in no better solution.
+fn relax(
+    eval: &Evaluator,
+    dp: &mut Dp,
+    (budget, max_len): (f64, usize),
+    j: usize,
+    starts: &[usize],
+) {
+    let n = dp.n;
+    let work: Vec<(usize, f64)> = starts
+        .iter()
+        .filter_map(|&i| {
+            // Layer k (k + 1 keys up to i) can take one more key at j, if the keys left after
+            // j can still cover the remaining frames with gaps of at most `max_len`.
+            let mut room = f64::NEG_INFINITY;
+            for k in layers_into(dp, i, j, max_len) {
+                let at = dp.d[k * n + i];
+                let beat = dp.d[(k + 1) * n + j].min(budget);
+                room = room.max(beat - at);
+            }
+            (room >= 0.0).then_some((i, room))
+        })
+        .collect();
+    let costs: Vec<f64> = work
+        .par_iter()
+        .with_min_len(4)
+        .map_init(Scratch::default, |s, &(i, room)| {
+            eval.segment_cost(i, j, room, s)
+        })
+        .collect();
+    for (&(i, room), &c) in work.iter().zip(&costs) {
+        if c > room {
+            continue;
+        }
+        let layers: Vec<usize> = layers_into(dp, i, j, max_len).collect();
+        for k in layers {
+            let v = dp.d[k * n + i] + c;
+            let slot = (k + 1) * n + j;
+            // Ties go to the earliest start, whatever order the candidates came in.
+            if v < dp.d[slot] || (v == dp.d[slot] && i < dp.from[slot] as usize) {
+                dp.d[slot] = v;
+                dp.from[slot] = i as u32;
+            }
+        }
+    }
+}
+
+/// The layers `k` (`k + 1` keys up to `i`, the last at `i`) from which a segment `(i, j)` can
+/// lead to a solution: `D[k][i]` is known and within reach, and the `k_max - k - 2` keys left
+/// after `j` can cover the frames after it with gaps of at most `max_len`.
+fn layers_into(dp: &Dp, i: usize, j: usize, max_len: usize) -> impl Iterator<Item = usize> + '_ {
+    let n = dp.n;
+    let after = n - 1 - j;
+    (0..(dp.k_max - 1).min(i + 1)).filter(move |&k| {
+        let left = dp.k_max - k - 2;
+        dp.d[k * n + i].is_finite() && (after == 0 || left.saturating_mul(max_len) >= after)
+    })
 }

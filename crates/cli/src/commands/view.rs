@@ -1,17 +1,19 @@
 //! `c3dfix view`: a self-contained HTML page that plays the trial in 3D.
 
 use crate::commands::info::read_c3d;
+use crate::output::file_name as name;
 use crate::output::write_atomic;
 use crate::plot::marker_index;
-use crate::view::{page, sticks};
-use anyhow::{Context, Result};
-use std::path::PathBuf;
+use crate::view::{page, skeleton, sticks};
+use anyhow::{bail, Context, Result};
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The C3D file to show (the repaired one when comparing).
+    /// The C3D file to show (the repaired one when comparing), or a .bvh skeleton.
     pub file: PathBuf,
-    /// The original file: drawn beside FILE, with error vectors from each repaired marker.
+    /// The original file: drawn beside FILE, with error vectors from each repaired marker
+    /// (for a .bvh FILE: a BVH file with the same joints, e.g. the input of `keyframes`).
     #[arg(long)]
     pub against: Option<PathBuf>,
     /// Stick figure as a JSON list of [markerA, markerB] pairs (default: Plug-in Gait
@@ -26,11 +28,20 @@ pub struct Args {
     pub force: bool,
 }
 
+/// True for a `.bvh` file name (any case): such files are skeletons, not C3D trials.
+fn is_bvh(p: &Path) -> bool {
+    p.extension()
+        .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case("bvh"))
+}
+
 pub fn run(a: Args) -> Result<i32> {
+    if is_bvh(&a.file) {
+        return run_bvh(&a);
+    }
     let c = read_c3d(&a.file)?;
-    let fname = crate::output::file_name(&a.file);
+    let fname = name(&a.file);
     let orig = a.against.as_deref().map(read_c3d).transpose()?;
-    let oname = a.against.as_deref().map(crate::output::file_name);
+    let oname = a.against.as_deref().map(name);
     let pairs = match &a.sticks {
         Some(path) => {
             let text = std::fs::read_to_string(path)
@@ -42,6 +53,26 @@ pub fn run(a: Args) -> Result<i32> {
         None => sticks::plug_in_gait(&c.point_labels()),
     };
     let html = page((&c, &fname), orig.as_ref().zip(oname.as_deref()), pairs)?;
+    write_atomic(&a.output, html.as_bytes(), a.force)?;
+    Ok(0)
+}
+
+/// A BVH skeleton: bones from the hierarchy, `--against` another BVH of the same skeleton.
+fn run_bvh(a: &Args) -> Result<i32> {
+    if a.sticks.is_some() {
+        bail!("--sticks is for C3D markers: a BVH file's bones come from its hierarchy");
+    }
+    let b = bvh::read(&a.file)?;
+    let fname = name(&a.file);
+    let orig = match &a.against {
+        Some(p) if !is_bvh(p) => bail!(
+            "--against {}: a BVH file needs a BVH file to compare with",
+            p.display()
+        ),
+        Some(p) => Some((bvh::read(p)?, name(p))),
+        None => None,
+    };
+    let html = skeleton::page((&b, &fname), orig.as_ref().map(|(o, n)| (o, n.as_str())))?;
     write_atomic(&a.output, html.as_bytes(), a.force)?;
     Ok(0)
 }

@@ -5,10 +5,11 @@
 //! to vendor, and a 100-marker × 10 000-frame trial still plays smoothly.
 
 pub mod pack;
+pub mod skeleton;
 pub mod sticks;
 
 use anyhow::{bail, Result};
-use c3d::C3d;
+use c3d::{C3d, Points};
 use serde::Serialize;
 
 const TEMPLATE: &str = include_str!("viewer.html");
@@ -20,6 +21,8 @@ struct Meta<'a> {
     title: String,
     file: &'a str,
     original: Option<&'a str>,
+    /// "c3d" (markers) or "bvh" (a skeleton): decides the legend.
+    kind: &'static str,
     labels: Vec<String>,
     units: String,
     rate: f32,
@@ -29,12 +32,51 @@ struct Meta<'a> {
     /// Vertical axis of the data (0 x, 1 y, 2 z).
     up: usize,
     sticks: Vec<(usize, usize)>,
+    /// Points whose traces are drawn from the start.
+    traced: Vec<usize>,
+    /// Whether to draw the sticks' shadow on the floor.
+    shadow: bool,
+}
+
+/// One trial as the page shows it, whichever format it came from.
+pub struct Trial<'a> {
+    pub name: &'a str,
+    pub points: &'a Points,
+    pub labels: Vec<String>,
+    pub units: String,
+    pub rate: f32,
+    pub first_frame: usize,
+}
+
+impl<'a> Trial<'a> {
+    /// A C3D file's 3D points.
+    pub fn c3d(c: &'a C3d, name: &'a str) -> Trial<'a> {
+        Trial {
+            name,
+            points: c.points(),
+            labels: c.point_labels(),
+            units: c.point_units(),
+            rate: c.point_rate(),
+            first_frame: c.first_frame(),
+        }
+    }
+}
+
+/// How the page draws a trial.
+pub struct Style {
+    /// "c3d" or "bvh".
+    pub kind: &'static str,
+    /// Stick pairs, as indices of the shown trial's points.
+    pub sticks: Vec<(usize, usize)>,
+    /// Points traced from the start.
+    pub traced: Vec<usize>,
+    /// Draw the sticks' shadow on the floor.
+    pub shadow: bool,
 }
 
 /// The axis along which markers spread most within a frame: a standing body is taller than it
 /// is wide, so this is the vertical one whichever convention the lab used. Z when unsure.
-pub fn up_axis(c: &C3d) -> usize {
-    let p = c.points();
+pub fn up_axis(p: &Points) -> usize {
     let step = (p.frames() / 64).max(1);
     let mut spread = [Vec::new(), Vec::new(), Vec::new()];
     for f in (0..p.frames()).step_by(step) {
@@ -94,13 +136,7 @@ pub fn page(
     sticks: Vec<(usize, usize)>,
 ) -> Result<String> {
     let (c, name) = file;
-    let p = c.points();
-    if p.count() == 0 {
-        bail!("{name} has no 3D points to show");
-    }
     let labels = c.point_labels();
-    let all: Vec<Option<usize>> = (0..p.count()).map(Some).collect();
-    let packed = pack::pack(p, &all, p.frames());
     let orig = match original {
         Some((o, oname)) => {
             if o.points().count() == 0 {
@@ -110,26 +146,56 @@ pub fn page(
             if order.iter().all(Option::is_none) {
                 bail!("{oname} shares no marker label with {name}");
             }
-            Some(pack::pack(o.points(), &order, p.frames()))
+            Some((Trial::c3d(o, oname), order))
         }
         None => None,
     };
-    let title = match original {
-        Some((_, oname)) => format!("{name} vs {oname}"),
+    let style = Style {
+        kind: "c3d",
+        sticks,
+        traced: Vec::new(),
+        shadow: false,
+    };
+    render(Trial::c3d(c, name), orig, style)
+}
+
+/// The viewer page for any trial; `original` comes with, for each of `file`'s points, the
+/// matching point of the original (if any).
+pub fn render(
+    file: Trial,
+    original: Option<(Trial, Vec<Option<usize>>)>,
+    style: Style,
+) -> Result<String> {
+    let p = file.points;
+    let name = file.name;
+    if p.count() == 0 {
+        bail!("{name} has no 3D points to show");
+    }
+    let all: Vec<Option<usize>> = (0..p.count()).map(Some).collect();
+    let packed = pack::pack(p, &all, p.frames());
+    let orig = original
+        .as_ref()
+        .map(|(o, order)| pack::pack(o.points, order, p.frames()));
+    let oname = original.as_ref().map(|(o, _)| o.name);
+    let title = match oname {
+        Some(oname) => format!("{name} vs {oname}"),
         None => name.to_string(),
     };
     let meta = Meta {
         title: title.clone(),
         file: name,
-        original: original.map(|(_, n)| n),
-        labels,
-        units: c.point_units(),
-        rate: c.point_rate(),
-        first_frame: c.first_frame(),
+        original: oname,
+        kind: style.kind,
+        labels: file.labels,
+        units: file.units,
+        rate: file.rate,
+        first_frame: file.first_frame,
         frames: p.frames(),
         count: p.count(),
-        up: up_axis(c),
-        sticks,
+        up: up_axis(p),
+        sticks: style.sticks,
+        traced: style.traced,
+        shadow: style.shadow,
     };
     let fields = [
         ("TITLE", escape_html(&title)),

@@ -118,10 +118,13 @@
 
   let frame = 0, playing = false, dir = 1, speed = 1, acc = 0, last = null;
   let showLabels = false, showSticks = true, showOrig = true, hover = -1;
-  const traced = new Set();
+  // Traced points; a skeleton starts with its End Sites traced.
+  const traced = new Set(meta.traced || []);
+  const skeleton = meta.kind === 'bvh';
+  const isEnd = skeleton ? new Set(meta.traced || []) : new Set();
   let drawn = 0, screen = [];
 
-  const COL = { marker: '#1f77b4', filled: '#ff7f0e', orig: '#2ca02c', err: '#d62728', ghost: '#999', stick: '#555' };
+  const COL = { end: '#9467bd', shadow: 'rgba(0,0,0,0.12)', marker: '#1f77b4', filled: '#ff7f0e', orig: '#2ca02c', err: '#d62728', ghost: '#999', stick: '#555' };
 
   function drawGrid() {
     ctx.lineWidth = 1;
@@ -172,6 +175,14 @@
     const f = frame;
     const pos = new Array(M);
     for (let m = 0; m < M; m++) { const p = [0, 0, 0]; pos[m] = get(xyz, f, m, p) ? p : null; }
+    // The sticks' shadow on the floor, straight down: shows stance and where the feet are.
+    if (showSticks && meta.shadow) {
+      ctx.lineWidth = 3; ctx.strokeStyle = COL.shadow; ctx.beginPath();
+      for (const [a, b] of meta.sticks) {
+        if (pos[a] && pos[b]) line([pos[a][0], pos[a][1], floor], [pos[b][0], pos[b][1], floor]);
+      }
+      ctx.stroke();
+    }
     // Sticks.
     if (showSticks) {
       ctx.lineWidth = 2; ctx.strokeStyle = COL.stick; ctx.beginPath();
@@ -226,7 +237,7 @@
       if (s.ghost) {
         ctx.setLineDash([2, 2]); ctx.strokeStyle = COL.ghost; ctx.lineWidth = 1; ctx.stroke(); ctx.setLineDash([]);
       } else {
-        ctx.fillStyle = s.filled ? COL.filled : COL.marker; ctx.fill();
+        ctx.fillStyle = s.filled ? COL.filled : isEnd.has(s.m) ? COL.end : COL.marker; ctx.fill();
         ctx.strokeStyle = '#fff'; ctx.lineWidth = 0.75; ctx.stroke();
         drawn++;
       }
@@ -250,10 +261,17 @@
     frameEl.textContent = 'Frame ' + (meta.first_frame + frame) + ' (' + (frame + 1) + '/' + N + ') ' + t;
     slider.value = String(frame);
     let h = '<b></b>';
-    h += ' · ' + M + ' markers, ' + meta.rate + ' Hz';
-    h += '<br><span class="k" style="background:' + COL.marker + '"></span>measured';
-    h += '<span class="k" style="background:' + COL.filled + '"></span>filled (residual 0)';
-    h += '<span class="k" style="border:1px dashed ' + COL.ghost + '"></span>missing (last seen)';
+    const hz = Math.round(meta.rate * 1000) / 1000;
+    if (skeleton) {
+      h += ' · ' + (M - isEnd.size) + ' joints, ' + isEnd.size + ' End Sites, ' + hz + ' Hz';
+      h += '<br><span class="k" style="background:' + COL.marker + '"></span>joint';
+      h += '<span class="k" style="background:' + COL.end + '"></span>End Site (traced)';
+    } else {
+      h += ' · ' + M + ' markers, ' + hz + ' Hz';
+      h += '<br><span class="k" style="background:' + COL.marker + '"></span>measured';
+      h += '<span class="k" style="background:' + COL.filled + '"></span>filled (residual 0)';
+      h += '<span class="k" style="border:1px dashed ' + COL.ghost + '"></span>missing (last seen)';
+    }
     if (oxyz) {
       h += '<span class="k" style="border:2px solid ' + COL.orig + '"></span>original';
       h += '<br>mean error this frame: <b id="err"></b>';
@@ -330,6 +348,7 @@
   function syncList() {
     for (const b of list.querySelectorAll('input')) b.checked = traced.has(Number(b.dataset.m));
   }
+  syncList();
   $('markers').onclick = () => { list.style.display = list.style.display === 'block' ? 'none' : 'block'; };
 
   // Camera: drag to orbit, shift or right drag to pan, wheel to zoom; click a marker to trace it.
