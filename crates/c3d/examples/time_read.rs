@@ -19,6 +19,12 @@ fn main() {
         let c = c3d::read(bytes);
         let t_parse = t.elapsed();
         let frames = c.map(|c| c.points().frames()).unwrap_or(0);
-        println!("fs::read {t_read:?}  parse+decode {t_parse:?}  ({frames} frames)");
+        let t = Instant::now();
+        let whole = c3d::read_file(&path).map(|c| c.points().frames());
+        let t_whole = t.elapsed();
+        println!(
+            "fs::read {t_read:?}  parse+decode {t_parse:?}  ({frames} frames); read_file {t_whole:?} ({})",
+            whole.map_or_else(|e| e.to_string(), |f| format!("{f} frames"))
+        );
     }
 }

@@ -73,10 +73,10 @@ impl CodecFn<(Points, Analog)> for Decode<'_> {
         let aw = l.analog_words();
         // Zero-filled allocations come straight from the OS (calloc): their pages are touched
         // first by the decoding threads, not by a fill.
-        let mut xyz = vec![[0f32; 3]; n];
-        let mut residual = vec![0f32; n];
-        let mut camera_mask = vec![0u8; n];
-        let mut raw = vec![0f32; l.frames * aw];
+        let mut xyz: Vec<[f32; 3]> = crate::memory::zeroed(n);
+        let mut residual: Vec<f32> = crate::memory::zeroed(n);
+        let mut camera_mask: Vec<u8> = crate::memory::zeroed(n);
+        let mut raw: Vec<f32> = crate::memory::zeroed(l.frames * aw);
         if let Some(per_chunk) = (PARALLEL_BYTES / 4).checked_div(fb) {
             let chunk = if l.data_bytes() > PARALLEL_BYTES {
                 per_chunk.max(1)

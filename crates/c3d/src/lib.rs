@@ -13,6 +13,7 @@ mod error;
 mod events;
 mod file;
 mod header;
+mod memory;
 mod parameters;
 mod points;
 mod processor;

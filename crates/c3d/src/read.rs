@@ -11,7 +11,7 @@ use std::path::Path;
 
 /// Read a C3D file from disk.
 pub fn read_file(path: impl AsRef<Path>) -> Result<C3d> {
-    read(std::fs::read(path)?)
+    read(crate::memory::read_file(path.as_ref())?)
 }
 
 /// Read a C3D file from its bytes (kept, so that an unchanged file is rewritten exactly).
