@@ -31,26 +31,12 @@ pub(crate) fn advise_huge<T>(ptr: *mut T, len: usize) {
 }
 
 /// A zeroed vector of `n` elements, advised onto huge pages before anything touches it.
-pub(crate) fn zeroed<T: Clone + Default>(n: usize) -> Vec<T>
-where
-    Vec<T>: ZeroedVec<T>,
-{
-    Vec::<T>::zeroed_advised(n)
-}
-
-/// Zeroed allocation without a fill (calloc's fresh pages), then the advice.
-pub(crate) trait ZeroedVec<T> {
-    fn zeroed_advised(n: usize) -> Vec<T>;
-}
-
-impl<T: Clone + Default + IsZeroElem> ZeroedVec<T> for Vec<T> {
-    fn zeroed_advised(n: usize) -> Vec<T> {
-        // `vec![zero; n]` allocates zeroed memory directly (no writes) for zero-valued
-        // primitive elements, so the pages are still untouched here.
-        let mut v = vec![T::zero(); n];
-        advise_huge(v.as_mut_ptr(), n * std::mem::size_of::<T>());
-        v
-    }
+pub(crate) fn zeroed<T: IsZeroElem>(n: usize) -> Vec<T> {
+    // `vec![zero; n]` of a zero-valued primitive allocates zeroed memory directly (calloc's
+    // fresh pages, no writes), so the pages are still untouched when advised.
+    let mut v = vec![T::zero(); n];
+    advise_huge(v.as_mut_ptr(), n * std::mem::size_of::<T>());
+    v
 }
 
 /// Element types whose zero value is all-zero bits.
