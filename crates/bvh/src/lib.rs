@@ -19,31 +19,32 @@ pub use parse::{parse, ParseError, ParseErrorKind};
 pub use skeleton::{Bvh, Channel, Joint, Motion, Skeleton};
 pub use write::write;
 
-/// Reading a file from disk: I/O or parse failure.
+/// Reading a file from disk: I/O or parse failure. The cause is part of the message (not
+/// chained), so that it is printed once.
 #[derive(Debug, thiserror::Error)]
 pub enum ReadError {
-    #[error("cannot read {path}: {source}")]
+    #[error("cannot read {path}: {error}")]
     Io {
         path: std::path::PathBuf,
-        source: std::io::Error,
+        error: std::io::Error,
     },
-    #[error("{path}: {source}")]
+    #[error("{path}: {error}")]
     Parse {
         path: std::path::PathBuf,
-        source: ParseError,
+        error: ParseError,
     },
 }
 
 /// Read and parse a BVH file.
 pub fn read(path: &std::path::Path) -> Result<Bvh, ReadError> {
-    let bytes = std::fs::read(path).map_err(|source| ReadError::Io {
+    let bytes = std::fs::read(path).map_err(|error| ReadError::Io {
         path: path.to_path_buf(),
-        source,
+        error,
     })?;
     // BVH is ASCII; tolerate stray non-UTF-8 bytes (e.g. Latin-1 joint names) rather than fail.
     let text = String::from_utf8_lossy(&bytes);
-    parse(&text).map_err(|source| ReadError::Parse {
+    parse(&text).map_err(|error| ReadError::Parse {
         path: path.to_path_buf(),
-        source,
+        error,
     })
 }

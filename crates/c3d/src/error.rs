@@ -27,8 +27,10 @@ impl fmt::Display for Section {
 /// Everything that can go wrong reading or writing a C3D file.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
+    /// Reading or writing failed (the cause is in the message, not chained, so that it is
+    /// printed once).
     #[error("I/O error: {0}")]
-    Io(#[from] std::io::Error),
+    Io(std::io::Error),
     /// The bytes do not follow the format; `offset` is from the start of the file.
     #[error("malformed {section} at byte {offset}: {what}")]
     Malformed {
@@ -42,6 +44,12 @@ pub enum Error {
     /// The caller asked for something inconsistent with the file (wrong shapes, unknown names).
     #[error("invalid use: {0}")]
     Misuse(String),
+}
+
+impl From<std::io::Error> for Error {
+    fn from(e: std::io::Error) -> Self {
+        Error::Io(e)
+    }
 }
 
 impl Error {
