@@ -117,7 +117,17 @@
   }
 
   let frame = 0, playing = false, dir = 1, speed = 1, acc = 0, last = null;
-  let showLabels = false, showSticks = true, showOrig = true, hover = -1;
+  let showLabels = false, showSticks = true, showOrig = true, follow = false, hover = -1;
+  // Zoom to the subject's own size (the extent of the current frame's points).
+  function frameSize() {
+    const a = [Infinity, Infinity, Infinity], b = [-Infinity, -Infinity, -Infinity], p = [0, 0, 0];
+    for (let m = 0; m < M; m++) {
+      if (!get(xyz, frame, m, p)) continue;
+      for (let k = 0; k < 3; k++) { a[k] = Math.min(a[k], p[k]); b[k] = Math.max(b[k], p[k]); }
+    }
+    const s = Math.max(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+    return s > 0 && isFinite(s) ? s : size;
+  }
   // Traced points; a skeleton starts with its End Sites traced.
   const traced = new Set(meta.traced || []);
   const skeleton = meta.kind === 'bvh';
@@ -169,12 +179,18 @@
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     ctx.fillStyle = '#f4f4f2';
     ctx.fillRect(0, 0, W, H);
-    setupCamera();
-    drawGrid();
-    drawTraces();
     const f = frame;
     const pos = new Array(M);
     for (let m = 0; m < M; m++) { const p = [0, 0, 0]; pos[m] = get(xyz, f, m, p) ? p : null; }
+    // Follow: aim at this frame's centroid, so a walking subject stays in the middle.
+    if (follow) {
+      const c = [0, 0, 0]; let n = 0;
+      for (const p of pos) if (p) { c[0] += p[0]; c[1] += p[1]; c[2] += p[2]; n++; }
+      if (n) cam.target = [c[0] / n, c[1] / n, c[2] / n];
+    }
+    setupCamera();
+    drawGrid();
+    drawTraces();
     // The sticks' shadow on the floor, straight down: shows stance and where the feet are.
     if (showSticks && meta.shadow) {
       ctx.lineWidth = 3; ctx.strokeStyle = COL.shadow; ctx.beginPath();
@@ -332,6 +348,11 @@
   $('labels').onchange = (e) => { showLabels = e.target.checked; draw(); };
   $('sticks').onchange = (e) => { showSticks = e.target.checked; draw(); };
   $('orig').onchange = (e) => { showOrig = e.target.checked; draw(); };
+  $('follow').onchange = (e) => {
+    follow = e.target.checked;
+    cam = follow ? { ...cam, dist: frameSize() * 2.2 } : home();
+    draw();
+  };
   if (!oxyz) $('origwrap').style.display = 'none';
   $('reset').onclick = () => { cam = home(); draw(); };
 
@@ -420,6 +441,7 @@
       }
       case 'r': case 'R': toggle(true); break;
       case 'l': case 'L': $('labels').click(); break;
+      case 'c': case 'C': $('follow').click(); break;
       case 'f': case 'F': cam = home(); draw(); break;
       case 'Home': step(-N); break;
       case 'End': step(N); break;
@@ -439,6 +461,9 @@
     drawn: () => drawn,
   };
   resize();
+
+  // ?follow=1 opens the page following the subject (for links and screenshots).
+  if (/[?&]follow=1\b/.test(location.search)) $('follow').click();
 
   // Self-test (?selftest=1): plays, moves the slider and reports into the page, for the
   // project's browser test.
