@@ -168,6 +168,13 @@ impl C3d {
         self.source.as_ref().map(|s| s.bytes.as_slice())
     }
 
+    /// The parameter `group:name` (case-insensitive), e.g. `c.param("POINT", "RATE")`; its
+    /// typed views are [`Parameter::as_f32s`](crate::Parameter::as_f32s), `as_i32s`,
+    /// `as_u16s` and `as_strings`.
+    pub fn param(&self, group: &str, name: &str) -> Option<&crate::parameters::Parameter> {
+        self.parameters.get(group, name)
+    }
+
     /// Point labels (POINT:LABELS, LABELS2, …), one per stored point; missing ones are
     /// named by their number so every point has a label.
     pub fn point_labels(&self) -> Vec<String> {

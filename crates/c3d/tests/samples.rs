@@ -29,6 +29,19 @@ fn samples_hold_the_described_defects() {
         assert_eq!(c.events().len(), 7);
         assert!(c.warnings().is_empty(), "{:?}", c.warnings());
         assert_eq!(c.point_labels()[0], "LASI");
+        assert_eq!(
+            c.param("point", "rate").map(|p| p.as_f32s()),
+            Some(vec![100.0])
+        );
+        assert_eq!(
+            c.param("ANALOG", "USED").map(|p| p.as_i32s()),
+            Some(vec![4])
+        );
+        assert_eq!(
+            c.param("EVENT", "CONTEXTS")
+                .map(|p| p.as_strings()[1].clone()),
+            Some("Left".into())
+        );
     }
     let gaps: usize = (0..35).map(|i| int.points().gaps(i).len()).sum();
     assert_eq!(gaps, 9);
