@@ -377,21 +377,20 @@ fn the_viewer_plays_in_a_browser() {
     );
     assert_eq!(r["ok"], true, "{r}");
 
-    // A screenshot to look at, kept beside the build.
+    screenshot(&bin, &page, &dir.path().join("profile"), "viewer.png");
+}
+
+/// A screenshot of `page` to look at, kept beside the build in `target/e2e-artifacts/`.
+fn screenshot(bin: &Path, page: &Path, profile: &Path, name: &str) {
     let art = testkit::workspace_root()
         .join("target")
         .join("e2e-artifacts");
     std::fs::create_dir_all(&art).unwrap();
-    let shot = art.join("viewer.png");
+    let shot = art.join(name);
     let _ = std::fs::remove_file(&shot);
     let url = format!("file://{}", page.display());
     let arg = format!("--screenshot={}", shot.display());
-    run_chromium(
-        &bin,
-        &dir.path().join("profile"),
-        &["--virtual-time-budget=2000", &arg],
-        &url,
-    );
+    run_chromium(bin, profile, &["--virtual-time-budget=2000", &arg], &url);
     let png = std::fs::read(&shot).expect("screenshot written");
     assert!(png.starts_with(b"\x89PNG"));
 }
@@ -484,19 +483,5 @@ fn view_draws_a_bvh_skeleton_against_its_keyframed_rebuild() {
     assert!(r["painted_pixels"].as_u64().unwrap() > 500, "{r}");
     assert!(r["markers_drawn"].as_u64().unwrap() > 15, "{r}");
     assert_eq!(r["ok"], true, "{r}");
-    let art = testkit::workspace_root()
-        .join("target")
-        .join("e2e-artifacts");
-    std::fs::create_dir_all(&art).unwrap();
-    let shot = art.join("viewer_bvh.png");
-    let _ = std::fs::remove_file(&shot);
-    let arg = format!("--screenshot={}", shot.display());
-    let url = format!("file://{}", html.display());
-    run_chromium(
-        &bin,
-        &dir.path().join("profile"),
-        &["--virtual-time-budget=2000", &arg],
-        &url,
-    );
-    assert!(std::fs::read(&shot).unwrap().starts_with(b"\x89PNG"));
+    screenshot(&bin, &html, &dir.path().join("profile"), "viewer_bvh.png");
 }
