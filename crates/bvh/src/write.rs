@@ -1,4 +1,4 @@
-//! Writing BVH text, mirroring [`crate::parse`].
+//! Writing BVH text, mirroring [`crate::parse()`].
 //!
 //! Numbers are printed with Rust's shortest representation that reads back to the same `f64`,
 //! so parse → write → parse is exact.

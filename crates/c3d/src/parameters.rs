@@ -283,7 +283,7 @@ impl Parameters {
         Ok(())
     }
 
-    /// Set a one-dimensional list of strings (`group:name` as char[len][n]), padding with spaces.
+    /// Set a one-dimensional list of strings (`group:name` as `char[len][n]`), padding with spaces.
     pub fn set_strings(&mut self, group: &str, name: &str, strings: &[String]) -> Result<()> {
         let width = strings
             .iter()
