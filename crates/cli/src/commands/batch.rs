@@ -3,7 +3,8 @@
 //! renamed into place, so stopping the process at any moment leaves every file either as it
 //! was or fully repaired.
 
-use crate::commands::repair::{print_summary, repair_file, Summary};
+use crate::commands::info::read_c3d;
+use crate::commands::repair::{print_summary, repair_read, Summary};
 use crate::commands::repair_io::RepairArgs;
 use crate::output::write_atomic;
 use anyhow::{bail, Result};
@@ -123,24 +124,21 @@ pub fn run(a: Args) -> Result<i32> {
                     if !overwrite && output.exists() {
                         bail!("{} exists (use --force to overwrite)", output.display());
                     }
-                    // A trial without points (EMG only) has nothing to repair: it is skipped,
-                    // and copied unchanged so the output folder holds every trial.
-                    let bytes = std::fs::read(input)
-                        .map_err(|e| anyhow::anyhow!("{}: {e}", input.display()))?;
-                    if let Ok(c) = c3d::read(bytes.clone()) {
-                        if c.points().count() == 0 {
-                            if !a.in_place {
-                                write_atomic(output, &bytes, overwrite)?;
-                            }
-                            return Ok(Summary {
-                                file: input.display().to_string(),
-                                output: output.display().to_string(),
-                                skipped: Some("no points".into()),
-                                ..Summary::default()
-                            });
+                    // Read once: a trial without points (EMG only) has nothing to repair; it
+                    // is skipped, and copied unchanged so the output folder holds every trial.
+                    let c = read_c3d(input)?;
+                    if c.points().count() == 0 {
+                        if !a.in_place {
+                            write_atomic(output, c.source_bytes().unwrap_or_default(), overwrite)?;
                         }
+                        return Ok(Summary {
+                            file: input.display().to_string(),
+                            output: output.display().to_string(),
+                            skipped: Some("no points".into()),
+                            ..Summary::default()
+                        });
                     }
-                    repair_file(input, output, &a.repair, a.backup, overwrite).map(|(_, s)| s)
+                    repair_read(c, input, output, &a.repair, a.backup, overwrite).map(|(_, s)| s)
                 })()
                 .map_err(|e| format!("{e:#}"));
                 let _guard = out_lock.lock();

@@ -70,7 +70,19 @@ pub fn repair_file(
     backup: bool,
     overwrite: bool,
 ) -> Result<(serde_json::Value, Summary)> {
-    let mut c = read_c3d(input)?;
+    repair_read(read_c3d(input)?, input, output, a, backup, overwrite)
+}
+
+/// [`repair_file`] on a file already read from `input` (so callers that look at it first,
+/// like `batch`, read and parse it once).
+pub fn repair_read(
+    mut c: c3d::C3d,
+    input: &Path,
+    output: &Path,
+    a: &RepairArgs,
+    backup: bool,
+    overwrite: bool,
+) -> Result<(serde_json::Value, Summary)> {
     if c.points().count() == 0 {
         anyhow::bail!("{}: the file has no points to repair", input.display());
     }
