@@ -3,7 +3,9 @@
 
 use crate::analog::Analog;
 use crate::error::{Error, Result};
-use crate::points::{decode_fourth, encode_fourth, Points};
+use crate::points::{
+    decode_float_word, decode_word, encode_fourth, float_word, model_sample, Points,
+};
 use crate::processor::{Codec, CodecFn};
 use serde::Serialize;
 
@@ -64,8 +66,29 @@ pub(crate) struct Decode<'a> {
 /// Files above this many data bytes are decoded in parallel chunks of frames.
 const PARALLEL_BYTES: usize = 1 << 20;
 
-impl CodecFn<(Points, Analog)> for Decode<'_> {
-    fn call<C: Codec>(self) -> (Points, Analog) {
+/// What decoding found besides the samples.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct DecodeNotes {
+    /// Float fourth words that are not 16-bit words (see [`float_word`]).
+    pub odd_fourth_words: usize,
+    /// The first of them, as a sample index (frame × points + point).
+    pub first_odd: Option<usize>,
+}
+
+impl DecodeNotes {
+    fn merge(self, other: DecodeNotes) -> DecodeNotes {
+        DecodeNotes {
+            odd_fourth_words: self.odd_fourth_words + other.odd_fourth_words,
+            first_odd: match (self.first_odd, other.first_odd) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            },
+        }
+    }
+}
+
+impl CodecFn<(Points, Analog, DecodeNotes)> for Decode<'_> {
+    fn call<C: Codec>(self) -> (Points, Analog, DecodeNotes) {
         use rayon::prelude::*;
         let l = self.layout;
         let fb = l.frame_bytes();
@@ -77,6 +100,7 @@ impl CodecFn<(Points, Analog)> for Decode<'_> {
         let mut residual: Vec<f32> = crate::memory::zeroed(n);
         let mut camera_mask: Vec<u8> = crate::memory::zeroed(n);
         let mut raw: Vec<f32> = crate::memory::zeroed(l.frames * aw);
+        let mut notes = DecodeNotes::default();
         if let Some(per_chunk) = (PARALLEL_BYTES / 4).checked_div(fb) {
             let chunk = if l.data_bytes() > PARALLEL_BYTES {
                 per_chunk.max(1)
@@ -90,13 +114,24 @@ impl CodecFn<(Points, Analog)> for Decode<'_> {
                 .zip(split(&mut camera_mask, chunk * l.points, k))
                 .zip(split(&mut raw, chunk * aw, k))
                 .zip(self.bytes[..l.frames * fb].chunks(chunk * fb))
+                .enumerate()
                 .collect();
-            let run = |((((x, r), m), a), b): Part<'_>| decode_frames::<C>(l, b, x, r, m, a);
-            if k > 1 {
-                parts.into_par_iter().for_each(run);
+            let run = |(i, ((((x, r), m), a), b)): (usize, Part<'_>)| {
+                let mut n = decode_frames::<C>(l, b, x, r, m, a);
+                n.first_odd = n.first_odd.map(|s| s + i * chunk * l.points);
+                n
+            };
+            notes = if k > 1 {
+                parts
+                    .into_par_iter()
+                    .map(run)
+                    .reduce(DecodeNotes::default, DecodeNotes::merge)
             } else {
-                parts.into_iter().for_each(run);
-            }
+                parts
+                    .into_iter()
+                    .map(run)
+                    .fold(DecodeNotes::default(), DecodeNotes::merge)
+            };
         }
         let pts = Points {
             frames: l.frames,
@@ -111,7 +146,7 @@ impl CodecFn<(Points, Analog)> for Decode<'_> {
             frames: l.frames,
             raw,
         };
-        (pts, ana)
+        (pts, ana, notes)
     }
 }
 
@@ -142,7 +177,8 @@ fn decode_frames<C: Codec>(
     residual: &mut [f32],
     camera_mask: &mut [u8],
     raw: &mut [f32],
-) {
+) -> DecodeNotes {
+    let mut notes = DecodeNotes::default();
     let fb = l.frame_bytes();
     let aw = l.analog_words();
     let s = l.point_scale;
@@ -160,9 +196,14 @@ fn decode_frames<C: Codec>(
         if l.float {
             for (i, c) in pbytes.chunks_exact(16).enumerate() {
                 let v = |k: usize| C::read_f32([c[k], c[k + 1], c[k + 2], c[k + 3]]);
-                xo[i] = [v(0), v(4), v(8)];
+                let p = [v(0), v(4), v(8)];
                 let w = v(12);
-                (ro[i], mo[i]) = decode_fourth(if w < 0.0 { -1 } else { w as i32 }, s);
+                if float_word(w).is_none() {
+                    notes.odd_fourth_words += 1;
+                    notes.first_odd.get_or_insert(base + i);
+                }
+                xo[i] = p;
+                (ro[i], mo[i]) = model_sample(p, decode_float_word(w, s));
             }
             for (o, c) in ao.iter_mut().zip(abytes.chunks_exact(4)) {
                 *o = C::read_f32([c[0], c[1], c[2], c[3]]);
@@ -170,8 +211,9 @@ fn decode_frames<C: Codec>(
         } else {
             for (i, c) in pbytes.chunks_exact(8).enumerate() {
                 let v = |k: usize| C::read_i16([c[k], c[k + 1]]);
+                // Integer coordinates are always finite: the word alone decides.
                 xo[i] = [v(0) as f32 * s, v(2) as f32 * s, v(4) as f32 * s];
-                (ro[i], mo[i]) = decode_fourth(v(6) as i32, s);
+                (ro[i], mo[i]) = decode_word(v(6), s);
             }
             if l.unsigned_analog {
                 for (o, c) in ao.iter_mut().zip(abytes.chunks_exact(2)) {
@@ -184,6 +226,7 @@ fn decode_frames<C: Codec>(
             }
         }
     }
+    notes
 }
 
 /// Encode samples into `out` (exactly `layout.data_bytes()` long). Unless `force`, a sample
@@ -236,14 +279,16 @@ impl CodecFn<Result<()>> for Encode<'_> {
                     let k = base + i;
                     let [x, y, z] = pts.xyz[k];
                     let (r, m) = (pts.residual[k], pts.camera_mask[k]);
+                    // A sample whose stored bytes decode (by the reader's own rule) to what
+                    // the model holds keeps its bytes, however its writer spelled it.
                     if l.float {
                         let rd = |k: usize| C::read_f32([c[k], c[k + 1], c[k + 2], c[k + 3]]);
-                        let w = rd(12);
-                        let (r0, m0) = decode_fourth(if w < 0.0 { -1 } else { w as i32 }, s);
+                        let p0 = [rd(0), rd(4), rd(8)];
+                        let (r0, m0) = model_sample(p0, decode_float_word(rd(12), s));
                         if !force
-                            && same(rd(0), x)
-                            && same(rd(4), y)
-                            && same(rd(8), z)
+                            && same(p0[0], x)
+                            && same(p0[1], y)
+                            && same(p0[2], z)
                             && same(r0, r)
                             && m0 == m
                         {
@@ -252,11 +297,11 @@ impl CodecFn<Result<()>> for Encode<'_> {
                         c[0..4].copy_from_slice(&C::write_f32(x));
                         c[4..8].copy_from_slice(&C::write_f32(y));
                         c[8..12].copy_from_slice(&C::write_f32(z));
-                        let fourth = encode_fourth(r, m, s, 0xff) as f32;
+                        let fourth = encode_fourth([x, y, z], r, m, s) as f32;
                         c[12..16].copy_from_slice(&C::write_f32(fourth));
                     } else {
                         let rd = |k: usize| C::read_i16([c[k], c[k + 1]]);
-                        let (r0, m0) = decode_fourth(rd(6) as i32, s);
+                        let (r0, m0) = decode_word(rd(6), s);
                         if !force
                             && same(rd(0) as f32 * s, x)
                             && same(rd(2) as f32 * s, y)
@@ -266,7 +311,7 @@ impl CodecFn<Result<()>> for Encode<'_> {
                         {
                             continue;
                         }
-                        let valid = r >= 0.0;
+                        let valid = !crate::points::is_missing([x, y, z], r);
                         let q = |v: f32, axis: &str| -> Result<i16> {
                             // An invalid sample's coordinates carry no meaning (the manual):
                             // ones an integer cannot hold are stored as 0.
@@ -280,8 +325,7 @@ impl CodecFn<Result<()>> for Encode<'_> {
                         c[0..2].copy_from_slice(&C::write_i16(q(x, "x")?));
                         c[2..4].copy_from_slice(&C::write_i16(q(y, "y")?));
                         c[4..6].copy_from_slice(&C::write_i16(q(z, "z")?));
-                        let fourth = encode_fourth(r, m, s, 0x7f) as i16;
-                        c[6..8].copy_from_slice(&C::write_i16(fourth));
+                        c[6..8].copy_from_slice(&C::write_i16(encode_fourth([x, y, z], r, m, s)));
                     }
                 }
             }

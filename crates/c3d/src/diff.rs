@@ -295,7 +295,7 @@ fn points_diff(a: &C3d, b: &C3d, tol: f64) -> PointsDiff {
         };
         for f in 0..frames {
             let (ka, kb) = (pa.index(f, i), pb.index(f, j));
-            let (va, vb) = (pa.residual[ka] >= 0.0, pb.residual[kb] >= 0.0);
+            let (va, vb) = (pa.is_valid_at(ka), pb.is_valid_at(kb));
             let mut changed = false;
             if va != vb {
                 changed = true;

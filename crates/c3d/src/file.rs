@@ -168,6 +168,12 @@ impl C3d {
         self.source.as_ref().map(|s| s.bytes.as_slice())
     }
 
+    /// Where the data section starts in the bytes the file was read from (after the reader's
+    /// checks of the header against POINT:DATA_START), if it was read.
+    pub fn data_offset(&self) -> Option<usize> {
+        self.source.as_ref().map(|s| s.data_offset)
+    }
+
     /// The parameter `group:name` (case-insensitive), e.g. `c.param("POINT", "RATE")`; its
     /// typed views are [`Parameter::as_f32s`](crate::Parameter::as_f32s), `as_i32s`,
     /// `as_u16s` and `as_strings`.

@@ -28,6 +28,6 @@ pub use events::Event;
 pub use file::{C3d, NumberFormat};
 pub use header::{Header, HeaderEvent, BLOCK};
 pub use parameters::{Group, Parameter, Parameters, Record, Value};
-pub use points::Points;
+pub use points::{is_missing, Points};
 pub use processor::Processor;
 pub use read::{read, read_file};

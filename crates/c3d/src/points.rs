@@ -4,18 +4,18 @@ use serde::Serialize;
 
 /// Point samples of a trial, frame-major: sample `(frame, point)` is at `frame * count + point`.
 ///
-/// A sample is valid when its residual is not negative (the C3D manual's convention: a
-/// negative fourth word marks a point that was not seen). A residual of 0 marks a point that
-/// was computed rather than measured (interpolated, filtered).
+/// Whether a sample is missing is decided in one place, [`is_missing`], for every command and
+/// library entry point. A residual of 0 marks a point that was computed rather than measured
+/// (interpolated, filtered).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Points {
     pub(crate) frames: usize,
     pub(crate) count: usize,
     /// Coordinates in POINT:UNITS.
     pub xyz: Vec<[f32; 3]>,
-    /// Residual in POINT:UNITS (low byte × |POINT:SCALE|); negative = invalid.
+    /// Residual in POINT:UNITS (low byte × |POINT:SCALE|); −1 for a missing sample.
     pub residual: Vec<f32>,
-    /// Camera mask: bit n set when camera n+1 saw the point.
+    /// Camera mask (7 bits): bit n set when camera n+1 saw the point.
     pub camera_mask: Vec<u8>,
 }
 
@@ -46,9 +46,23 @@ impl Points {
         frame * self.count + point
     }
 
+    /// Whether sample `(frame, point)` holds a measured or computed position: see
+    /// [`is_missing`].
     #[inline]
     pub fn is_valid(&self, frame: usize, point: usize) -> bool {
-        self.residual[self.index(frame, point)] >= 0.0
+        let k = self.index(frame, point);
+        !is_missing(self.xyz[k], self.residual[k])
+    }
+
+    /// Whether the sample at flat index `k` (see [`Points::index`]) is valid.
+    #[inline]
+    pub fn is_valid_at(&self, k: usize) -> bool {
+        !is_missing(self.xyz[k], self.residual[k])
+    }
+
+    /// Number of valid samples of one point.
+    pub fn valid_count(&self, point: usize) -> usize {
+        (0..self.frames).filter(|&f| self.is_valid(f, point)).count()
     }
 
     /// The validity of one point over all frames.
@@ -91,29 +105,87 @@ impl Points {
     }
 }
 
-/// A stored point's fourth word, decoded as the C3D manual says: negative = invalid; else the
-/// high byte is the camera mask and the low byte the residual in units of |scale|.
+/// The one definition of a missing point sample, from the C3D manual: the fourth word of a
+/// stored point, taken as a 16-bit signed integer, is negative when the point was not seen.
+/// Readers put −1 in the model's residual for such samples (see [`decode_word`] and
+/// [`decode_float_word`]); a sample whose coordinates are not finite is missing too, however
+/// its fourth word reads, since no reader can place it.
 #[inline(always)]
-pub(crate) fn decode_fourth(word: i32, abs_scale: f32) -> (f32, u8) {
+pub fn is_missing(xyz: [f32; 3], residual: f32) -> bool {
+    // `!(r >= 0)` rather than `r < 0` so that a NaN residual is missing too.
+    !(residual >= 0.0) || !(xyz[0].is_finite() && xyz[1].is_finite() && xyz[2].is_finite())
+}
+
+/// A stored point's fourth word, decoded as the C3D manual says: negative = missing; else
+/// bits 8–14 are the camera mask (7 cameras; bit 15 is the sign) and the low byte the
+/// residual in units of |scale|.
+#[inline(always)]
+pub(crate) fn decode_word(word: i16, abs_scale: f32) -> (f32, u8) {
     if word < 0 {
         (-1.0, 0)
     } else {
-        ((word & 0xff) as f32 * abs_scale, ((word >> 8) & 0xff) as u8)
+        ((word & 0xff) as f32 * abs_scale, ((word >> 8) & 0x7f) as u8)
     }
 }
 
-/// The inverse of [`decode_fourth`].
+/// The fourth word of a float file as the 16-bit word it stands for, when it is one.
+///
+/// The manual stores the same 16-bit word as in integer files, converted to a float. Writers
+/// differ in how they convert it: most write the signed value (−1.0 for a missing point),
+/// some the unsigned one (65535.0, the word 0xFFFF, as Vicon and Qualisys exports do). Both
+/// are the same word, so an integral value in −32768…65535 is taken modulo 2¹⁶ and read as a
+/// signed 16-bit integer. Anything else (fractions, huge or non-finite values) is not a
+/// 16-bit word at all.
 #[inline(always)]
-pub(crate) fn encode_fourth(residual: f32, mask: u8, abs_scale: f32, max_mask: u8) -> i32 {
-    if residual < 0.0 || residual.is_nan() {
+pub(crate) fn float_word(w: f32) -> Option<i16> {
+    if (-32768.0..=65535.0).contains(&w) && w.fract() == 0.0 {
+        Some(w as i32 as u16 as i16)
+    } else {
+        None
+    }
+}
+
+/// A float file's fourth word decoded: through [`float_word`] when it is a 16-bit word.
+/// Otherwise (some writers store other values there, e.g. the bit pattern 0x7F007F00 in
+/// `marche281.c3d`) the sign still decides — negative or non-finite is missing — and the
+/// residual and mask come from the value's integral part saturated to 32 bits, so that such a
+/// sample stays valid with the reading it always had; the reader warns once per file.
+#[inline(always)]
+pub(crate) fn decode_float_word(w: f32, abs_scale: f32) -> (f32, u8) {
+    match float_word(w) {
+        Some(word) => decode_word(word, abs_scale),
+        None if !(w >= 0.0) || w.is_infinite() => (-1.0, 0),
+        None => {
+            let i = w as i32;
+            ((i & 0xff) as f32 * abs_scale, ((i >> 8) & 0x7f) as u8)
+        }
+    }
+}
+
+/// A sample as the model holds it: residual −1 and mask 0 when it is missing by
+/// [`is_missing`], else what its fourth word says.
+#[inline(always)]
+pub(crate) fn model_sample(xyz: [f32; 3], fourth: (f32, u8)) -> (f32, u8) {
+    if is_missing(xyz, fourth.0) {
+        (-1.0, 0)
+    } else {
+        fourth
+    }
+}
+
+/// The fourth word for a sample of the model, the inverse of [`decode_word`]: −1 for a
+/// missing sample (by [`is_missing`], so non-finite coordinates are written as missing too).
+#[inline(always)]
+pub(crate) fn encode_fourth(xyz: [f32; 3], residual: f32, mask: u8, abs_scale: f32) -> i16 {
+    if is_missing(xyz, residual) {
         -1
     } else {
         let r = if abs_scale > 0.0 {
-            (residual / abs_scale).round().clamp(0.0, 255.0) as i32
+            (residual / abs_scale).round().clamp(0.0, 255.0) as i16
         } else {
             0
         };
-        (((mask & max_mask) as i32) << 8) | r
+        (((mask & 0x7f) as i16) << 8) | r
     }
 }
 
@@ -124,11 +196,52 @@ mod tests {
     #[test]
     fn fourth_word_as_the_manual_says() {
         // Cameras 1 and 3 (mask 0b101), residual 7 × 0.5 = 3.5.
-        assert_eq!(decode_fourth(0x0507, 0.5), (3.5, 0b101));
-        assert_eq!(decode_fourth(-1, 0.5), (-1.0, 0));
-        assert_eq!(encode_fourth(3.5, 0b101, 0.5, 0x7f), 0x0507);
-        assert_eq!(encode_fourth(-1.0, 3, 0.5, 0x7f), -1);
-        assert_eq!(encode_fourth(0.0, 0, 0.5, 0x7f), 0);
+        assert_eq!(decode_word(0x0507, 0.5), (3.5, 0b101));
+        assert_eq!(decode_word(-1, 0.5), (-1.0, 0));
+        let p = [1.0, 2.0, 3.0];
+        assert_eq!(encode_fourth(p, 3.5, 0b101, 0.5), 0x0507);
+        assert_eq!(encode_fourth(p, -1.0, 3, 0.5), -1);
+        assert_eq!(encode_fourth(p, 0.0, 0, 0.5), 0);
+        // The mask has 7 bits: bit 15 is the sign.
+        assert_eq!(encode_fourth(p, 0.0, 0xff, 0.5), 0x7f00);
+        assert_eq!(decode_word(0x7f00, 0.5), (0.0, 0x7f));
+    }
+
+    #[test]
+    fn float_fourth_words_are_16_bit_words() {
+        // Signed and unsigned spellings of the word 0xFFFF are both missing.
+        assert_eq!(decode_float_word(-1.0, 0.1), (-1.0, 0));
+        assert_eq!(decode_float_word(65535.0, 0.1), (-1.0, 0));
+        // 0x8000..0xFFFF have the sign bit set.
+        assert_eq!(decode_float_word(32768.0, 0.1), (-1.0, 0));
+        assert_eq!(decode_float_word(-32768.0, 0.1), (-1.0, 0));
+        assert_eq!(decode_float_word(0x0507 as f32, 0.5), (3.5, 0b101));
+        assert_eq!(decode_float_word(0.0, 0.5), (0.0, 0));
+        // Not 16-bit words: negative or non-finite is missing, other values valid.
+        assert_eq!(decode_float_word(-0.5, 0.5), (-1.0, 0));
+        assert_eq!(decode_float_word(f32::NAN, 0.5), (-1.0, 0));
+        assert_eq!(decode_float_word(f32::INFINITY, 0.5), (-1.0, 0));
+        assert!(decode_float_word(1.708e38, 1.0).0 >= 0.0);
+        assert!(decode_float_word(12.5, 1.0).0 >= 0.0);
+        assert_eq!(float_word(65535.0), Some(-1));
+        assert_eq!(float_word(12.5), None);
+        assert_eq!(float_word(65536.0), None);
+    }
+
+    #[test]
+    fn non_finite_coordinates_are_missing() {
+        assert!(is_missing([f32::NAN, 0.0, 0.0], 1.0));
+        assert!(is_missing([0.0, f32::INFINITY, 0.0], 0.0));
+        assert!(is_missing([0.0, 0.0, 0.0], -1.0));
+        assert!(is_missing([0.0, 0.0, 0.0], f32::NAN));
+        assert!(!is_missing([0.0, 0.0, 0.0], 0.0));
+        assert_eq!(model_sample([f32::NAN, 0.0, 0.0], (2.0, 3)), (-1.0, 0));
+        assert_eq!(encode_fourth([f32::NAN, 0.0, 0.0], 2.0, 3, 1.0), -1);
+        let mut p = Points::new(1, 1);
+        p.residual[0] = 1.0;
+        assert!(p.is_valid(0, 0));
+        p.xyz[0][1] = f32::NAN;
+        assert!(!p.is_valid(0, 0));
     }
 
     #[test]

@@ -157,10 +157,22 @@ pub fn read(bytes: Vec<u8>) -> Result<C3d> {
             &[]
         }
     };
-    let (points, analog) = processor.dispatch(Decode {
+    let (points, analog, notes) = processor.dispatch(Decode {
         bytes: data,
         layout,
     });
+    if let Some(k) = notes.first_odd {
+        let at = data_offset + (k / layout.points) * layout.frame_bytes() + (k % layout.points) * 16 + 12;
+        warnings.push(Warning::new(
+            Section::Data,
+            Some(at),
+            format!(
+                "{} point samples store a fourth word that is not a 16-bit integer; \
+                 read as valid unless negative (the manual stores the 16-bit residual word there)",
+                notes.odd_fourth_words
+            ),
+        ));
+    }
     if points.count() > 0 && points.frames() > 0 && points.residual.iter().all(|&r| r < 0.0) {
         let nonzero = points.xyz.iter().any(|p| p.iter().any(|&v| v != 0.0));
         if nonzero {

@@ -68,27 +68,6 @@ pub fn valid_segments(valid: &[bool]) -> Vec<(usize, usize)> {
     out
 }
 
-/// Validity of each sample from its residual, as C3D stores it: a negative residual means
-/// the sample is missing. Many writers also store missing samples as (0, 0, 0) with a
-/// non-negative residual, so `zero_is_invalid` treats exactly-zero coordinates as missing.
-/// Non-finite coordinates are invalid too. Frames beyond the residual slice are invalid.
-/// Residuals may be `f32` (as C3D stores them) or `f64`.
-pub fn mask_from_residuals<R: Copy + Into<f64>>(
-    xyz: &[[f64; 3]],
-    residual: &[R],
-    zero_is_invalid: bool,
-) -> Vec<bool> {
-    (0..xyz.len())
-        .map(|f| {
-            let r = residual.get(f).map_or(-1.0, |&r| r.into());
-            let p = xyz[f];
-            let finite = p.iter().all(|c| c.is_finite());
-            let zero = p == [0.0, 0.0, 0.0];
-            r >= 0.0 && finite && !(zero_is_invalid && zero)
-        })
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -114,28 +93,5 @@ mod tests {
         assert_eq!(valid_segments(&v), vec![(2, 3), (5, 5)]);
         assert!(find_gaps(&[true; 5], 0).is_empty());
         assert_eq!(find_gaps(&[false; 3], 0)[0].len, 3);
-    }
-
-    #[test]
-    fn mask_from_residual_and_zero_option() {
-        let xyz = [
-            [1.0, 2.0, 3.0],
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [4.0, 4.0, 4.0],
-        ];
-        let res = [0.5f32, 0.0, 0.0, -1.0];
-        assert_eq!(
-            mask_from_residuals(&xyz, &res, false),
-            vec![true, true, true, false]
-        );
-        assert_eq!(
-            mask_from_residuals(&xyz, &res, true),
-            vec![true, false, true, false]
-        );
-        assert_eq!(
-            mask_from_residuals(&xyz, &res[..2], false),
-            vec![true, true, false, false]
-        );
     }
 }

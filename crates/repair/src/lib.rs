@@ -1,9 +1,9 @@
 //! Format-agnostic trajectory repair (issue 3): gaps, fills, spikes, filters, evaluation.
 //!
 //! Works on plain arrays and validity masks: a [`Trial`] is markers × frames of `[f64; 3]`
-//! with one `bool` per sample. Knows nothing about C3D; the caller maps residuals to masks
-//! ([`gaps::mask_from_residuals`]) and writes back the samples [`RepairReport::changes`]
-//! marks. Configuration is built and validated once ([`RepairConfig`]); data-driven
+//! with one `bool` per sample. Knows nothing about C3D; the caller decides which samples are
+//! missing (for C3D files, `c3d::is_missing` is the one rule) and writes back the samples
+//! [`RepairReport::changes`] marks. Configuration is built and validated once ([`RepairConfig`]); data-driven
 //! problems are reported, never panics.
 //!
 //! ```
@@ -46,7 +46,7 @@ pub use error::{RepairError, Result};
 pub use evaluate::{evaluate, EvalConfig, Evaluation, MethodScore};
 pub use fill::{FillMethod, FillOptions, FillOutcome, SkipReason};
 pub use filter::{FilterSpec, Iir};
-pub use gaps::{find_gaps, mask_from_residuals, Gap};
+pub use gaps::{find_gaps, Gap};
 pub use pipeline::{change, repair_trial, RepairConfig, RepairReport};
 pub use spikes::{SpikeMode, SpikeOptions};
 

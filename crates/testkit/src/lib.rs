@@ -2,8 +2,8 @@
 //!
 //! Every crate's tests find the real files through the same rules, so they live here once:
 //! `C3D_SAMPLES` (default `../shared/c3d-samples`, relative to the workspace root), and the
-//! sibling folders `c3d-extra` and `bvh-samples` beside it (overridable with `C3D_EXTRA` and
-//! `BVH_SAMPLES`). When a corpus is missing, tests skip with a message — unless `CI` is set,
+//! sibling folders `c3d-extra`, `c3d-fullbody` and `bvh-samples` beside it (overridable with
+//! `C3D_EXTRA`, `C3D_FULLBODY` and `BVH_SAMPLES`). When a corpus is missing, tests skip with a message — unless `CI` is set,
 //! in which case a missing corpus is a failure.
 
 use std::path::{Path, PathBuf};
@@ -60,6 +60,12 @@ pub fn c3d_extra() -> Option<PathBuf> {
     corpus("C3D_EXTRA", &default.to_string_lossy())
 }
 
+/// The full-body sequences (CMU, numediart), beside the sample corpus by default.
+pub fn c3d_fullbody() -> Option<PathBuf> {
+    let default = resolve("C3D_SAMPLES", "../shared/c3d-samples").join("../c3d-fullbody");
+    corpus("C3D_FULLBODY", &default.to_string_lossy())
+}
+
 /// The BVH corpus, beside the sample corpus by default.
 pub fn bvh_samples() -> Option<PathBuf> {
     let default = resolve("C3D_SAMPLES", "../shared/c3d-samples").join("../bvh-samples");
@@ -90,13 +96,10 @@ pub fn files_with_ext(dir: &Path, ext: &str) -> Vec<PathBuf> {
     out
 }
 
-/// All C3D files of both corpora (empty when the corpora are absent outside CI).
+/// All C3D files of the three corpora (empty when the corpora are absent outside CI).
 pub fn all_c3d_files() -> Vec<PathBuf> {
     let mut v = Vec::new();
-    if let Some(d) = c3d_samples() {
-        v.extend(files_with_ext(&d, "c3d"));
-    }
-    if let Some(d) = c3d_extra() {
+    for d in [c3d_samples(), c3d_extra(), c3d_fullbody()].into_iter().flatten() {
         v.extend(files_with_ext(&d, "c3d"));
     }
     v
@@ -105,7 +108,11 @@ pub fn all_c3d_files() -> Vec<PathBuf> {
 /// A path relative to the corpus, for readable test output.
 pub fn short(p: &Path) -> String {
     let s = p.to_string_lossy();
-    match s.find("c3d-samples/").or_else(|| s.find("c3d-extra/")) {
+    match s
+        .find("c3d-samples/")
+        .or_else(|| s.find("c3d-extra/"))
+        .or_else(|| s.find("c3d-fullbody/"))
+    {
         Some(i) => s[i..].to_string(),
         None => s.into_owned(),
     }

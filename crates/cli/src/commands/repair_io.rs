@@ -178,8 +178,9 @@ pub fn marker_indices(c: &c3d::C3d) -> Vec<usize> {
         .collect()
 }
 
-/// The given points as a trial (validity from the residuals, and optionally all-zero
-/// coordinates).
+/// The given points as a trial. Validity is the C3D crate's one rule ([`c3d::is_missing`]);
+/// `zero_invalid` also treats samples at exactly (0, 0, 0) as missing, for writers that store
+/// missing points that way with a valid fourth word.
 pub fn trial(c: &c3d::C3d, points: &[usize], zero_invalid: bool) -> Result<repair::Trial> {
     let p = c.points();
     let mut xyz = Vec::with_capacity(points.len());
@@ -190,8 +191,10 @@ pub fn trial(c: &c3d::C3d, points: &[usize], zero_invalid: bool) -> Result<repai
             .into_iter()
             .map(|v| [v[0] as f64, v[1] as f64, v[2] as f64])
             .collect();
-        let r = p.residuals(i);
-        valid.push(repair::mask_from_residuals(&t, &r, zero_invalid));
+        let v: Vec<bool> = (0..p.frames())
+            .map(|f| p.is_valid(f, i) && !(zero_invalid && t[f] == [0.0; 3]))
+            .collect();
+        valid.push(v);
         xyz.push(t);
     }
     repair::Trial::new(c.point_rate() as f64, xyz, valid).map_err(|e| anyhow::anyhow!("{e}"))

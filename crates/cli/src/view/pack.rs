@@ -3,7 +3,7 @@
 
 use c3d::Points;
 
-/// Flag bit: the sample is valid (residual ≥ 0).
+/// Flag bit: the sample is valid (not missing by `c3d::is_missing`).
 pub const VALID: u8 = 1;
 /// Flag bit: the sample was computed, not measured (residual exactly 0).
 pub const FILLED: u8 = 2;
@@ -28,7 +28,7 @@ pub fn pack(points: &Points, order: &[Option<usize>], frames: usize) -> Packed {
             let sample = src
                 .filter(|&p| f < points.frames() && p < points.count())
                 .map(|p| points.index(f, p))
-                .filter(|&i| points.residual[i] >= 0.0);
+                .filter(|&i| points.is_valid_at(i));
             let (v, fl) = match sample {
                 Some(i) => {
                     let fl = if points.residual[i] == 0.0 {
