@@ -6,6 +6,7 @@ use std::process::{Command, Output};
 mod auto_eval;
 mod bvh;
 mod repair;
+mod validity;
 mod view;
 
 fn c3dfix(args: &[&str]) -> Output {

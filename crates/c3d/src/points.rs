@@ -62,7 +62,9 @@ impl Points {
 
     /// Number of valid samples of one point.
     pub fn valid_count(&self, point: usize) -> usize {
-        (0..self.frames).filter(|&f| self.is_valid(f, point)).count()
+        (0..self.frames)
+            .filter(|&f| self.is_valid(f, point))
+            .count()
     }
 
     /// The validity of one point over all frames.

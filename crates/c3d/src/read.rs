@@ -162,7 +162,10 @@ pub fn read(bytes: Vec<u8>) -> Result<C3d> {
         layout,
     });
     if let Some(k) = notes.first_odd {
-        let at = data_offset + (k / layout.points) * layout.frame_bytes() + (k % layout.points) * 16 + 12;
+        let at = data_offset
+            + (k / layout.points) * layout.frame_bytes()
+            + (k % layout.points) * 16
+            + 12;
         warnings.push(Warning::new(
             Section::Data,
             Some(at),

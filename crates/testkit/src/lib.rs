@@ -99,7 +99,10 @@ pub fn files_with_ext(dir: &Path, ext: &str) -> Vec<PathBuf> {
 /// All C3D files of the three corpora (empty when the corpora are absent outside CI).
 pub fn all_c3d_files() -> Vec<PathBuf> {
     let mut v = Vec::new();
-    for d in [c3d_samples(), c3d_extra(), c3d_fullbody()].into_iter().flatten() {
+    for d in [c3d_samples(), c3d_extra(), c3d_fullbody()]
+        .into_iter()
+        .flatten()
+    {
         v.extend(files_with_ext(&d, "c3d"));
     }
     v

@@ -113,17 +113,7 @@ pub fn repair_read(
             }
             FillOutcome::Skipped(reason) => {
                 s.left += 1;
-                let why = serde_json::to_value(reason)
-                    .ok()
-                    .map(|v| match v {
-                        serde_json::Value::String(x) => x,
-                        serde_json::Value::Object(m) => {
-                            m.keys().next().cloned().unwrap_or_default()
-                        }
-                        other => other.to_string(),
-                    })
-                    .unwrap_or_default();
-                *s.left_because.entry(why).or_default() += 1;
+                *s.left_because.entry(reason.name().to_string()).or_default() += 1;
             }
         }
         let mut v = serde_json::to_value(g)?;

@@ -166,6 +166,20 @@ pub enum SkipReason {
     Degenerate,
 }
 
+impl SkipReason {
+    /// The reason's name as reports spell it (`no_donors`, `too_long`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            SkipReason::MethodNone => "method_none",
+            SkipReason::TooLong { .. } => "too_long",
+            SkipReason::TouchesEdge => "touches_edge",
+            SkipReason::NoDonors => "no_donors",
+            SkipReason::NoContext => "no_context",
+            SkipReason::Degenerate => "degenerate",
+        }
+    }
+}
+
 /// What happened to one gap.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(tag = "status", rename_all = "snake_case")]
@@ -453,5 +467,25 @@ pub(crate) mod test_util {
                 ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
             })
             .fold(0.0, f64::max)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn skip_reason_names_are_the_serialized_tags() {
+        for r in [
+            SkipReason::MethodNone,
+            SkipReason::TooLong { max_gap: 3 },
+            SkipReason::TouchesEdge,
+            SkipReason::NoDonors,
+            SkipReason::NoContext,
+            SkipReason::Degenerate,
+        ] {
+            let v = serde_json::to_value(r).unwrap();
+            assert_eq!(v["reason"], r.name());
+        }
     }
 }
