@@ -114,8 +114,9 @@ impl Points {
 /// its fourth word reads, since no reader can place it.
 #[inline(always)]
 pub fn is_missing(xyz: [f32; 3], residual: f32) -> bool {
-    // `!(r >= 0)` rather than `r < 0` so that a NaN residual is missing too.
-    !(residual >= 0.0) || !(xyz[0].is_finite() && xyz[1].is_finite() && xyz[2].is_finite())
+    // Written so that a NaN residual is missing too.
+    let measured = residual >= 0.0;
+    !(measured && xyz[0].is_finite() && xyz[1].is_finite() && xyz[2].is_finite())
 }
 
 /// A stored point's fourth word, decoded as the C3D manual says: negative = missing; else
@@ -156,7 +157,7 @@ pub(crate) fn float_word(w: f32) -> Option<i16> {
 pub(crate) fn decode_float_word(w: f32, abs_scale: f32) -> (f32, u8) {
     match float_word(w) {
         Some(word) => decode_word(word, abs_scale),
-        None if !(w >= 0.0) || w.is_infinite() => (-1.0, 0),
+        None if w.is_nan() || w < 0.0 || w.is_infinite() => (-1.0, 0),
         None => {
             let i = w as i32;
             ((i & 0xff) as f32 * abs_scale, ((i >> 8) & 0x7f) as u8)
