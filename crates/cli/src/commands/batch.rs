@@ -3,11 +3,11 @@
 //! renamed into place, so stopping the process at any moment leaves every file either as it
 //! was or fully repaired.
 
-use crate::commands::info::read_c3d;
-use crate::commands::repair::{print_summary, repair_read, Summary};
+use crate::commands::repair::print_summary;
 use crate::commands::repair_io::RepairArgs;
-use crate::output::write_atomic;
 use anyhow::{bail, Result};
+use c3dfix::save::write_atomic;
+use c3dfix::{SaveOptions, Summary};
 use rayon::prelude::*;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -95,7 +95,8 @@ pub fn run(a: Args) -> Result<i32> {
         bail!("--jobs must be at least 1");
     }
     // Options are checked once, before any file is touched.
-    a.repair.config("mm")?;
+    a.repair.check()?;
+    let opts = a.repair.options();
     let jobs = plan(&a.paths, a.out_dir.as_deref())?;
     if jobs.is_empty() {
         bail!("no C3D files found");
@@ -118,7 +119,9 @@ pub fn run(a: Args) -> Result<i32> {
             .map(|(input, output)| {
                 let r = (|| -> Result<Summary> {
                     if let Some(parent) = output.parent() {
-                        std::fs::create_dir_all(parent)?;
+                        std::fs::create_dir_all(parent).map_err(|e| {
+                            anyhow::anyhow!("cannot create the folder {}: {e}", parent.display())
+                        })?;
                     }
                     let overwrite = a.force || a.in_place;
                     if !overwrite && output.exists() {
@@ -126,7 +129,7 @@ pub fn run(a: Args) -> Result<i32> {
                     }
                     // Read once: a trial without points (EMG only) has nothing to repair; it
                     // is skipped, and copied unchanged so the output folder holds every trial.
-                    let c = read_c3d(input)?;
+                    let mut c = c3dfix::open(input)?;
                     if c.points().count() == 0 {
                         if !a.in_place {
                             write_atomic(output, c.source_bytes().unwrap_or_default(), overwrite)?;
@@ -138,7 +141,11 @@ pub fn run(a: Args) -> Result<i32> {
                             ..Summary::default()
                         });
                     }
-                    repair_read(c, input, output, &a.repair, a.backup, overwrite).map(|(_, s)| s)
+                    let save = SaveOptions {
+                        force: overwrite,
+                        backup: a.backup,
+                    };
+                    Ok(c3dfix::repair_opened(&mut c, input, output, &opts, &save)?.summary)
                 })()
                 .map_err(|e| format!("{e:#}"));
                 let _guard = out_lock.lock();

@@ -1,18 +1,16 @@
 //! `c3dfix evaluate`: knock out known data, fill it with every method, and report the 3D
 //! error per method and gap length.
 
-use crate::commands::info::read_c3d;
-use crate::commands::repair_io::{fill_method, marker_indices, method_name, trial};
-use anyhow::{bail, Result};
-use repair::{EvalConfig, FillMethod};
-use std::collections::BTreeMap;
+use anyhow::Result;
+use c3dfix::{method_name, EvaluateOptions};
+use repair::FillMethod;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct Args {
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
-    /// Lengths of the artificial gaps, in frames.
+    /// Lengths of the artificial gaps, in frames (1 to 100000).
     #[arg(long, value_delimiter = ',', default_value = "5,10,20,40,80")]
     pub gap_lengths: Vec<usize>,
     /// Markers that lose data (labels; default: all markers).
@@ -21,7 +19,7 @@ pub struct Args {
     /// Methods to compare (default: all).
     #[arg(long, value_delimiter = ',')]
     pub methods: Option<Vec<String>>,
-    /// Artificial gaps (or groups of gaps) per length.
+    /// Artificial gaps (or groups of gaps) per length (1 to 100000).
     #[arg(long, default_value_t = 40)]
     pub gaps_per_length: usize,
     /// Markers that lose overlapping frames together: 1, or 2–3 (a marker and its nearest
@@ -37,103 +35,35 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<i32> {
-    if !(1..=3).contains(&a.group) {
-        bail!("--group must be 1, 2 or 3");
-    }
-    if a.gap_lengths.is_empty() || a.gap_lengths.contains(&0) {
-        bail!("--gap-lengths must be positive frame counts");
-    }
-    let methods: Vec<FillMethod> = match &a.methods {
-        Some(m) => m.iter().map(|s| fill_method(s)).collect::<Result<_>>()?,
-        None => FillMethod::ALL.to_vec(),
+    let opts = EvaluateOptions {
+        gap_lengths: a.gap_lengths.clone(),
+        markers: a.markers.clone(),
+        methods: a.methods.clone(),
+        gaps_per_length: a.gaps_per_length,
+        group: a.group,
+        seed: a.seed,
     };
-    let mut all = Vec::new();
-    // Sample-weighted mean errors across files, per (gap length, method).
-    let mut pooled: BTreeMap<(usize, String), (f64, usize, f64)> = BTreeMap::new();
-    for f in &a.files {
-        let c = read_c3d(f)?;
-        let points = marker_indices(&c);
-        if points.len() < 4 {
-            bail!(
-                "{}: needs at least 4 markers to evaluate, has {}",
-                f.display(),
-                points.len()
-            );
-        }
-        let t = trial(&c, &points, false)?;
-        let rows = match &a.markers {
-            None => None,
-            Some(names) => {
-                let mut rows = Vec::new();
-                for n in names {
-                    let Some(i) = c.point_index(n.trim()) else {
-                        bail!(
-                            "{}: no marker {n:?}; the file has: {}",
-                            f.display(),
-                            c.point_labels().join(", ")
-                        )
-                    };
-                    match points.iter().position(|&p| p == i) {
-                        Some(r) => rows.push(r),
-                        None => bail!("{}: {n} is a model output, not a marker", f.display()),
-                    }
-                }
-                Some(rows)
-            }
-        };
-        let cfg = EvalConfig {
-            markers: rows,
-            gap_lengths: a.gap_lengths.clone(),
-            gaps_per_length: a.gaps_per_length,
-            methods: methods.clone(),
-            group: a.group,
-            seed: a.seed,
-            ..EvalConfig::default()
-        };
-        let ev = repair::evaluate(&t, &cfg).map_err(|e| anyhow::anyhow!("{}: {e}", f.display()))?;
-        for s in &ev.scores {
-            let e = pooled
-                .entry((s.gap_len, method_name(s.method)))
-                .or_insert((0.0, 0, 0.0));
-            e.0 += s.mean * s.samples as f64;
-            e.1 += s.samples;
-            e.2 = e.2.max(s.max);
-        }
+    let methods = opts.fill_methods()?;
+    let ev = c3dfix::evaluate(&a.files, &opts, |fe| {
         if !a.json {
-            print_table(
-                &f.display().to_string(),
-                &c.point_units(),
-                &a.gap_lengths,
-                &methods,
-                |len, m| ev.score(m, len).map(|s| (s.mean, s.failed)),
-            );
+            print_table(&fe.file, &fe.units, &a.gap_lengths, &methods, |len, m| {
+                fe.evaluation.score(m, len).map(|s| (s.mean, s.failed))
+            });
         }
-        all.push(serde_json::json!({"file": f.display().to_string(), "units": c.point_units(), "evaluation": ev}));
-    }
-    let pooled_rows: Vec<_> = pooled
-        .iter()
-        .map(|((len, m), (sum, n, max))| {
-            serde_json::json!({"gap_len": len, "method": m, "mean": if *n > 0 { sum / *n as f64 } else { f64::NAN }, "max": max, "samples": n})
-        })
-        .collect();
+    })?;
     if a.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(
-                &serde_json::json!({"files": all, "pooled": pooled_rows})
-            )?
-        );
+        println!("{}", serde_json::to_string_pretty(&ev)?);
     } else if a.files.len() > 1 {
         print_table(
-            "all files (sample-weighted)",
+            "all files (sample-weighted, in mm whatever each file's unit)",
             "mm",
             &a.gap_lengths,
             &methods,
             |len, m| {
-                pooled
-                    .get(&(len, method_name(m)))
-                    .filter(|(_, n, _)| *n > 0)
-                    .map(|(s, n, _)| (s / *n as f64, 0))
+                ev.pooled
+                    .iter()
+                    .find(|p| p.gap_len == len && p.method == method_name(m) && p.samples > 0)
+                    .map(|p| (p.mean, 0))
             },
         );
     }

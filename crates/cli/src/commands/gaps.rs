@@ -1,8 +1,9 @@
 //! `c3dfix gaps`: every gap of every marker.
 
 use crate::commands::info::read_c3d;
-use crate::commands::repair_io::{marker_indices, trial};
 use anyhow::Result;
+use c3dfix::markers::marker_indices;
+use c3dfix::trial::to_trial;
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -34,7 +35,7 @@ pub fn run(a: Args) -> Result<i32> {
         anyhow::bail!("{}: the file has no points", a.file.display());
     }
     let points = marker_indices(&c);
-    let t = trial(&c, &points, a.zero_invalid)?;
+    let t = to_trial(&c, &points, a.zero_invalid)?;
     let labels = c.point_labels();
     let first = c.first_frame();
     let mut out = Vec::new();

@@ -1,6 +1,6 @@
 //! `c3dfix info`: what a file holds, and what is wrong with it.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -58,9 +58,9 @@ struct Report<'a> {
     warnings: Vec<String>,
 }
 
-/// Read a C3D file, naming the file in any error.
+/// Read a C3D file, naming the file in any error (the library's [`c3dfix::open`]).
 pub fn read_c3d(path: &Path) -> Result<c3d::C3d> {
-    c3d::read_file(path).with_context(|| format!("{}", path.display()))
+    Ok(c3dfix::open(path)?)
 }
 
 pub fn run(a: Args) -> Result<i32> {

@@ -1,0 +1,200 @@
+//! Measuring fill accuracy on real trials: known samples are knocked out, refilled by each
+//! method, and the 3D error reported per method and gap length, per file and pooled. Errors
+//! are reported in millimetres whatever POINT:UNITS a file uses, so files in metres and
+//! millimetres pool correctly.
+
+use crate::error::{Error, Result};
+use crate::markers::{marker_indices, mm_per_unit};
+use crate::options::{fill_method, method_name};
+use crate::trial::{open, to_trial};
+use repair::{EvalConfig, FillMethod};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// Longest artificial gap that may be asked for, in frames.
+pub const MAX_GAP_LENGTH: usize = 100_000;
+/// Most artificial gaps per length and file.
+pub const MAX_GAPS_PER_LENGTH: usize = 100_000;
+
+/// What to measure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EvaluateOptions {
+    /// Lengths of the artificial gaps, in frames.
+    pub gap_lengths: Vec<usize>,
+    /// Markers that lose data (labels); `None` for every marker.
+    pub markers: Option<Vec<String>>,
+    /// Method names to compare; `None` for all.
+    pub methods: Option<Vec<String>>,
+    /// Artificial gaps (or groups of gaps) per length.
+    pub gaps_per_length: usize,
+    /// 1, or 2–3 markers (a marker and its nearest neighbours) losing frames together.
+    pub group: usize,
+    /// Seed of the gap placement.
+    pub seed: u64,
+}
+
+impl Default for EvaluateOptions {
+    fn default() -> Self {
+        EvaluateOptions {
+            gap_lengths: vec![5, 10, 20, 40, 80],
+            markers: None,
+            methods: None,
+            gaps_per_length: 40,
+            group: 1,
+            seed: 1,
+        }
+    }
+}
+
+/// One file's evaluation; errors in its own units (`units`) and scaled by `mm_per_unit`
+/// in the pooled results.
+#[derive(Debug, Clone, Serialize)]
+pub struct FileEvaluation {
+    pub file: String,
+    pub units: String,
+    pub mm_per_unit: f64,
+    pub evaluation: repair::Evaluation,
+}
+
+/// Sample-weighted errors over all files for one method and gap length, in mm.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Pooled {
+    pub gap_len: usize,
+    pub method: String,
+    pub mean: f64,
+    pub max: f64,
+    pub samples: usize,
+}
+
+/// Everything [`evaluate`] measured.
+#[derive(Debug, Clone, Serialize)]
+pub struct Evaluation {
+    pub files: Vec<FileEvaluation>,
+    pub pooled: Vec<Pooled>,
+}
+
+impl EvaluateOptions {
+    /// The methods to compare, checked.
+    pub fn fill_methods(&self) -> Result<Vec<FillMethod>> {
+        match &self.methods {
+            Some(m) => m.iter().map(|s| fill_method(s)).collect(),
+            None => Ok(FillMethod::ALL.to_vec()),
+        }
+    }
+
+    fn check(&self) -> Result<()> {
+        if !(1..=3).contains(&self.group) {
+            return Err(Error::options("--group must be 1, 2 or 3"));
+        }
+        if self.gap_lengths.is_empty()
+            || self
+                .gap_lengths
+                .iter()
+                .any(|&l| !(1..=MAX_GAP_LENGTH).contains(&l))
+        {
+            return Err(Error::options(format!(
+                "--gap-lengths must be frame counts from 1 to {MAX_GAP_LENGTH}"
+            )));
+        }
+        if !(1..=MAX_GAPS_PER_LENGTH).contains(&self.gaps_per_length) {
+            return Err(Error::options(format!(
+                "--gaps-per-length must be from 1 to {MAX_GAPS_PER_LENGTH}"
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Evaluate every file; `each` sees each file's result as soon as it is measured (the
+/// command prints its table then).
+pub fn evaluate(
+    files: &[PathBuf],
+    opts: &EvaluateOptions,
+    mut each: impl FnMut(&FileEvaluation),
+) -> Result<Evaluation> {
+    opts.check()?;
+    let methods = opts.fill_methods()?;
+    let mut out = Vec::new();
+    let mut pooled: BTreeMap<(usize, String), (f64, usize, f64)> = BTreeMap::new();
+    for f in files {
+        let c = open(f)?;
+        let points = marker_indices(&c);
+        if points.len() < 4 {
+            return Err(Error::Trial {
+                path: f.clone(),
+                what: format!("needs at least 4 markers to evaluate, has {}", points.len()),
+            });
+        }
+        let t = to_trial(&c, &points, false)?;
+        let rows = match &opts.markers {
+            None => None,
+            Some(names) => {
+                let mut rows = Vec::new();
+                for n in names {
+                    let Some(i) = c.point_index(n.trim()) else {
+                        return Err(Error::Trial {
+                            path: f.clone(),
+                            what: format!(
+                                "no marker {n:?}; the file has: {}",
+                                c.point_labels().join(", ")
+                            ),
+                        });
+                    };
+                    match points.iter().position(|&p| p == i) {
+                        Some(r) => rows.push(r),
+                        None => {
+                            return Err(Error::Trial {
+                                path: f.clone(),
+                                what: format!("{n} is a model output, not a marker"),
+                            })
+                        }
+                    }
+                }
+                Some(rows)
+            }
+        };
+        let cfg = EvalConfig {
+            markers: rows,
+            gap_lengths: opts.gap_lengths.clone(),
+            gaps_per_length: opts.gaps_per_length,
+            methods: methods.clone(),
+            group: opts.group,
+            seed: opts.seed,
+            ..EvalConfig::default()
+        };
+        let ev = repair::evaluate(&t, &cfg).map_err(|source| Error::Repair {
+            path: f.clone(),
+            source,
+        })?;
+        let units = c.point_units();
+        let scale = mm_per_unit(&units);
+        for s in &ev.scores {
+            let e = pooled
+                .entry((s.gap_len, method_name(s.method)))
+                .or_insert((0.0, 0, 0.0));
+            e.0 += s.mean * scale * s.samples as f64;
+            e.1 += s.samples;
+            e.2 = e.2.max(s.max * scale);
+        }
+        let fe = FileEvaluation {
+            file: f.display().to_string(),
+            units,
+            mm_per_unit: scale,
+            evaluation: ev,
+        };
+        each(&fe);
+        out.push(fe);
+    }
+    let pooled = pooled
+        .into_iter()
+        .map(|((gap_len, method), (sum, n, max))| Pooled {
+            gap_len,
+            method,
+            mean: if n > 0 { sum / n as f64 } else { f64::NAN },
+            max,
+            samples: n,
+        })
+        .collect();
+    Ok(Evaluation { files: out, pooled })
+}

@@ -1,0 +1,97 @@
+//! c3dfix as a library: open a C3D trial, repair its marker data, save it atomically — the
+//! same code the `c3dfix` command and the Python package run.
+//!
+//! The format itself is the [`c3d`] crate (bytes ⇄ model, lossless, and the one definition
+//! of a missing sample, [`c3d::is_missing`]); trajectory processing is the [`repair`] crate
+//! (plain arrays and masks). This crate is the bridge between them: which points are markers
+//! ([`markers`]), trajectories in and repaired samples back with the C3D manual's flags
+//! ([`trial`]), options as people write them ([`RepairOptions`]), reports, and atomic
+//! writing ([`save`]).
+//!
+//! ```no_run
+//! use c3dfix::{RepairOptions, SaveOptions};
+//!
+//! let mut trial = c3dfix::open("walk.c3d")?;
+//! let opts = RepairOptions { lowpass: Some("butterworth:4:6".into()), ..RepairOptions::default() };
+//! let done = c3dfix::repair(&mut trial, &opts, "walk.c3d".as_ref())?;
+//! println!("{} of {} gaps filled", done.summary.filled, done.summary.gaps);
+//! c3dfix::save(&trial, "walk_repaired.c3d".as_ref(), &SaveOptions::default())?;
+//! # Ok::<(), c3dfix::Error>(())
+//! ```
+
+mod error;
+pub mod evaluate;
+pub mod markers;
+mod options;
+mod repair;
+pub mod save;
+pub mod trial;
+
+pub use ::c3d;
+pub use ::repair as repair_lib;
+pub use error::{Error, Result};
+pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
+pub use options::{fill_method, filter_spec, method_name, spike_options, RepairOptions};
+pub use repair::{repair, Repaired, Summary};
+pub use trial::open;
+
+use std::path::Path;
+
+/// How [`save`] treats what is already at the destination.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SaveOptions {
+    /// Replace an existing file.
+    pub force: bool,
+    /// Before replacing an existing file, keep it as `FILE.bak` (the first backup is kept).
+    pub backup: bool,
+}
+
+/// Encode `c` and write it to `path` atomically (see [`save::write_atomic`]); with
+/// `backup`, the file being replaced is kept first. Returns the backup's path when one was
+/// written.
+pub fn save(c: &c3d::C3d, path: &Path, opts: &SaveOptions) -> Result<Option<std::path::PathBuf>> {
+    save::check_destination(path, opts.force || opts.backup)?;
+    let bytes = c.to_bytes().map_err(|source| Error::C3d {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let mut kept = None;
+    if opts.backup && path.exists() {
+        let b = save::backup_path(path);
+        if save::write_backup(path, &b)? {
+            kept = Some(b);
+        }
+    }
+    save::write_atomic(path, &bytes, opts.force || opts.backup)?;
+    Ok(kept)
+}
+
+/// Open `input`, repair it, and save the result to `output` atomically: what
+/// `c3dfix repair` does. The summary names both files (and the backup, if one was made).
+pub fn repair_file(
+    input: &Path,
+    output: &Path,
+    opts: &RepairOptions,
+    save_opts: &SaveOptions,
+) -> Result<Repaired> {
+    let mut c = open(input)?;
+    repair_opened(&mut c, input, output, opts, save_opts)
+}
+
+/// [`repair_file`] for a trial already opened from `input` (callers that look at a file
+/// first read and parse it once).
+pub fn repair_opened(
+    c: &mut c3d::C3d,
+    input: &Path,
+    output: &Path,
+    opts: &RepairOptions,
+    save_opts: &SaveOptions,
+) -> Result<Repaired> {
+    save::check_destination(output, save_opts.force || save_opts.backup)?;
+    let mut done = repair(c, opts, input)?;
+    done.summary.output = output.display().to_string();
+    if let Some(b) = save(c, output, save_opts)? {
+        done.summary.backup = Some(b.display().to_string());
+    }
+    Ok(done)
+}

@@ -1,0 +1,163 @@
+//! Repairing a whole trial: markers chosen, trajectories repaired (spikes → fill → filter),
+//! samples written back with their flags, and a report of every gap, spike and segment.
+
+use crate::error::{Error, Result};
+use crate::markers::{marker_indices, select};
+use crate::options::{method_name, RepairOptions};
+use crate::trial::{to_trial, write_back};
+use repair::FillOutcome;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// What one repair did, in numbers: what `c3dfix repair` prints and `batch` emits per file.
+#[derive(Debug, Clone, Serialize, Default, PartialEq)]
+pub struct Summary {
+    pub file: String,
+    pub output: String,
+    pub markers: usize,
+    pub model_outputs_left: usize,
+    pub gaps: usize,
+    pub filled: usize,
+    /// Gaps filled per method (for `auto`, the method it chose).
+    pub filled_by: BTreeMap<String, usize>,
+    pub left: usize,
+    /// Gaps left per reason (`too_long`, `no_donors`, …).
+    pub left_because: BTreeMap<String, usize>,
+    pub spikes: usize,
+    pub segments_filtered: usize,
+    pub segments_too_short: usize,
+    pub samples_changed: usize,
+    /// Repaired samples clamped to the integer range of POINT:SCALE (integer files only).
+    pub samples_clamped: usize,
+    pub markers_changed: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub backup: Option<String>,
+    /// Why the file was left as it was (batch only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub skipped: Option<String>,
+}
+
+/// The outcome of [`repair`]: the summary and the details behind it.
+#[derive(Debug, Clone)]
+pub struct Repaired {
+    pub summary: Summary,
+    config: serde_json::Value,
+    gaps: Vec<serde_json::Value>,
+    spikes: Vec<serde_json::Value>,
+    spike_mode: serde_json::Value,
+    segments: Vec<serde_json::Value>,
+    markers: Vec<serde_json::Value>,
+}
+
+impl Repaired {
+    /// The full report, as `c3dfix repair --report` writes it: the configuration, the
+    /// summary, every gap (with its outcome), spike and filtered segment, and the samples
+    /// changed per marker. Gaps and segments name their marker by label and by its row in
+    /// `markers`; frames are 0-based indices into the trial.
+    pub fn report(&self) -> serde_json::Value {
+        serde_json::json!({
+            "file": self.summary.file,
+            "output": self.summary.output,
+            "config": self.config,
+            "summary": self.summary,
+            "gaps": self.gaps,
+            "spikes": self.spikes,
+            "spike_mode": self.spike_mode,
+            "segments": self.segments,
+            "markers": self.markers,
+        })
+    }
+}
+
+fn labelled<T: Serialize>(x: &T, label: String) -> serde_json::Value {
+    let mut v = serde_json::to_value(x).unwrap_or_default();
+    if v.is_object() {
+        v["label"] = label.into();
+    }
+    v
+}
+
+/// Repair the markers of `c` in place as `opts` says. `name` is the trial's file, for
+/// messages and the summary. Model outputs are never repaired nor used as donors; samples
+/// outside the chosen markers keep their bits; the parameters and analog data are untouched.
+pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Repaired> {
+    if c.points().count() == 0 {
+        return Err(Error::Trial {
+            path: name.to_path_buf(),
+            what: "the file has no points to repair".into(),
+        });
+    }
+    let cfg = opts.config(&c.point_units())?;
+    let only = opts.markers.as_ref().map(|m| select(c, m)).transpose()?;
+    let points = marker_indices(c);
+    let mut trial = to_trial(c, &points, opts.zero_invalid)?;
+    let report = repair::repair_trial(&mut trial, &cfg).map_err(|source| Error::Repair {
+        path: name.to_path_buf(),
+        source,
+    })?;
+    let labels = c.point_labels();
+    let row_label = |row: usize| labels[points[row]].clone();
+    let in_scope = |row: usize| only.as_ref().is_none_or(|o| o.contains(&points[row]));
+
+    let mut s = Summary {
+        file: name.display().to_string(),
+        markers: points.len(),
+        model_outputs_left: c.points().count() - points.len(),
+        ..Summary::default()
+    };
+    let mut gaps = Vec::new();
+    for g in report.gaps.iter().filter(|g| in_scope(g.gap.marker)) {
+        s.gaps += 1;
+        match g.outcome {
+            FillOutcome::Filled { method, .. } => {
+                s.filled += 1;
+                *s.filled_by.entry(method_name(method)).or_default() += 1;
+            }
+            FillOutcome::Skipped(reason) => {
+                s.left += 1;
+                *s.left_because.entry(reason.name().to_string()).or_default() += 1;
+            }
+        }
+        gaps.push(labelled(g, row_label(g.gap.marker)));
+    }
+    let spikes: Vec<_> = report
+        .spikes
+        .iter()
+        .filter(|sp| in_scope(sp.marker))
+        .map(|sp| labelled(sp, row_label(sp.marker)))
+        .collect();
+    s.spikes = spikes.len();
+    let segments: Vec<_> = report
+        .segments
+        .iter()
+        .filter(|x| in_scope(x.marker))
+        .map(|x| {
+            if x.filtered {
+                s.segments_filtered += 1;
+            } else {
+                s.segments_too_short += 1;
+            }
+            labelled(x, row_label(x.marker))
+        })
+        .collect();
+    let wb = write_back(c, &trial, &points, &report.changes, only.as_deref());
+    s.samples_changed = wb.changed;
+    s.samples_clamped = wb.clamped;
+    s.markers_changed = (0..points.len())
+        .filter(|&r| in_scope(r) && report.changes[r].iter().any(|&x| x != 0))
+        .count();
+    let markers = (0..points.len())
+        .filter(|&r| in_scope(r))
+        .map(|r| serde_json::json!({"label": row_label(r), "samples_changed": report.changed_per_marker[r]}))
+        .collect();
+    Ok(Repaired {
+        summary: s,
+        config: serde_json::to_value(&cfg).unwrap_or_default(),
+        gaps,
+        spikes,
+        spike_mode: serde_json::to_value(report.spike_mode).unwrap_or_default(),
+        segments,
+        markers,
+    })
+}
