@@ -6,7 +6,7 @@
 //! (plain arrays and masks). This crate is the bridge between them: which points are markers
 //! ([`markers`]), trajectories in and repaired samples back with the C3D manual's flags
 //! ([`trial`]), options as people write them ([`RepairOptions`]), reports, and atomic
-//! writing ([`save`]).
+//! writing ([`save()`], [`mod@save`]).
 //!
 //! ```no_run
 //! use c3dfix::{RepairOptions, SaveOptions};
@@ -37,7 +37,7 @@ pub use trial::open;
 
 use std::path::Path;
 
-/// How [`save`] treats what is already at the destination.
+/// How [`save()`] treats what is already at the destination.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct SaveOptions {
     /// Replace an existing file.

@@ -38,7 +38,7 @@ pub struct Summary {
     pub skipped: Option<String>,
 }
 
-/// The outcome of [`repair`]: the summary and the details behind it.
+/// The outcome of [`repair()`]: the summary and the details behind it.
 #[derive(Debug, Clone)]
 pub struct Repaired {
     pub summary: Summary,
