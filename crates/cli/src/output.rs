@@ -1,5 +1,5 @@
 //! Writing output files: every command writes through the library's atomic writer
-//! ([`c3dfix::save`]: a temporary file in the target folder, synced, renamed into place, the
+//! ([`c3dfix::save::write_atomic`]: a temporary file in the target folder, synced, renamed into place, the
 //! folder synced), so that an interrupted run never leaves a partial file behind.
 
 use anyhow::Result;
