@@ -109,9 +109,10 @@ impl Points {
 
 /// The one definition of a missing point sample, from the C3D manual: the fourth word of a
 /// stored point, taken as a 16-bit signed integer, is negative when the point was not seen.
-/// Readers put −1 in the model's residual for such samples (see [`decode_word`] and
-/// [`decode_float_word`]); a sample whose coordinates are not finite is missing too, however
-/// its fourth word reads, since no reader can place it.
+/// In float files the word is stored as a float, and −1.0 and 65535.0 are both the word
+/// 0xFFFF. Readers put −1 in the model's residual for such samples; a sample whose
+/// coordinates are not finite is missing too, however its fourth word reads, since no reader
+/// can place it.
 #[inline(always)]
 pub fn is_missing(xyz: [f32; 3], residual: f32) -> bool {
     // Written so that a NaN residual is missing too.
