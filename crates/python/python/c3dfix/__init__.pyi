@@ -1,0 +1,80 @@
+"""Type stubs of the c3dfix extension module."""
+
+from os import PathLike
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+_Path = Union[str, "PathLike[str]"]
+
+class C3dError(ValueError):
+    """A file that cannot be read or written, or options that make no sense."""
+
+class C3d:
+    """A C3D file in memory, written back losslessly."""
+
+    @property
+    def points(self) -> npt.NDArray[np.float64]:
+        """(frames, points, 3) in POINT:UNITS; NaN where a sample is missing."""
+    @points.setter
+    def points(self, value: npt.NDArray[np.float64]) -> None: ...
+    @property
+    def residuals(self) -> npt.NDArray[np.float64]:
+        """(frames, points); -1 where missing, 0 where computed."""
+    @property
+    def camera_masks(self) -> npt.NDArray[np.uint8]:
+        """(frames, points); bit n set when camera n+1 saw the point."""
+    @property
+    def labels(self) -> List[str]: ...
+    @property
+    def point_rate(self) -> float: ...
+    @property
+    def point_units(self) -> str: ...
+    @property
+    def first_frame(self) -> int: ...
+    @property
+    def analog(self) -> npt.NDArray[np.float64]:
+        """(samples, channels), scaled as the C3D manual says."""
+    @property
+    def analog_labels(self) -> List[str]: ...
+    @property
+    def analog_rate(self) -> float: ...
+    @property
+    def parameters(self) -> Dict[str, Dict[str, Union[npt.NDArray[np.float64], str, List[str]]]]: ...
+    @property
+    def events(self) -> List[Dict[str, Any]]: ...
+    @property
+    def warnings(self) -> List[str]: ...
+    def write(self, path: _Path) -> None:
+        """Write atomically; byte-identical when nothing changed."""
+
+def read(path: _Path) -> C3d:
+    """Read a C3D file; raises C3dError naming the file, section and byte offset."""
+
+def repair(
+    c3d: C3d,
+    fill: str = "auto",
+    spikes: Optional[str] = None,
+    lowpass: Optional[str] = None,
+    max_gap: int = 200,
+    spike_mode: str = "gap",
+    spike_min_mm: float = 5.0,
+    spike_classic: bool = False,
+    markers: Optional[Sequence[str]] = None,
+    zero_invalid: bool = False,
+) -> Tuple[C3d, Dict[str, Any]]:
+    """Spikes -> fill -> filter on a copy; the repaired copy and the report."""
+
+def evaluate(
+    files: Sequence[_Path],
+    gap_lengths: Sequence[int] = (5, 10, 20, 40, 80),
+    markers: Optional[Sequence[str]] = None,
+    methods: Optional[Sequence[str]] = None,
+    gaps_per_length: int = 40,
+    group: int = 1,
+    seed: int = 1,
+) -> Dict[str, Any]:
+    """Fill accuracy on knocked-out known data, per file and pooled (mm)."""

@@ -1,0 +1,399 @@
+//! Python bindings of c3dfix: a thin layer over the `c3dfix` library, with data crossing as
+//! numpy arrays. Long work (reading, repairing, evaluating) releases the GIL; every error
+//! becomes `c3dfix.C3dError` (a `ValueError`) carrying the library's message, and nothing
+//! panics across the boundary.
+
+use numpy::ndarray::Array;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray3, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use std::path::PathBuf;
+
+pyo3::create_exception!(
+    c3dfix,
+    C3dError,
+    PyValueError,
+    "A file that cannot be read or written, or options that make no sense. The message names the file and, for malformed files, the section and byte offset."
+);
+
+fn err(e: impl std::fmt::Display) -> PyErr {
+    C3dError::new_err(e.to_string())
+}
+
+/// A JSON value as the Python object `json.loads` would make.
+fn to_python(py: Python<'_>, v: &serde_json::Value) -> PyResult<PyObject> {
+    let text = serde_json::to_string(v).map_err(err)?;
+    Ok(py.import("json")?.call_method1("loads", (text,))?.unbind())
+}
+
+/// A C3D file in memory: points, analog data, parameters and events, written back losslessly.
+#[pyclass(module = "c3dfix", name = "C3d")]
+#[derive(Clone)]
+struct PyC3d {
+    inner: c3d::C3d,
+    path: Option<PathBuf>,
+}
+
+impl PyC3d {
+    fn name(&self) -> PathBuf {
+        self.path.clone().unwrap_or_else(|| PathBuf::from("<c3d>"))
+    }
+}
+
+#[pymethods]
+impl PyC3d {
+    /// Point coordinates, float64 (frames, points, 3) in POINT:UNITS; NaN where a sample is
+    /// missing (the C3D manual's rule: a negative fourth word, -1.0 or 65535.0 in float
+    /// files, or non-finite coordinates). Settable with an array of the same shape: a changed
+    /// sample is written with residual 0 (computed, the manual's mark), a sample set to NaN
+    /// is written as missing, an unchanged one keeps its bytes.
+    #[getter]
+    fn points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        let p = self.inner.points();
+        let (f, n) = (p.frames(), p.count());
+        let mut v = Vec::with_capacity(f * n * 3);
+        for k in 0..f * n {
+            if p.is_valid_at(k) {
+                v.extend(p.xyz[k].map(f64::from));
+            } else {
+                v.extend([f64::NAN; 3]);
+            }
+        }
+        let a = Array::from_shape_vec((f, n, 3), v).map_err(err)?;
+        Ok(a.into_pyarray(py))
+    }
+
+    #[setter]
+    fn set_points(&mut self, value: PyReadonlyArray3<'_, f64>) -> PyResult<()> {
+        let p = self.inner.points_mut();
+        let (f, n) = (p.frames(), p.count());
+        if value.shape() != [f, n, 3] {
+            return Err(err(format!(
+                "points must have shape ({f}, {n}, 3), got {:?}",
+                value.shape()
+            )));
+        }
+        let a = value.as_array();
+        for fr in 0..f {
+            for i in 0..n {
+                let k = p.index(fr, i);
+                let new = [a[[fr, i, 0]], a[[fr, i, 1]], a[[fr, i, 2]]];
+                let was_valid = p.is_valid_at(k);
+                if new.iter().any(|c| c.is_nan()) {
+                    if was_valid {
+                        p.xyz[k] = [0.0; 3];
+                        p.residual[k] = -1.0;
+                        p.camera_mask[k] = 0;
+                    }
+                    continue;
+                }
+                let new32 = new.map(|c| c as f32);
+                if was_valid
+                    && new32
+                        .iter()
+                        .zip(&p.xyz[k])
+                        .all(|(a, b)| a.to_bits() == b.to_bits())
+                {
+                    continue;
+                }
+                p.xyz[k] = new32;
+                p.residual[k] = 0.0;
+                p.camera_mask[k] = 0;
+            }
+        }
+        Ok(())
+    }
+
+    /// Residuals, float64 (frames, points) in POINT:UNITS; -1 where a sample is missing, 0
+    /// where it was computed (filled, filtered) rather than measured.
+    #[getter]
+    fn residuals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let p = self.inner.points();
+        let (f, n) = (p.frames(), p.count());
+        let v: Vec<f64> = (0..f * n)
+            .map(|k| {
+                if p.is_valid_at(k) {
+                    p.residual[k] as f64
+                } else {
+                    -1.0
+                }
+            })
+            .collect();
+        Ok(Array::from_shape_vec((f, n), v)
+            .map_err(err)?
+            .into_pyarray(py))
+    }
+
+    /// Camera masks, uint8 (frames, points): bit n set when camera n+1 saw the point.
+    #[getter]
+    fn camera_masks<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<u8>>> {
+        let p = self.inner.points();
+        let v = p.camera_mask.clone();
+        Ok(Array::from_shape_vec((p.frames(), p.count()), v)
+            .map_err(err)?
+            .into_pyarray(py))
+    }
+
+    /// Point labels (POINT:LABELS, LABELS2, …), one per point.
+    #[getter]
+    fn labels(&self) -> Vec<String> {
+        self.inner.point_labels()
+    }
+
+    /// Frames per second of the point data.
+    #[getter]
+    fn point_rate(&self) -> f64 {
+        self.inner.point_rate() as f64
+    }
+
+    /// POINT:UNITS ("mm", "m", …).
+    #[getter]
+    fn point_units(&self) -> String {
+        self.inner.point_units()
+    }
+
+    /// Number of the first frame, as the file counts them.
+    #[getter]
+    fn first_frame(&self) -> usize {
+        self.inner.first_frame()
+    }
+
+    /// Analog samples, float64 (samples, channels), scaled as the manual says:
+    /// (raw - ANALOG:OFFSET) * ANALOG:SCALE * ANALOG:GEN_SCALE.
+    #[getter]
+    fn analog<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let a = self.inner.analog();
+        let v: Vec<f64> = self
+            .inner
+            .analog_physical()
+            .into_iter()
+            .map(f64::from)
+            .collect();
+        Ok(Array::from_shape_vec((a.samples(), a.channels()), v)
+            .map_err(err)?
+            .into_pyarray(py))
+    }
+
+    /// Analog channel labels.
+    #[getter]
+    fn analog_labels(&self) -> Vec<String> {
+        self.inner.analog_labels()
+    }
+
+    /// Analog samples per second (0 when there are no channels).
+    #[getter]
+    fn analog_rate(&self) -> f64 {
+        if self.inner.analog().channels() > 0 {
+            self.inner.analog_rate() as f64
+        } else {
+            0.0
+        }
+    }
+
+    /// Every parameter: {group: {name: value}}. Numbers are numpy arrays shaped by the
+    /// parameter's dimensions (Fortran order, as C3D stores them; a scalar has shape (1,));
+    /// text is a str, or a list of str for a table of strings.
+    #[getter]
+    fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let out = PyDict::new(py);
+        let ps = &self.inner.parameters;
+        for g in ps.groups() {
+            let d = PyDict::new(py);
+            for p in ps.parameters_of(g.id) {
+                d.set_item(&p.name, parameter_value(py, p)?)?;
+            }
+            out.set_item(&g.name, d)?;
+        }
+        Ok(out)
+    }
+
+    /// Events of the EVENT group: dicts with label, context, time (s) and description.
+    #[getter]
+    fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let out = PyList::empty(py);
+        for e in self.inner.events() {
+            let d = PyDict::new(py);
+            d.set_item("label", e.label)?;
+            d.set_item("context", e.context)?;
+            d.set_item("time", e.time)?;
+            d.set_item("description", e.description)?;
+            out.append(d)?;
+        }
+        Ok(out)
+    }
+
+    /// Warnings the reader gave: rules of the format the file breaks but that were read
+    /// around.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.inner
+            .warnings()
+            .iter()
+            .map(|w| w.to_string())
+            .collect()
+    }
+
+    /// Write the file to `path` atomically (a temporary file in the same folder, synced,
+    /// renamed into place), replacing an existing file. Byte-identical to the file read
+    /// when nothing changed; otherwise only changed samples and parameters get new bytes.
+    fn write(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let opts = c3dfix::SaveOptions {
+            force: true,
+            backup: false,
+        };
+        py.allow_threads(|| c3dfix::save(&self.inner, &path, &opts))
+            .map(|_| ())
+            .map_err(err)
+    }
+
+    fn __repr__(&self) -> String {
+        let p = self.inner.points();
+        format!(
+            "<c3dfix.C3d {}: {} frames x {} points at {} Hz, {} analog channels>",
+            self.name().display(),
+            p.frames(),
+            p.count(),
+            self.inner.point_rate(),
+            self.inner.analog().channels()
+        )
+    }
+}
+
+/// One parameter's value for Python.
+fn parameter_value(py: Python<'_>, p: &c3d::Parameter) -> PyResult<PyObject> {
+    // C3D dimensions run fastest first (Fortran order); numpy gets the same shape with
+    // order='F'.
+    let shape: Vec<usize> = if p.dims.is_empty() {
+        vec![1]
+    } else {
+        p.dims.iter().map(|&d| d as usize).collect()
+    };
+    let numbers = |v: Vec<f64>| -> PyResult<PyObject> {
+        let flat = PyArray1::from_vec(py, v);
+        let kw = PyDict::new(py);
+        kw.set_item("order", "F")?;
+        Ok(flat
+            .call_method("reshape", (shape.clone(),), Some(&kw))?
+            .unbind())
+    };
+    Ok(match &p.value {
+        c3d::Value::Char(_) => {
+            let s = p.as_strings();
+            if p.dims.len() <= 1 {
+                s.into_iter()
+                    .next()
+                    .unwrap_or_default()
+                    .into_pyobject(py)?
+                    .into_any()
+                    .unbind()
+            } else {
+                s.into_pyobject(py)?.into_any().unbind()
+            }
+        }
+        c3d::Value::Float(v) => numbers(v.iter().map(|&x| x as f64).collect())?,
+        c3d::Value::Int(v) => numbers(v.iter().map(|&x| x as f64).collect())?,
+        c3d::Value::Byte(v) => numbers(v.iter().map(|&x| x as f64).collect())?,
+    })
+}
+
+/// read(path) -> C3d
+///
+/// Read a C3D file (any processor format, integer or float). Raises C3dError naming the
+/// file, the section and the byte offset when the file cannot be read.
+#[pyfunction]
+fn read(py: Python<'_>, path: PathBuf) -> PyResult<PyC3d> {
+    let inner = py.allow_threads(|| c3dfix::open(&path)).map_err(err)?;
+    Ok(PyC3d {
+        inner,
+        path: Some(path),
+    })
+}
+
+/// repair(c3d, fill="auto", spikes=None, lowpass=None, max_gap=200, spike_mode="gap",
+///        spike_min_mm=5.0, spike_classic=False, markers=None, zero_invalid=False)
+///        -> (C3d, dict)
+///
+/// The `c3dfix repair` pipeline (spikes -> fill -> filter) on a copy of `c3d`; returns the
+/// repaired copy and the report `c3dfix repair --report` writes. Options as on the command
+/// line: fill is a method name (auto, linear, lagrange2, lagrange5, spline, rigid, pattern,
+/// pca, none), spikes "hampel[:K[:NSIGMA]]", lowpass "butterworth:ORDER:CUTOFF_HZ" or
+/// "cheby2:ORDER:CUTOFF_HZ:ATTEN_DB", markers a list of labels to repair.
+#[pyfunction]
+#[pyo3(signature = (c3d, fill="auto", spikes=None, lowpass=None, max_gap=200, spike_mode="gap", spike_min_mm=5.0, spike_classic=false, markers=None, zero_invalid=false))]
+#[allow(clippy::too_many_arguments)]
+fn repair(
+    py: Python<'_>,
+    c3d: &PyC3d,
+    fill: &str,
+    spikes: Option<String>,
+    lowpass: Option<String>,
+    max_gap: usize,
+    spike_mode: &str,
+    spike_min_mm: f64,
+    spike_classic: bool,
+    markers: Option<Vec<String>>,
+    zero_invalid: bool,
+) -> PyResult<(PyC3d, PyObject)> {
+    let opts = c3dfix::RepairOptions {
+        fill: fill.to_string(),
+        max_gap,
+        spikes,
+        spike_mode: spike_mode.to_string(),
+        spike_min_mm,
+        spike_classic,
+        lowpass,
+        markers,
+        zero_invalid,
+    };
+    let mut out = c3d.clone();
+    let name = c3d.name();
+    let done = py
+        .allow_threads(|| c3dfix::repair(&mut out.inner, &opts, &name))
+        .map_err(err)?;
+    let report = to_python(py, &done.report())?;
+    Ok((out, report))
+}
+
+/// evaluate(files, gap_lengths=(5, 10, 20, 40, 80), markers=None, methods=None,
+///          gaps_per_length=40, group=1, seed=1) -> dict
+///
+/// Fill accuracy as `c3dfix evaluate --json` measures it: known samples knocked out,
+/// refilled by each method; errors per file (in its units) and pooled (in mm).
+#[pyfunction]
+#[pyo3(signature = (files, gap_lengths=vec![5, 10, 20, 40, 80], markers=None, methods=None, gaps_per_length=40, group=1, seed=1))]
+#[allow(clippy::too_many_arguments)]
+fn evaluate(
+    py: Python<'_>,
+    files: Vec<PathBuf>,
+    gap_lengths: Vec<usize>,
+    markers: Option<Vec<String>>,
+    methods: Option<Vec<String>>,
+    gaps_per_length: usize,
+    group: usize,
+    seed: u64,
+) -> PyResult<PyObject> {
+    let opts = c3dfix::EvaluateOptions {
+        gap_lengths,
+        markers,
+        methods,
+        gaps_per_length,
+        group,
+        seed,
+    };
+    let ev = py
+        .allow_threads(|| c3dfix::evaluate(&files, &opts, |_| {}))
+        .map_err(err)?;
+    to_python(py, &serde_json::to_value(&ev).map_err(err)?)
+}
+
+#[pymodule]
+fn _c3dfix(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyC3d>()?;
+    m.add("C3dError", m.py().get_type::<C3dError>())?;
+    m.add_function(wrap_pyfunction!(read, m)?)?;
+    m.add_function(wrap_pyfunction!(repair, m)?)?;
+    m.add_function(wrap_pyfunction!(evaluate, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
