@@ -12,6 +12,9 @@ use crate::skeleton::{Bvh, Channel, Joint, Motion, Skeleton, Vec3};
 pub const MAX_DEPTH: usize = 1000;
 
 /// What went wrong while parsing.
+///
+/// More kinds may come in later versions, so matches need a `_` arm.
+#[non_exhaustive]
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParseErrorKind {
     #[error("the file is empty")]
