@@ -9,7 +9,7 @@ use crate::commands::info::read_c3d;
 use crate::commands::parallel::run_each;
 use crate::commands::targets::{plan, TargetArgs};
 use anyhow::{bail, Context, Result};
-use c3dfix::save::{backup_path, write_atomic, write_backup};
+use c3dfix::save::{backup_path, check_destination, write_atomic, write_backup};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -96,9 +96,12 @@ fn convert_one(
         done.unchanged = true;
         return Ok(done);
     }
-    if backup {
-        let b = backup_path(input);
-        if write_backup(input, &b)? {
+    check_destination(output, overwrite)?;
+    // In place the output is the file itself (by its canonical path, so a backup of a file
+    // reached through a link sits beside the file, as `c3dfix::save` puts it).
+    if backup && output.exists() {
+        let b = backup_path(output);
+        if write_backup(output, &b)? {
             done.backup = Some(b.display().to_string());
         }
     }
