@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root="$(pwd)"
-cargo test --workspace --release
+cargo test --workspace --release --locked
 venv="${C3DFIX_VENV:-$root/target/venv}"
 if [ ! -x "$venv/bin/python" ]; then
   python3 -m venv "$venv"

@@ -5,6 +5,7 @@ use std::process::{Command, Output};
 
 mod auto_eval;
 mod bvh;
+mod convert;
 mod library;
 mod repair;
 mod validity;

@@ -21,6 +21,9 @@ pub use write::write;
 
 /// Reading a file from disk: I/O or parse failure. The cause is part of the message (not
 /// chained), so that it is printed once.
+///
+/// More kinds may come in later versions, so matches need a `_` arm.
+#[non_exhaustive]
 #[derive(Debug, thiserror::Error)]
 pub enum ReadError {
     #[error("cannot read {path}: {error}")]

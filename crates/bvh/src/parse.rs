@@ -12,6 +12,9 @@ use crate::skeleton::{Bvh, Channel, Joint, Motion, Skeleton, Vec3};
 pub const MAX_DEPTH: usize = 1000;
 
 /// What went wrong while parsing.
+///
+/// More kinds may come in later versions, so matches need a `_` arm.
+#[non_exhaustive]
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParseErrorKind {
     #[error("the file is empty")]
@@ -24,6 +27,8 @@ pub enum ParseErrorKind {
     NotANumber(String),
     #[error("`{0}` is not a frame count")]
     BadCount(String),
+    #[error("`{0}` is not a channel count")]
+    BadChannelCount(String),
     #[error("unknown channel `{0}`")]
     UnknownChannel(String),
     #[error("joint without a name")]
@@ -376,7 +381,7 @@ fn parse_joint(
             let n = n_tok.text.parse::<usize>().map_err(|_| ParseError {
                 line: n_tok.line,
                 column: n_tok.column,
-                kind: ParseErrorKind::BadCount(n_tok.text.to_string()),
+                kind: ParseErrorKind::BadChannelCount(n_tok.text.to_string()),
             })?;
             let mut list = Vec::new();
             for _ in 0..n {

@@ -87,6 +87,13 @@ fn unknown_channel_and_bad_counts() {
     assert_eq!((e.line, e.column), (5, 33));
     let e = parse(&GOOD.replace("Frames: 2", "Frames: -2")).unwrap_err();
     assert_eq!(e.kind, ParseErrorKind::BadCount("-2".into()));
+    // Found by the fuzzer: a bad channel count was called a frame count.
+    let e = parse(&GOOD.replace("CHANNELS 3", "CHANNELS -")).unwrap_err();
+    assert_eq!(e.kind, ParseErrorKind::BadChannelCount("-".into()));
+    assert_eq!(
+        e.to_string(),
+        "line 5, column 11: `-` is not a channel count"
+    );
 }
 
 #[test]

@@ -25,6 +25,9 @@ impl fmt::Display for Section {
 }
 
 /// Everything that can go wrong reading or writing a C3D file.
+///
+/// More kinds may come in later versions, so matches need a `_` arm.
+#[non_exhaustive]
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// Reading or writing failed (the cause is in the message, not chained, so that it is

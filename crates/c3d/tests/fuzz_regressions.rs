@@ -21,6 +21,11 @@ fn fuzz_regressions_replay() {
         n += 1;
     }
     eprintln!("{n} regression inputs replayed");
+    assert!(
+        n >= 3,
+        "only {n} regression inputs found in {}",
+        dir.display()
+    );
 }
 
 #[test]

@@ -24,7 +24,8 @@ struct Cli {
 enum Command {
     /// Header, formats, counts, rates, gaps per marker, parameter groups, warnings.
     Info(commands::info::Args),
-    /// Rewrite a file (byte-identical by default), or convert its processor/number format.
+    /// Rewrite files (byte-identical by default), or convert their processor/number format:
+    /// one file to -o, or many (folders recursively) in place or into a folder, in parallel.
     Convert(commands::convert::Args),
     /// Compare two files: header, parameters, point and analog data (exit 1 if different).
     Diff(commands::diff::Args),
@@ -34,7 +35,7 @@ enum Command {
     Gaps(commands::gaps::Args),
     /// Remove spikes, fill gaps and low-pass filter one file.
     Repair(commands::repair::Args),
-    /// Repair many files (folders recursively), in parallel.
+    /// Repair many files (folders recursively, lists, shards), in parallel.
     Batch(commands::batch::Args),
     /// Measure fill accuracy: knock out known data, refill it, report the error per method.
     Evaluate(commands::evaluate::Args),

@@ -4,6 +4,9 @@
 use thiserror::Error;
 
 /// Everything that makes a repair or a filter design refuse to run.
+///
+/// More kinds may come in later versions, so matches need a `_` arm.
+#[non_exhaustive]
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum RepairError {
     #[error("filter order must be at least 1")]

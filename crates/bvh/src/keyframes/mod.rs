@@ -30,6 +30,9 @@ pub struct Reduction {
 }
 
 /// Why a reduction cannot be done.
+///
+/// More kinds may come in later versions, so matches need a `_` arm.
+#[non_exhaustive]
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum KeyframeError {
     #[error("keyframe reduction needs at least 2 frames, the motion has {0}")]

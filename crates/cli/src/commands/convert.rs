@@ -1,9 +1,17 @@
-//! `c3dfix convert`: rewrite a file, optionally in another processor or number format.
+//! `c3dfix convert`: rewrite files, optionally in another processor or number format.
+//!
+//! One file to one output (`-o`), or many — files and folders, `--files-from`, `--shard` —
+//! in place or into `--out-dir`, in parallel. Each output is a synced temporary file renamed
+//! into place, so stopping the process at any moment leaves every file either as it was or
+//! fully converted. A file that fails is reported and left untouched; the others go on.
 
 use crate::commands::info::read_c3d;
-use crate::output::write_atomic;
-use anyhow::{Context, Result};
-use std::path::PathBuf;
+use crate::commands::parallel::run_each;
+use crate::commands::targets::{plan, TargetArgs};
+use anyhow::{bail, Context, Result};
+use c3dfix::save::{backup_path, check_destination, write_atomic, write_backup};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
 
 #[derive(Clone, Copy, clap::ValueEnum)]
 pub enum ProcessorArg {
@@ -20,51 +28,193 @@ pub enum FormatArg {
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The file to read.
-    pub input: PathBuf,
-    /// Where to write.
-    #[arg(short, long)]
-    pub output: PathBuf,
-    /// Target processor format (default: the input's).
+    #[command(flatten)]
+    pub targets: TargetArgs,
+    /// Where to write, when converting one file.
+    #[arg(short, long, conflicts_with_all = ["out_dir", "in_place", "files_from", "shard"])]
+    pub output: Option<PathBuf>,
+    /// Target processor format (default: each input's).
     #[arg(long, value_enum)]
     pub processor: Option<ProcessorArg>,
-    /// Target number format (default: the input's).
+    /// Target number format (default: each input's).
     #[arg(long, value_enum)]
     pub format: Option<FormatArg>,
     /// POINT:SCALE for integer output (default: keep it if exact, else the finest that fits).
     #[arg(long)]
     pub scale: Option<f32>,
-    /// Replace the output file if it exists.
-    #[arg(long)]
-    pub force: bool,
+}
+
+/// The formats asked for; `None` keeps each file's own.
+#[derive(Clone, Copy)]
+struct Wanted {
+    processor: Option<c3d::Processor>,
+    format: Option<c3d::NumberFormat>,
+    scale: Option<f32>,
+}
+
+/// What converting one file did.
+#[derive(Debug, Clone, Serialize)]
+pub struct Converted {
+    pub output: String,
+    pub processor: &'static str,
+    pub format: &'static str,
+    pub bytes: usize,
+    /// In place: the file already was what was asked for, byte for byte, and was not rewritten.
+    pub unchanged: bool,
+    /// What the reader noticed about the input (format rule breaks it read around).
+    pub warnings: Vec<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub backup: Option<String>,
+}
+
+/// Convert `input` into `output`. With `in_place`, a file that would not change is left alone
+/// (not even its time stamp moves); with `backup`, the original is kept first as FILE.bak.
+fn convert_one(
+    input: &Path,
+    output: &Path,
+    want: Wanted,
+    in_place: bool,
+    backup: bool,
+    overwrite: bool,
+) -> Result<Converted> {
+    let c = read_c3d(input)?;
+    let processor = want.processor.unwrap_or(c.processor());
+    let format = want.format.unwrap_or(c.format());
+    let bytes = c
+        .convert(processor, format, want.scale)
+        .with_context(|| format!("converting {}", input.display()))?;
+    let mut done = Converted {
+        output: output.display().to_string(),
+        processor: processor.name(),
+        format: format.name(),
+        bytes: bytes.len(),
+        unchanged: false,
+        warnings: c.warnings().iter().map(|w| w.to_string()).collect(),
+        backup: None,
+    };
+    if in_place && c.source_bytes() == Some(bytes.as_slice()) {
+        done.unchanged = true;
+        return Ok(done);
+    }
+    check_destination(output, overwrite)?;
+    // In place the output is the file itself (by its canonical path, so a backup of a file
+    // reached through a link sits beside the file, as `c3dfix::save` puts it).
+    if backup && output.exists() {
+        let b = backup_path(output);
+        if write_backup(output, &b)? {
+            done.backup = Some(b.display().to_string());
+        }
+    }
+    write_atomic(output, &bytes, overwrite)?;
+    Ok(done)
 }
 
 pub fn run(a: Args) -> Result<i32> {
-    let c = read_c3d(&a.input)?;
-    let processor = match a.processor {
-        None => c.processor(),
-        Some(ProcessorArg::Intel) => c3d::Processor::Intel,
-        Some(ProcessorArg::Dec) => c3d::Processor::Dec,
-        Some(ProcessorArg::Sgi) => c3d::Processor::Sgi,
+    let want = Wanted {
+        processor: a.processor.map(|p| match p {
+            ProcessorArg::Intel => c3d::Processor::Intel,
+            ProcessorArg::Dec => c3d::Processor::Dec,
+            ProcessorArg::Sgi => c3d::Processor::Sgi,
+        }),
+        format: a.format.map(|f| match f {
+            FormatArg::Int => c3d::NumberFormat::Integer,
+            FormatArg::Float => c3d::NumberFormat::Float,
+        }),
+        scale: a.scale,
     };
-    let format = match a.format {
-        None => c.format(),
-        Some(FormatArg::Int) => c3d::NumberFormat::Integer,
-        Some(FormatArg::Float) => c3d::NumberFormat::Float,
-    };
-    let bytes = c
-        .convert(processor, format, a.scale)
-        .with_context(|| format!("converting {}", a.input.display()))?;
-    write_atomic(&a.output, &bytes, a.force)?;
-    for w in c.warnings() {
-        eprintln!("c3dfix: warning: {}: {w}", a.input.display());
+    match &a.output {
+        Some(o) => one(&a.targets, o, want),
+        None => many(&a.targets, want),
     }
-    eprintln!(
-        "wrote {} ({} processor, {} data, {} bytes)",
-        a.output.display(),
-        processor.name(),
-        format.name(),
-        bytes.len()
-    );
+}
+
+/// `convert IN -o OUT`: one file; any error is the command's error (exit 2).
+fn one(t: &TargetArgs, output: &Path, want: Wanted) -> Result<i32> {
+    let [input] = t.paths.as_slice() else {
+        bail!("-o OUT takes one input file; for several, give --out-dir DIR or --in-place");
+    };
+    if input.is_dir() {
+        bail!(
+            "{} is a folder: give --out-dir DIR or --in-place",
+            input.display()
+        );
+    }
+    if t.backup {
+        bail!("--backup goes with --in-place");
+    }
+    let done = convert_one(input, output, want, false, false, t.force)?;
+    if t.json {
+        let line =
+            serde_json::json!({"file": input.display().to_string(), "ok": true, "result": done});
+        println!("{line}");
+    } else {
+        for w in &done.warnings {
+            eprintln!("c3dfix: warning: {}: {w}", input.display());
+        }
+        eprintln!(
+            "wrote {} ({} processor, {} data, {} bytes)",
+            done.output, done.processor, done.format, done.bytes
+        );
+    }
     Ok(0)
+}
+
+/// Many files, in place or into a folder; exit 1 if any failed.
+fn many(t: &TargetArgs, want: Wanted) -> Result<i32> {
+    let dest = t.destination()?;
+    let plan = plan(&t.named_paths()?, dest, t.shard)?;
+    if plan.listed == 0 {
+        bail!("no C3D files found");
+    }
+    let overwrite = t.force || t.in_place;
+    let results = run_each(
+        &plan.targets,
+        t.jobs,
+        t.json,
+        |job| {
+            if let Some(parent) = job.output.parent() {
+                std::fs::create_dir_all(parent)
+                    .with_context(|| format!("cannot create the folder {}", parent.display()))?;
+            }
+            if !overwrite && job.output.exists() {
+                bail!("{} exists (use --force to overwrite)", job.output.display());
+            }
+            convert_one(
+                &job.input,
+                &job.output,
+                want,
+                t.in_place,
+                t.backup,
+                overwrite,
+            )
+        },
+        |job, r| match r {
+            Ok(d) => {
+                serde_json::json!({"file": job.input.display().to_string(), "ok": true, "result": d})
+            }
+            Err(e) => {
+                serde_json::json!({"file": job.input.display().to_string(), "ok": false, "error": e})
+            }
+        },
+    )?;
+    let ok: Vec<&Converted> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
+    let failed = results.len() - ok.len();
+    let unchanged = ok.iter().filter(|d| d.unchanged).count();
+    let with_warnings = ok.iter().filter(|d| !d.warnings.is_empty()).count();
+    if t.json {
+        println!(
+            "{}",
+            serde_json::json!({"summary": {"files": results.len(), "converted": ok.len() - unchanged,
+                "unchanged": unchanged, "failed": failed, "with_warnings": with_warnings,
+                "listed": plan.listed, "duplicates": plan.duplicates,
+                "shard": t.shard.map(|s| s.to_string())}})
+        );
+    } else {
+        println!(
+            "{} files: {} converted, {unchanged} already so, {failed} failed; {with_warnings} with warnings (see c3dfix info FILE)",
+            results.len(),
+            ok.len() - unchanged,
+        );
+    }
+    Ok(if failed > 0 { 1 } else { 0 })
 }

@@ -1,8 +1,8 @@
 //! `c3dfix keyframes`: reduce a BVH motion to key frames and rebuild it by interpolation.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use bvh::error_metric::{Effectors, Evaluator};
 use bvh::interp::{Interp, Interpolator};
 use bvh::keyframes::optimal::Cap;
@@ -10,6 +10,7 @@ use bvh::keyframes::{greedy, optimal, rms, Reduction, Target};
 use serde::Serialize;
 
 use crate::output::write_atomic;
+use crate::plot::{render_keyframe_curves, KeyframeCurves};
 
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 pub enum Method {
@@ -131,7 +132,8 @@ pub fn run(a: Args) -> Result<i32> {
         write_atomic(out, bvh::write(&rebuilt).as_bytes(), a.force)?;
     }
     if let Some(path) = &a.plot {
-        let svg = plot_svg(&b, effectors, &a.input)?;
+        let curves = KeyframeCurves::gather(&b, effectors, crate::output::file_name(&a.input));
+        let svg = render_keyframe_curves(&curves)?;
         write_atomic(path, svg.as_bytes(), a.force)?;
     }
 
@@ -202,60 +204,4 @@ fn print_text(r: &Report) {
     if let Some(p) = &r.plot {
         println!("  plotted {p}");
     }
-}
-
-/// Greedy accumulated-error curves for Euler and quaternion interpolation, side by side.
-fn plot_svg(b: &bvh::Bvh, effectors: Effectors, input: &Path) -> Result<String> {
-    use plotters::prelude::*;
-    let family = crate::plot::font()?;
-    let curves: Vec<(Interp, Vec<(usize, f64)>)> = [Interp::Euler, Interp::Quat]
-        .into_iter()
-        .map(|m| {
-            let eval = Evaluator::new(Interpolator::new(b, m), effectors);
-            (m, greedy::run(&eval).curve())
-        })
-        .collect();
-    let frames = b.motion.frames();
-    let y_max = curves
-        .iter()
-        .flat_map(|(_, c)| c.iter().map(|p| p.1))
-        .fold(0.0, f64::max)
-        .max(1e-9);
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (1000, 450)).into_drawing_area();
-        root.fill(&WHITE).context("plot")?;
-        let name = input
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let root = root
-            .titled(&format!("{name}: greedy keyframe reduction"), (family, 18))
-            .context("plot")?;
-        let panels = root.split_evenly((1, 2));
-        for ((mode, curve), panel) in curves.iter().zip(panels.iter()) {
-            let mut chart = ChartBuilder::on(panel)
-                .caption(format!("{} interpolation", mode.name()), (family, 16))
-                .margin(10)
-                .x_label_area_size(40)
-                .y_label_area_size(70)
-                .build_cartesian_2d(0..frames.max(1), 0.0..y_max * 1.05)
-                .context("plot")?;
-            chart
-                .configure_mesh()
-                .x_desc("removed frames")
-                .y_desc("total error (squared distance)")
-                .draw()
-                .context("plot")?;
-            let colour = match mode {
-                Interp::Euler => RED,
-                Interp::Quat => BLUE,
-            };
-            chart
-                .draw_series(LineSeries::new(curve.iter().copied(), &colour))
-                .context("plot")?;
-        }
-        root.present().context("plot")?;
-    }
-    Ok(svg)
 }

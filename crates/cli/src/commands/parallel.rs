@@ -1,0 +1,68 @@
+//! Running one job per file on a pool of threads, for `batch` and `convert`: a failure is
+//! kept with its file and the others go on; progress shows on a terminal; with `--json` each
+//! file's line is printed as soon as it is done, so a killed run still leaves a record of
+//! what it finished.
+
+use crate::commands::targets::Target;
+use anyhow::Result;
+use rayon::prelude::*;
+use std::io::{IsTerminal, Write};
+use std::sync::Mutex;
+
+/// Run `work` on every target with `jobs` threads (None: one per core). With `json`, `line`
+/// makes each file's JSON line from its result; otherwise failures are printed as they come.
+/// Results come back in the targets' order, errors as their full message.
+pub fn run_each<T, W, L>(
+    targets: &[Target],
+    jobs: Option<usize>,
+    json: bool,
+    work: W,
+    line: L,
+) -> Result<Vec<Result<T, String>>>
+where
+    T: Send,
+    W: Fn(&Target) -> Result<T> + Sync,
+    L: Fn(&Target, &Result<T, String>) -> serde_json::Value + Sync,
+{
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs.unwrap_or(0))
+        .build()
+        .map_err(|e| anyhow::anyhow!("cannot start worker threads: {e}"))?;
+    let bar = (!json && std::io::stderr().is_terminal()).then(|| {
+        let b = indicatif::ProgressBar::new(targets.len() as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    });
+    // One writer at a time, so lines from parallel jobs never interleave.
+    let out_lock = Mutex::new(());
+    let results = pool.install(|| {
+        targets
+            .par_iter()
+            .map(|t| {
+                let r = work(t).map_err(|e| format!("{e:#}"));
+                let _guard = out_lock.lock();
+                if json {
+                    let mut so = std::io::stdout().lock();
+                    let _ = writeln!(so, "{}", line(t, &r));
+                } else if let Err(e) = &r {
+                    match &bar {
+                        Some(b) => b.println(format!("failed: {e}")),
+                        None => eprintln!("failed: {e}"),
+                    }
+                }
+                if let Some(b) = &bar {
+                    b.set_message(crate::output::file_name(&t.input));
+                    b.inc(1);
+                }
+                r
+            })
+            .collect()
+    });
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    Ok(results)
+}

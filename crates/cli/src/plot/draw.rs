@@ -1,0 +1,369 @@
+//! Drawing gathered plots as SVG or PNG with `plotters`.
+
+use super::decimate;
+use super::gather::{AnalogPlot, KeyframeCurves, MarkerPlot, Plot, Track, MAX_MARKERS};
+use anyhow::{anyhow, bail, Context, Result};
+use bvh::interp::Interp;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// The font every label is measured (and, for PNG, drawn) with: embedded so that plotting
+/// needs no system font libraries. DejaVu Sans, licence in `assets/DejaVuSans-LICENSE.txt`.
+static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+const FAMILY: &str = "sans-serif";
+
+const ORIGINAL: RGBColor = RGBColor(31, 119, 180);
+const REPAIRED: RGBColor = RGBColor(255, 127, 14);
+const FILLED: RGBColor = RGBColor(44, 160, 44);
+const SPIKE: RGBColor = RGBColor(214, 39, 40);
+const ANALOG: RGBColor = RGBColor(90, 90, 90);
+
+const PANEL_W: u32 = 640;
+const PANEL_H: u32 = 250;
+const TITLE_H: u32 = 44;
+
+/// Output picture format, chosen from the output file's extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    Svg,
+    Png,
+}
+
+impl Format {
+    pub fn from_path(path: &std::path::Path) -> Result<Format> {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(|e| e.to_ascii_lowercase())
+            .as_deref()
+        {
+            Some("svg") => Ok(Format::Svg),
+            Some("png") => Ok(Format::Png),
+            _ => bail!("{}: the output must end in .svg or .png", path.display()),
+        }
+    }
+}
+
+impl Plot {
+    /// Picture size in pixels: one column of panels per marker, rows x, y, z (+ analog).
+    pub fn size(&self) -> (u32, u32) {
+        let cols = self.markers.len().clamp(1, MAX_MARKERS) as u32;
+        let rows = 3 + u32::from(self.analog.is_some());
+        (PANEL_W * cols, TITLE_H + PANEL_H * rows)
+    }
+}
+
+/// Register the embedded font and return its family name: every chart's text must use it,
+/// since no system fonts are assumed. Registering twice is harmless.
+pub fn font() -> Result<&'static str> {
+    plotters::style::register_font(FAMILY, FontStyle::Normal, FONT)
+        .map_err(|_| anyhow!("the embedded font cannot be read"))?;
+    Ok(FAMILY)
+}
+
+/// Draw `plot` as SVG or PNG bytes.
+pub fn render(plot: &Plot, format: Format) -> Result<Vec<u8>> {
+    font()?;
+    let (w, h) = plot.size();
+    match format {
+        Format::Svg => {
+            let mut s = String::new();
+            {
+                let root = SVGBackend::with_string(&mut s, (w, h)).into_drawing_area();
+                draw(plot, &root)?;
+                root.present().map_err(|e| anyhow!("drawing failed: {e}"))?;
+            }
+            Ok(s.into_bytes())
+        }
+        Format::Png => {
+            let mut px = vec![255u8; w as usize * h as usize * 3];
+            {
+                let root = BitMapBackend::with_buffer(&mut px, (w, h)).into_drawing_area();
+                draw(plot, &root)?;
+                root.present().map_err(|e| anyhow!("drawing failed: {e}"))?;
+            }
+            let mut out = Vec::new();
+            let mut enc = png::Encoder::new(&mut out, w, h);
+            enc.set_color(png::ColorType::Rgb);
+            enc.set_depth(png::BitDepth::Eight);
+            let mut wr = enc.write_header()?;
+            wr.write_image_data(&px)?;
+            wr.finish()?;
+            Ok(out)
+        }
+    }
+}
+
+/// The range of the valid values in `sets`, padded so lines do not touch the frame.
+fn value_range<'a>(sets: impl Iterator<Item = (&'a [f32], &'a [bool])>) -> (f64, f64) {
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    for (v, ok) in sets {
+        for (x, &k) in v.iter().zip(ok) {
+            if k && x.is_finite() {
+                lo = lo.min(*x as f64);
+                hi = hi.max(*x as f64);
+            }
+        }
+    }
+    if !lo.is_finite() {
+        return (-1.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.05).max(1e-3 * (1.0 + lo.abs().max(hi.abs())));
+    (lo - pad, hi + pad)
+}
+
+fn draw<DB: DrawingBackend>(plot: &Plot, root: &DrawingArea<DB, Shift>) -> Result<()> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("drawing failed: {e}");
+    root.fill(&WHITE).map_err(err)?;
+    let body = root.titled(&plot.title, (FAMILY, 22)).map_err(err)?;
+    let (_, h) = body.dim_in_pixel();
+    let (top, bottom) = match plot.analog {
+        Some(_) => {
+            let (t, b) = body.split_vertically(h * 3 / 4);
+            (t, Some(b))
+        }
+        None => (body, None),
+    };
+    let shown = plot.markers.iter().take(MAX_MARKERS).collect::<Vec<_>>();
+    let panels = top.split_evenly((3, shown.len().max(1)));
+    let (dx, xdesc) = if plot.rate > 0.0 {
+        (1.0 / plot.rate, "Time (s)")
+    } else {
+        (1.0, "Frame")
+    };
+    for (col, m) in shown.iter().enumerate() {
+        for axis in 0..3 {
+            let area = &panels[axis * shown.len() + col];
+            // A legend atop each marker's column: what is marked differs per marker.
+            draw_axis(plot, m, axis, dx, xdesc, area, axis == 0)?;
+        }
+    }
+    if let (Some(a), Some(area)) = (&plot.analog, bottom) {
+        draw_analog(a, &area)?;
+    }
+    Ok(())
+}
+
+fn draw_axis<DB: DrawingBackend>(
+    plot: &Plot,
+    m: &MarkerPlot,
+    axis: usize,
+    dx: f64,
+    xdesc: &str,
+    area: &DrawingArea<DB, Shift>,
+    legend: bool,
+) -> Result<()> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("drawing failed: {e}");
+    let name = ["X", "Y", "Z"][axis];
+    let comp = |t: &Track| -> Vec<f32> { t.xyz.iter().map(|p| p[axis]).collect() };
+    let shown_v = comp(&m.shown);
+    let orig_v = m.original.as_ref().map(comp);
+    let mut sets: Vec<(&[f32], &[bool])> = vec![(&shown_v, &m.shown.valid)];
+    if let (Some(o), Some(ov)) = (&m.original, &orig_v) {
+        sets.push((ov, &o.valid));
+    }
+    let (lo, hi) = value_range(sets.into_iter());
+    let n = m
+        .shown
+        .valid
+        .len()
+        .max(m.original.as_ref().map_or(0, |o| o.valid.len()));
+    let t1 = (n.max(2) - 1) as f64 * dx;
+    let columns = area.dim_in_pixel().0 as usize;
+
+    let mut chart = ChartBuilder::on(area)
+        .caption(format!("{} {name}", m.label), (FAMILY, 15))
+        .margin(8)
+        .x_label_area_size(34)
+        .y_label_area_size(64)
+        .build_cartesian_2d(0.0..t1, lo..hi)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(xdesc)
+        .y_desc(format!("{name} ({})", plot.units))
+        .label_style((FAMILY, 12))
+        .axis_desc_style((FAMILY, 13))
+        .light_line_style(TRANSPARENT)
+        .bold_line_style(RGBColor(225, 225, 225))
+        .draw()
+        .map_err(err)?;
+
+    let shade = RGBColor(0, 0, 0).mix(0.10).filled();
+    let gap_label = if m.original.is_some() {
+        "gap in original"
+    } else {
+        "gap"
+    };
+    let spans = decimate::spans(&m.gaps, columns);
+    if !spans.is_empty() {
+        chart
+            .draw_series(spans.iter().map(|&(a, b)| {
+                Rectangle::new(
+                    [
+                        (a as f64 * dx - dx / 2.0, lo),
+                        (b as f64 * dx + dx / 2.0, hi),
+                    ],
+                    shade,
+                )
+            }))
+            .map_err(err)?
+            .label(gap_label)
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 16, y + 5)], shade));
+    }
+    let line = |v: &[f32], ok: &[bool]| decimate::polylines(0.0, dx, v, ok, columns);
+    // The repaired line goes under the original, wider, so both show where they agree.
+    let (colour, label, width) = if m.original.is_some() {
+        (REPAIRED, "repaired", 2)
+    } else {
+        (ORIGINAL, "data", 1)
+    };
+    chart
+        .draw_series(
+            line(&shown_v, &m.shown.valid)
+                .into_iter()
+                .map(move |p| PathElement::new(p, colour.stroke_width(width))),
+        )
+        .map_err(err)?
+        .label(label)
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], colour.stroke_width(2)));
+    if let (Some(o), Some(ov)) = (&m.original, &orig_v) {
+        chart
+            .draw_series(
+                line(ov, &o.valid)
+                    .into_iter()
+                    .map(|p| PathElement::new(p, ORIGINAL.stroke_width(1))),
+            )
+            .map_err(err)?
+            .label("original")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], ORIGINAL.stroke_width(2)));
+    }
+    let filled = decimate::thin(&m.filled, n, columns / 3);
+    if !filled.is_empty() {
+        chart
+            .draw_series(
+                filled
+                    .iter()
+                    .map(|&f| Circle::new((f as f64 * dx, shown_v[f] as f64), 2, FILLED.filled())),
+            )
+            .map_err(err)?
+            .label("filled (residual 0)")
+            .legend(|(x, y)| Circle::new((x + 8, y), 3, FILLED.filled()));
+    }
+    if let Some(ov) = &orig_v {
+        let spikes = decimate::thin(&m.spikes, n, columns / 3);
+        if !spikes.is_empty() {
+            chart
+                .draw_series(
+                    spikes.iter().map(|&f| {
+                        Cross::new((f as f64 * dx, ov[f] as f64), 4, SPIKE.stroke_width(2))
+                    }),
+                )
+                .map_err(err)?
+                .label("removed as spike")
+                .legend(|(x, y)| Cross::new((x + 8, y), 4, SPIKE.stroke_width(2)));
+        }
+    }
+    if legend {
+        chart
+            .configure_series_labels()
+            .label_font((FAMILY, 12))
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(180, 180, 180))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+fn draw_analog<DB: DrawingBackend>(a: &AnalogPlot, area: &DrawingArea<DB, Shift>) -> Result<()> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("drawing failed: {e}");
+    let ok = vec![true; a.values.len()];
+    let (lo, hi) = value_range([(a.values.as_slice(), ok.as_slice())].into_iter());
+    let (dx, xdesc) = if a.rate > 0.0 {
+        (1.0 / a.rate, "Time (s)")
+    } else {
+        (1.0, "Sample")
+    };
+    let t1 = (a.values.len().max(2) - 1) as f64 * dx;
+    let columns = area.dim_in_pixel().0 as usize;
+    let units = if a.units.is_empty() {
+        a.label.clone()
+    } else {
+        format!("{} ({})", a.label, a.units)
+    };
+    let mut chart = ChartBuilder::on(area)
+        .caption(format!("analog {}", a.label), (FAMILY, 15))
+        .margin(8)
+        .x_label_area_size(34)
+        .y_label_area_size(64)
+        .build_cartesian_2d(0.0..t1, lo..hi)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(xdesc)
+        .y_desc(units)
+        .label_style((FAMILY, 12))
+        .axis_desc_style((FAMILY, 13))
+        .light_line_style(TRANSPARENT)
+        .bold_line_style(RGBColor(225, 225, 225))
+        .draw()
+        .map_err(err)?;
+    chart
+        .draw_series(
+            decimate::polylines(0.0, dx, &a.values, &ok, columns)
+                .into_iter()
+                .map(|p| PathElement::new(p, ANALOG.stroke_width(1))),
+        )
+        .map_err(err)?;
+    Ok(())
+}
+
+/// Draw the greedy keyframe error curves side by side, one panel per interpolation, as SVG.
+pub fn render_keyframe_curves(k: &KeyframeCurves) -> Result<String> {
+    let family = font()?;
+    let y_max = k
+        .curves
+        .iter()
+        .flat_map(|(_, c)| c.iter().map(|p| p.1))
+        .fold(0.0, f64::max)
+        .max(1e-9);
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (1000, 450)).into_drawing_area();
+        root.fill(&WHITE).context("plot")?;
+        let root = root
+            .titled(
+                &format!("{}: greedy keyframe reduction", k.name),
+                (family, 18),
+            )
+            .context("plot")?;
+        let panels = root.split_evenly((1, 2));
+        for ((mode, curve), panel) in k.curves.iter().zip(panels.iter()) {
+            let mut chart = ChartBuilder::on(panel)
+                .caption(format!("{} interpolation", mode.name()), (family, 16))
+                .margin(10)
+                .x_label_area_size(40)
+                .y_label_area_size(70)
+                .build_cartesian_2d(0..k.frames.max(1), 0.0..y_max * 1.05)
+                .context("plot")?;
+            chart
+                .configure_mesh()
+                .x_desc("removed frames")
+                .y_desc("total error (squared distance)")
+                .draw()
+                .context("plot")?;
+            let colour = match mode {
+                Interp::Euler => RED,
+                Interp::Quat => BLUE,
+            };
+            chart
+                .draw_series(LineSeries::new(curve.iter().copied(), &colour))
+                .context("plot")?;
+        }
+        root.present().context("plot")?;
+    }
+    Ok(svg)
+}

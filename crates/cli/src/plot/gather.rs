@@ -1,0 +1,237 @@
+//! What a plot shows, gathered from the files into plain arrays: nothing here draws.
+
+use anyhow::{anyhow, bail, Result};
+use bvh::error_metric::{Effectors, Evaluator};
+use bvh::interp::{Interp, Interpolator};
+use bvh::keyframes::greedy;
+use c3d::C3d;
+
+/// Columns of panels one picture holds before they get too narrow to read.
+pub(super) const MAX_MARKERS: usize = 6;
+
+/// One marker's samples over the trial.
+#[derive(Debug, Clone)]
+pub struct Track {
+    pub xyz: Vec<[f32; 3]>,
+    pub valid: Vec<bool>,
+}
+
+impl Track {
+    fn of(c: &C3d, point: usize) -> Track {
+        let p = c.points();
+        Track {
+            xyz: p.trajectory(point),
+            valid: p.validity(point),
+        }
+    }
+}
+
+/// What one marker's panels show.
+#[derive(Debug, Clone)]
+pub struct MarkerPlot {
+    pub label: String,
+    /// FILE: the repaired data, or the only data without `--against`.
+    pub shown: Track,
+    pub original: Option<Track>,
+    /// Frames drawn shaded: gaps of the original (of FILE without one).
+    pub gaps: Vec<bool>,
+    /// Frames filled in FILE: residual 0 where the original was invalid (anywhere without one).
+    pub filled: Vec<usize>,
+    /// Frames whose original sample was replaced (residual 0, other value) or removed.
+    pub spikes: Vec<usize>,
+}
+
+/// One analog channel in physical units.
+#[derive(Debug, Clone)]
+pub struct AnalogPlot {
+    pub label: String,
+    pub units: String,
+    pub rate: f64,
+    pub values: Vec<f32>,
+}
+
+/// Everything a plot shows, gathered from the files.
+#[derive(Debug, Clone)]
+pub struct Plot {
+    pub title: String,
+    pub units: String,
+    /// Frames per second; time is frame / rate (frame numbers when the rate is unknown).
+    pub rate: f64,
+    pub markers: Vec<MarkerPlot>,
+    pub analog: Option<AnalogPlot>,
+}
+
+/// The index of marker `name` in `c`, or an error listing the markers there are.
+pub fn marker_index(c: &C3d, name: &str, file: &str) -> Result<usize> {
+    if c.points().count() == 0 {
+        bail!("{file} has no 3D points");
+    }
+    c.point_index(name).ok_or_else(|| {
+        anyhow!(
+            "{file} has no marker {name:?}; available: {}",
+            c.point_labels().join(", ")
+        )
+    })
+}
+
+fn analog_index(c: &C3d, name: &str, file: &str) -> Result<usize> {
+    let labels = c.analog_labels();
+    if labels.is_empty() {
+        bail!("{file} has no analog channels");
+    }
+    let bare = |s: &str| s.trim().to_ascii_uppercase();
+    labels
+        .iter()
+        .position(|l| l == name)
+        .or_else(|| labels.iter().position(|l| bare(l) == bare(name)))
+        .or_else(|| {
+            // A 1-based channel number, for files whose labels are unhelpful.
+            name.parse::<usize>()
+                .ok()
+                .filter(|n| (1..=labels.len()).contains(n))
+                .map(|n| n - 1)
+        })
+        .ok_or_else(|| {
+            anyhow!(
+                "{file} has no analog channel {name:?}; available: {}",
+                labels.join(", ")
+            )
+        })
+}
+
+/// True when two samples differ by more than storage round-off.
+fn changed(a: [f32; 3], b: [f32; 3]) -> bool {
+    a.iter()
+        .zip(&b)
+        .any(|(x, y)| (x - y).abs() > 1e-5 * (1.0 + x.abs().max(y.abs())))
+}
+
+impl Plot {
+    /// Gather the samples to draw. `file`/`original` come with the names used in titles and
+    /// errors; every requested marker must exist in both files.
+    pub fn gather(
+        file: (&C3d, &str),
+        original: Option<(&C3d, &str)>,
+        markers: &[String],
+        analog: Option<&str>,
+    ) -> Result<Plot> {
+        let (c, name) = file;
+        if markers.is_empty() {
+            bail!("no marker given (--marker NAME[,NAME…])");
+        }
+        if markers.len() > MAX_MARKERS {
+            bail!(
+                "{} markers given; one plot shows at most {MAX_MARKERS} (make several plots)",
+                markers.len()
+            );
+        }
+        let mut out = Vec::new();
+        for m in markers {
+            let i = marker_index(c, m, name)?;
+            let label = c.point_labels()[i].clone();
+            let shown = Track::of(c, i);
+            // Computed rather than measured: valid with residual 0.
+            let computed: Vec<bool> = c
+                .points()
+                .residuals(i)
+                .iter()
+                .zip(&shown.valid)
+                .map(|(&r, &v)| v && r == 0.0)
+                .collect();
+            let (orig, gaps, filled, spikes) = match original {
+                Some((o, oname)) => {
+                    let j = marker_index(o, m, oname)?;
+                    let orig = Track::of(o, j);
+                    let mut filled = Vec::new();
+                    let mut spikes = Vec::new();
+                    for (f, &computed) in computed.iter().enumerate().take(orig.valid.len()) {
+                        if !orig.valid[f] {
+                            if computed {
+                                filled.push(f);
+                            }
+                        } else if !shown.valid[f]
+                            || (computed && changed(shown.xyz[f], orig.xyz[f]))
+                        {
+                            spikes.push(f);
+                        }
+                    }
+                    let gaps = orig.valid.iter().map(|v| !v).collect();
+                    (Some(orig), gaps, filled, spikes)
+                }
+                None => {
+                    let filled = (0..computed.len()).filter(|&f| computed[f]).collect();
+                    let gaps = shown.valid.iter().map(|v| !v).collect();
+                    (None, gaps, filled, Vec::new())
+                }
+            };
+            out.push(MarkerPlot {
+                label,
+                shown,
+                original: orig,
+                gaps,
+                filled,
+                spikes,
+            });
+        }
+        let analog = match analog {
+            Some(ch) => {
+                let k = analog_index(c, ch, name)?;
+                let a = c.analog();
+                let phys = c.analog_physical();
+                let values = phys
+                    .iter()
+                    .skip(k)
+                    .step_by(a.channels().max(1))
+                    .copied()
+                    .collect();
+                Some(AnalogPlot {
+                    label: c.analog_labels()[k].clone(),
+                    units: c.analog_units()[k].clone(),
+                    rate: c.analog_rate() as f64,
+                    values,
+                })
+            }
+            None => None,
+        };
+        let labels: Vec<&str> = out.iter().map(|m| m.label.as_str()).collect();
+        let title = match original {
+            Some((_, oname)) => format!("{name} vs {oname} — {}", labels.join(", ")),
+            None => format!("{name} — {}", labels.join(", ")),
+        };
+        Ok(Plot {
+            title,
+            units: c.point_units(),
+            rate: c.point_rate() as f64,
+            markers: out,
+            analog,
+        })
+    }
+}
+
+/// The greedy accumulated-error curves of a BVH motion, for Euler and quaternion
+/// interpolation: (removed frames, total error) per step.
+#[derive(Debug, Clone)]
+pub struct KeyframeCurves {
+    /// The BVH file's name, for the title.
+    pub name: String,
+    pub frames: usize,
+    pub curves: Vec<(Interp, Vec<(usize, f64)>)>,
+}
+
+impl KeyframeCurves {
+    /// Run greedy reduction to the end with each interpolation.
+    pub fn gather(b: &bvh::Bvh, effectors: Effectors, name: String) -> KeyframeCurves {
+        let curves = [Interp::Euler, Interp::Quat]
+            .into_iter()
+            .map(|m| {
+                let eval = Evaluator::new(Interpolator::new(b, m), effectors);
+                (m, greedy::run(&eval).curve())
+            })
+            .collect();
+        KeyframeCurves {
+            name,
+            frames: b.motion.frames(),
+            curves,
+        }
+    }
+}
