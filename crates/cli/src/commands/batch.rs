@@ -6,6 +6,7 @@
 use crate::commands::info::read_c3d;
 use crate::commands::repair::{print_summary, repair_read, Summary};
 use crate::commands::repair_io::RepairArgs;
+use crate::console::{errln, outln};
 use crate::output::write_atomic;
 use anyhow::{bail, Result};
 use rayon::prelude::*;
@@ -30,8 +31,8 @@ pub struct Args {
     /// Replace existing files in --out-dir.
     #[arg(long)]
     pub force: bool,
-    /// Files repaired at once (default: one per core).
-    #[arg(long)]
+    /// Files repaired at once, 1 to 256 (default: one per core).
+    #[arg(long, value_parser = crate::ranges::jobs)]
     pub jobs: Option<usize>,
     /// One JSON line per file, then a JSON summary line.
     #[arg(long)]
@@ -118,7 +119,9 @@ pub fn run(a: Args) -> Result<i32> {
             .map(|(input, output)| {
                 let r = (|| -> Result<Summary> {
                     if let Some(parent) = output.parent() {
-                        std::fs::create_dir_all(parent)?;
+                        std::fs::create_dir_all(parent).map_err(|e| {
+                            anyhow::anyhow!("cannot create folder {}: {e}", parent.display())
+                        })?;
                     }
                     let overwrite = a.force || a.in_place;
                     if !overwrite && output.exists() {
@@ -152,7 +155,7 @@ pub fn run(a: Args) -> Result<i32> {
                 } else if let Err(e) = &r {
                     match &bar {
                         Some(b) => b.println(format!("failed: {e}")),
-                        None => eprintln!("failed: {e}"),
+                        None => errln!("failed: {e}"),
                     }
                 }
                 if let Some(b) = &bar {
@@ -174,21 +177,23 @@ pub fn run(a: Args) -> Result<i32> {
     let spikes: usize = ok.iter().map(|s| s.spikes).sum();
     let changed: usize = ok.iter().map(|s| s.samples_changed).sum();
     if a.json {
-        println!(
+        outln!(
             "{}",
             serde_json::json!({"summary": {"files": results.len(), "repaired": ok.len() - skipped, "skipped": skipped, "failed": failed,
                 "gaps": gaps, "filled": filled, "spikes": spikes, "samples_changed": changed}})
-        );
+        )?;
     } else {
         if ok.len() <= 3 {
-            ok.iter().for_each(|s| print_summary(s));
+            for s in &ok {
+                print_summary(s)?;
+            }
         }
-        println!(
+        outln!(
             "{} files: {} repaired, {skipped} skipped (no points), {} failed; {gaps} gaps, {filled} filled, {spikes} spikes, {changed} samples changed",
             results.len(),
             ok.len() - skipped,
             failed
-        );
+        )?;
     }
     Ok(if failed > 0 { 1 } else { 0 })
 }

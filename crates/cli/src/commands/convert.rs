@@ -1,6 +1,7 @@
 //! `c3dfix convert`: rewrite a file, optionally in another processor or number format.
 
 use crate::commands::info::read_c3d;
+use crate::console::errln;
 use crate::output::write_atomic;
 use anyhow::{Context, Result};
 use std::path::PathBuf;
@@ -32,7 +33,9 @@ pub struct Args {
     #[arg(long, value_enum)]
     pub format: Option<FormatArg>,
     /// POINT:SCALE for integer output (default: keep it if exact, else the finest that fits).
-    #[arg(long)]
+    /// Above 0, from the largest coordinate / 32767 (finer does not fit in 16 bits) to the
+    /// largest coordinate (coarser would store every coordinate as 0).
+    #[arg(long, value_parser = crate::ranges::scale)]
     pub scale: Option<f32>,
     /// Replace the output file if it exists.
     #[arg(long)]
@@ -57,9 +60,9 @@ pub fn run(a: Args) -> Result<i32> {
         .with_context(|| format!("converting {}", a.input.display()))?;
     write_atomic(&a.output, &bytes, a.force)?;
     for w in c.warnings() {
-        eprintln!("c3dfix: warning: {}: {w}", a.input.display());
+        errln!("c3dfix: warning: {}: {w}", a.input.display());
     }
-    eprintln!(
+    errln!(
         "wrote {} ({} processor, {} data, {} bytes)",
         a.output.display(),
         processor.name(),

@@ -2,7 +2,8 @@
 
 use crate::commands::info::read_c3d;
 use crate::commands::repair_io::{self, method_name, RepairArgs};
-use crate::output::{backup_path, write_atomic, write_backup};
+use crate::console::outln;
+use crate::output::{check_destination, new_backup, refuse_input, write_all, Output};
 use anyhow::{Context, Result};
 use repair::FillOutcome;
 use serde::Serialize;
@@ -21,10 +22,11 @@ pub struct Args {
     /// With --in-place: keep the original as FILE.bak (an existing backup is kept as is).
     #[arg(long)]
     pub backup: bool,
-    /// Replace an existing output file.
+    /// Replace an existing output (and report) file.
     #[arg(long)]
     pub force: bool,
-    /// Write the full report (every gap and what filled it, spikes, filter segments) here.
+    /// Write the full report (every gap and what filled it, spikes, filter segments) here;
+    /// an existing file is replaced only with --force, and never the input or the output.
     #[arg(long)]
     pub report: Option<PathBuf>,
     /// Print the summary as JSON.
@@ -83,13 +85,49 @@ pub fn repair_read(
     backup: bool,
     overwrite: bool,
 ) -> Result<(serde_json::Value, Summary)> {
+    let backup = if backup { new_backup(input) } else { None };
+    let r = repair_c3d(&mut c, input, output, a, backup.as_deref())?;
+    let mut outs = Vec::with_capacity(2);
+    if let Some(b) = &backup {
+        outs.push(Output {
+            path: b,
+            bytes: c.source_bytes().unwrap_or_default(),
+            replace: false,
+        });
+    }
+    outs.push(Output {
+        path: output,
+        bytes: &r.bytes,
+        replace: overwrite,
+    });
+    write_all(&outs)?;
+    Ok((r.report, r.summary))
+}
+
+/// A repair done in memory: the repaired file's bytes, the full report, the summary.
+pub struct Repaired {
+    pub bytes: Vec<u8>,
+    pub report: serde_json::Value,
+    pub summary: Summary,
+}
+
+/// Repair `c` (read from `input`, to be written to `output`, with its original kept at
+/// `backup` when given) in memory; nothing is written, so every destination can be checked
+/// and written together afterwards.
+pub fn repair_c3d(
+    c: &mut c3d::C3d,
+    input: &Path,
+    output: &Path,
+    a: &RepairArgs,
+    backup: Option<&Path>,
+) -> Result<Repaired> {
     if c.points().count() == 0 {
         anyhow::bail!("{}: the file has no points to repair", input.display());
     }
     let cfg = a.config(&c.point_units())?;
-    let only = repair_io::select(&c, &a.markers)?;
-    let points = repair_io::marker_indices(&c);
-    let mut trial = repair_io::trial(&c, &points, a.zero_invalid)?;
+    let only = repair_io::select(c, &a.markers)?;
+    let points = repair_io::marker_indices(c);
+    let mut trial = repair_io::trial(c, &points, a.zero_invalid)?;
     let report = repair::repair_trial(&mut trial, &cfg)
         .map_err(|e| anyhow::anyhow!("{}: {e}", input.display()))?;
     let labels = c.point_labels();
@@ -101,6 +139,7 @@ pub fn repair_read(
         output: output.display().to_string(),
         markers: points.len(),
         model_outputs_left: c.points().count() - points.len(),
+        backup: backup.map(|b| b.display().to_string()),
         ..Summary::default()
     };
     let mut gaps_json = Vec::new();
@@ -149,7 +188,7 @@ pub fn repair_read(
             s.segments_too_short += 1;
         }
     }
-    let wb = repair_io::write_back(&mut c, &trial, &points, &report.changes, only.as_deref());
+    let wb = repair_io::write_back(c, &trial, &points, &report.changes, only.as_deref());
     s.samples_changed = wb.changed;
     s.samples_clamped = wb.clamped;
     s.markers_changed = (0..points.len())
@@ -158,13 +197,6 @@ pub fn repair_read(
     let bytes = c
         .to_bytes()
         .with_context(|| format!("writing the repaired {}", input.display()))?;
-    if backup {
-        let b = backup_path(input);
-        if write_backup(input, &b)? {
-            s.backup = Some(b.display().to_string());
-        }
-    }
-    write_atomic(output, &bytes, overwrite)?;
     let per_marker: Vec<_> = (0..points.len())
         .filter(|&r| in_scope(r))
         .map(|r| serde_json::json!({"label": row_label(r), "samples_changed": report.changed_per_marker[r]}))
@@ -184,7 +216,11 @@ pub fn repair_read(
         }).collect::<Vec<_>>(),
         "markers": per_marker,
     });
-    Ok((full, s))
+    Ok(Repaired {
+        bytes,
+        report: full,
+        summary: s,
+    })
 }
 
 pub fn run(a: Args) -> Result<i32> {
@@ -192,24 +228,53 @@ pub fn run(a: Args) -> Result<i32> {
     if a.backup && !a.in_place {
         anyhow::bail!("--backup goes with --in-place");
     }
-    if !a.in_place && !a.force && out.exists() {
-        anyhow::bail!("{} exists (use --force to overwrite)", out.display());
-    }
-    let (full, s) = repair_file(&a.input, &out, &a.repair, a.backup, a.force || a.in_place)?;
+    let overwrite = a.force || a.in_place;
+    // Every destination is checked before the work, and written together after it.
+    check_destination(&out, overwrite)?;
     if let Some(r) = &a.report {
-        write_atomic(r, serde_json::to_string_pretty(&full)?.as_bytes(), true)?;
+        refuse_input(r, &[&a.input, &out], "--report")?;
+        check_destination(r, a.force)?;
     }
+    let backup = if a.backup { new_backup(&a.input) } else { None };
+    let mut c = read_c3d(&a.input)?;
+    let r = repair_c3d(&mut c, &a.input, &out, &a.repair, backup.as_deref())?;
+    let report = match &a.report {
+        Some(_) => serde_json::to_string_pretty(&r.report)?,
+        None => String::new(),
+    };
+    let mut outs = Vec::with_capacity(3);
+    if let Some(b) = &backup {
+        outs.push(Output {
+            path: b,
+            bytes: c.source_bytes().unwrap_or_default(),
+            replace: false,
+        });
+    }
+    outs.push(Output {
+        path: &out,
+        bytes: &r.bytes,
+        replace: overwrite,
+    });
+    if let Some(path) = &a.report {
+        outs.push(Output {
+            path,
+            bytes: report.as_bytes(),
+            replace: a.force,
+        });
+    }
+    write_all(&outs)?;
+    let s = r.summary;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&s)?);
+        outln!("{}", serde_json::to_string_pretty(&s)?)?;
     } else {
-        print_summary(&s);
+        print_summary(&s)?;
     }
     Ok(0)
 }
 
 /// The few lines a person reads after a repair.
-pub fn print_summary(s: &Summary) {
-    println!("repaired {} -> {}", s.file, s.output);
+pub fn print_summary(s: &Summary) -> Result<()> {
+    outln!("repaired {} -> {}", s.file, s.output)?;
     let by: Vec<String> = s
         .filled_by
         .iter()
@@ -220,7 +285,7 @@ pub fn print_summary(s: &Summary) {
         .iter()
         .map(|(m, n)| format!("{m} {n}"))
         .collect();
-    println!(
+    outln!(
         "  gaps     {} found in {} markers: {} filled ({}), {} left{}",
         s.gaps,
         s.markers,
@@ -236,27 +301,30 @@ pub fn print_summary(s: &Summary) {
         } else {
             format!(" ({})", left.join(", "))
         }
-    );
+    )?;
     if s.spikes > 0 {
-        println!("  spikes   {} found", s.spikes);
+        outln!("  spikes   {} found", s.spikes)?;
     }
     if s.segments_filtered + s.segments_too_short > 0 {
-        println!(
+        outln!(
             "  filter   {} segments filtered, {} too short (left unfiltered)",
-            s.segments_filtered, s.segments_too_short
-        );
+            s.segments_filtered,
+            s.segments_too_short
+        )?;
     }
-    println!(
+    outln!(
         "  changed  {} samples in {} markers",
-        s.samples_changed, s.markers_changed
-    );
+        s.samples_changed,
+        s.markers_changed
+    )?;
     if s.model_outputs_left > 0 {
-        println!(
+        outln!(
             "  kept     {} model outputs (angles, forces, …) untouched",
             s.model_outputs_left
-        );
+        )?;
     }
     if let Some(b) = &s.backup {
-        println!("  backup   {b}");
+        outln!("  backup   {b}")?;
     }
+    Ok(())
 }

@@ -2,6 +2,7 @@
 //! [`repair::Trial`], repaired samples written back with the C3D manual's flags, and the
 //! parsing of the repair options shared by `repair`, `batch` and `evaluate`.
 
+use crate::ranges;
 use anyhow::{bail, Context, Result};
 use repair::{change, FillMethod, FillOptions, FilterSpec, RepairConfig, SpikeMode, SpikeOptions};
 use std::path::{Path, PathBuf};
@@ -12,11 +13,11 @@ pub struct RepairArgs {
     /// Fill method: auto, linear, lagrange2, lagrange5, spline, rigid, pattern, pca, none.
     #[arg(long, default_value = "auto")]
     pub fill: String,
-    /// Longest gap (frames) to fill; longer ones are left and reported.
-    #[arg(long, default_value_t = 200)]
+    /// Longest gap (frames, 1 or more) to fill; longer ones are left and reported.
+    #[arg(long, default_value_t = 200, value_parser = ranges::max_gap)]
     pub max_gap: usize,
-    /// Remove spikes first: `hampel[:K[:NSIGMA]]` (window of K samples each side, default 5;
-    /// NSIGMA scaled MADs, default 3). Off by default.
+    /// Remove spikes first: `hampel[:K[:NSIGMA]]` (window of K samples each side, 1 to 1000,
+    /// default 5; NSIGMA scaled MADs, a finite number above 0, default 3). Off by default.
     #[arg(long)]
     pub spikes: Option<String>,
     /// What to do with a spike: `gap` (refill it with the fill method) or `median` (replace
@@ -24,15 +25,16 @@ pub struct RepairArgs {
     #[arg(long, default_value = "gap")]
     pub spike_mode: String,
     /// Deviations from the window median below this many millimetres are never spikes
-    /// (keeps measurement noise on still coordinates from being flagged).
-    #[arg(long, default_value_t = 5.0)]
+    /// (keeps measurement noise on still coordinates from being flagged); 0 or more.
+    #[arg(long, default_value_t = 5.0, value_parser = ranges::non_negative)]
     pub spike_min_mm: f64,
     /// Judge raw coordinates (the classic Hampel identifier, as MATLAB's hampel) instead of
     /// residuals from a local robust prediction, which also finds spikes along fast motion.
     #[arg(long)]
     pub spike_classic: bool,
     /// Low-pass filter, zero-phase: `butterworth:ORDER:CUTOFF_HZ` or
-    /// `cheby2:ORDER:CUTOFF_HZ:ATTEN_DB`. Off by default.
+    /// `cheby2:ORDER:CUTOFF_HZ:ATTEN_DB` (ORDER 1 to 10; CUTOFF_HZ above 0 and below half the
+    /// frame rate; ATTEN_DB above 0, at most 200). Off by default.
     #[arg(long)]
     pub lowpass: Option<String>,
     /// Repair only these markers (comma-separated labels); all markers still serve as donors.
@@ -87,6 +89,10 @@ pub fn spike_options(spec: &str, mode: &str, min_dev: f64, classic: bool) -> Res
     let mut o = SpikeOptions::default();
     if let Some(k) = parts.next() {
         o.half_window = number("--spikes K", k)?;
+        let max = repair::spikes::MAX_HALF_WINDOW;
+        if !(1..=max).contains(&o.half_window) {
+            bail!("--spikes K: {k} must be from 1 to {max}");
+        }
     }
     if let Some(n) = parts.next() {
         o.nsigma = number("--spikes NSIGMA", n)?;
