@@ -6,16 +6,22 @@ use std::process::{Command, Output};
 mod auto_eval;
 mod bvh;
 mod convert;
+mod hostile;
 mod library;
 mod repair;
 mod validity;
 mod view;
 
+/// The binary under test: this build's, or `C3DFIX_E2E_BIN` (to run the tests against
+/// another build, e.g. to see a regression test fail on the code before its fix).
+fn bin() -> PathBuf {
+    std::env::var_os("C3DFIX_E2E_BIN")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_BIN_EXE_c3dfix")))
+}
+
 fn c3dfix(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_c3dfix"))
-        .args(args)
-        .output()
-        .expect("run c3dfix")
+    Command::new(bin()).args(args).output().expect("run c3dfix")
 }
 
 fn stdout(o: &Output) -> String {

@@ -60,10 +60,9 @@ impl IsZeroElem for [f32; 3] {
     }
 }
 
-/// Read a whole file into a buffer advised onto huge pages.
-pub(crate) fn read_file(path: &std::path::Path) -> std::io::Result<Vec<u8>> {
+/// Read a whole (regular) file into a buffer advised onto huge pages.
+pub(crate) fn read_file(mut f: std::fs::File) -> std::io::Result<Vec<u8>> {
     use std::io::Read;
-    let mut f = std::fs::File::open(path)?;
     let len = f.metadata().map(|m| m.len() as usize).unwrap_or(0);
     let mut buf: Vec<u8> = Vec::new();
     // The size is a hint only (the file may change); read_to_end handles any length.

@@ -9,9 +9,85 @@ use crate::parameters::{self, Parameters, SectionBounds};
 use crate::processor::Processor;
 use std::path::Path;
 
-/// Read a C3D file from disk.
+/// Read a C3D file from disk. A regular file is read whole; anything else (a FIFO, a device,
+/// a terminal) is read only as far as its header and parameters announce, so that a stream
+/// that is not C3D, or never ends, is refused instead of filling memory.
 pub fn read_file(path: impl AsRef<Path>) -> Result<C3d> {
-    read(crate::memory::read_file(path.as_ref())?)
+    let path = path.as_ref();
+    let f = std::fs::File::open(path)?;
+    if f.metadata()?.is_file() {
+        read(crate::memory::read_file(f)?)
+    } else {
+        read(read_stream(f)?)
+    }
+}
+
+/// The bytes of a C3D file from a stream of unknown length: the header, the parameter
+/// section, then the data section's announced size, and no more. Bytes that cannot be C3D
+/// (no 0x50 key in byte 2, no known processor) stop the reading at once; [`read`] then says
+/// what is wrong with them.
+fn read_stream(mut r: impl std::io::Read) -> Result<Vec<u8>> {
+    let mut buf = Vec::new();
+    fill(&mut r, &mut buf, BLOCK)?;
+    if buf.len() < BLOCK || buf[1] != 0x50 || buf[0] == 0 {
+        return Ok(buf);
+    }
+    let param_start = (buf[0] as usize - 1) * BLOCK;
+    fill(&mut r, &mut buf, param_start + BLOCK)?;
+    let Some(processor) = buf
+        .get(param_start + 3)
+        .copied()
+        .and_then(Processor::from_byte)
+    else {
+        return Ok(buf);
+    };
+    let Ok(header) = Header::parse(&buf[..BLOCK], processor) else {
+        return Ok(buf);
+    };
+    // The parameter section: its declared blocks, or (when it declares none) up to the data.
+    let nblocks = buf[param_start + 2] as usize;
+    let hdr_data = (header.data_start as usize).saturating_sub(1) * BLOCK;
+    let param_end = match nblocks {
+        0 => hdr_data.max(param_start + BLOCK),
+        n => param_start + n * BLOCK,
+    };
+    fill(&mut r, &mut buf, param_end)?;
+    let bounds = SectionBounds {
+        start: param_start,
+        end: param_end.min(buf.len()),
+    };
+    let Ok((ps, _)) = parameters::parse(&buf, bounds, processor, &mut Vec::new()) else {
+        return Ok(buf);
+    };
+    // The most any reading of the announcements could need: the later data start, the most
+    // frames, and frames of the widest analog reading in 4-byte words.
+    let param_data = ps.get_u16("POINT", "DATA_START").unwrap_or(0) as usize;
+    let data_offset = hdr_data.max(param_data.saturating_sub(1) * BLOCK);
+    let first = header.first_frame as usize;
+    let last = header.last_frame as usize;
+    let frames = frame_count(&header, &ps, &mut Vec::new()).max(last.saturating_sub(first) + 1);
+    let spf = (header.analog_samples_per_frame as usize).max(1);
+    let used = ps.get_u16("ANALOG", "USED").unwrap_or(0) as usize;
+    let analog_words = (header.analog_per_frame as usize).max(used.saturating_mul(spf));
+    let frame_bytes = (4 * header.point_count as usize + analog_words) * 4;
+    let need = data_offset
+        .saturating_add(frames.saturating_mul(frame_bytes))
+        .saturating_add(BLOCK - 1)
+        / BLOCK
+        * BLOCK;
+    fill(&mut r, &mut buf, need)?;
+    Ok(buf)
+}
+
+/// Read from `r` until `buf` holds `len` bytes or the stream ends, growing `buf` only with
+/// what actually arrives.
+fn fill(r: &mut impl std::io::Read, buf: &mut Vec<u8>, len: usize) -> Result<()> {
+    use std::io::Read;
+    if buf.len() < len {
+        let want = (len - buf.len()) as u64;
+        r.by_ref().take(want).read_to_end(buf)?;
+    }
+    Ok(())
 }
 
 /// Read a C3D file from its bytes (kept, so that an unchanged file is rewritten exactly).
@@ -115,7 +191,12 @@ pub fn read(bytes: Vec<u8>) -> Result<C3d> {
         &mut warnings,
     )?;
 
-    let data_start = data_start_block(&header, &parameters, pb, &mut warnings)?;
+    let data_start = data_start_block(
+        &header,
+        &parameters,
+        (pb, param_end, bytes.len()),
+        &mut warnings,
+    )?;
     let data_offset = (data_start - 1) * BLOCK;
     if data_offset < param_end && data_start > pb {
         warnings.push(Warning::new(
@@ -209,15 +290,32 @@ pub fn read(bytes: Vec<u8>) -> Result<C3d> {
 }
 
 /// The data section's first block: the header's word 9, checked against POINT:DATA_START.
+/// `at` is (the parameter block, the byte where the parameter section ends, the file size).
 fn data_start_block(
     h: &Header,
     ps: &Parameters,
-    pb: usize,
+    at: (usize, usize, usize),
     warnings: &mut Vec<Warning>,
 ) -> Result<usize> {
+    let (pb, param_end, len) = at;
     let from_param = ps.get_u16("POINT", "DATA_START").map(|v| v as usize);
     let from_header = h.data_start as usize;
+    // Data cannot share bytes with the header or the parameters. A header start that points
+    // there while POINT:DATA_START points past the parameters is a damaged header word:
+    // reading from it would decode header and parameter bytes as samples, and writing them
+    // back would overwrite the file's structure.
+    let after_params = |b: usize| b > pb && (b - 1) * BLOCK >= param_end && (b - 1) * BLOCK < len;
     match (from_header, from_param) {
+        (hd, Some(p)) if hd > 0 && !after_params(hd) && after_params(p) => {
+            warnings.push(Warning::new(
+                Section::Header,
+                Some(16),
+                format!(
+                    "header data start {hd} lies inside the header or parameters (which end at byte {param_end}); using POINT:DATA_START = {p}"
+                ),
+            ));
+            Ok(p)
+        }
         (0, Some(p)) if p > 0 => {
             warnings.push(Warning::new(
                 Section::Header,

@@ -127,13 +127,29 @@ impl C3d {
         let need = l.data_bytes();
         // With no data bytes there is nothing to patch (and the data start may lie anywhere).
         if (self.points_dirty || self.analog_dirty) && need > 0 {
+            // A damaged file can have its data section overlap the header or the parameters.
+            // Edited samples must not be written over those: such a file is written afresh.
+            let data = data_offset..data_offset + need;
+            let structure = [0..BLOCK, src.param_start..src.param_end];
+            let shared: Vec<_> = structure
+                .into_iter()
+                .map(|r| r.start.max(data.start)..r.end.min(data.end))
+                .filter(|r| r.start < r.end)
+                .map(|r| (r.clone(), out[r].to_vec()))
+                .collect();
             p.dispatch(Encode {
-                out: &mut out[data_offset..data_offset + need],
+                out: &mut out[data],
                 layout: l,
                 points: self.points_dirty.then(|| self.points()),
                 analog: self.analog_dirty.then(|| self.analog()),
                 force: false,
             })?;
+            if shared
+                .iter()
+                .any(|(r, before)| out[r.clone()] != before[..])
+            {
+                return self.write_fresh(p, self.format(), None);
+            }
         }
         Ok(out)
     }
@@ -148,7 +164,12 @@ impl C3d {
         let float = format == NumberFormat::Float;
         let old = self.layout();
         let abs_scale = match scale {
-            Some(s) if s.is_finite() && s != 0.0 => s.abs(),
+            Some(s) if s.is_finite() && s != 0.0 => {
+                if !float {
+                    check_integer_scale(pts, s.abs())?;
+                }
+                s.abs()
+            }
             Some(s) => return Err(Error::Misuse(format!("scale {s} must be finite and not 0"))),
             None if float => match old.point_scale {
                 s if s > 0.0 && s.is_finite() => s,
@@ -263,6 +284,30 @@ fn next_structure(src: &Source, h: &Header) -> usize {
         limit = src.param_end.div_ceil(BLOCK) * BLOCK;
     }
     limit.min(src.bytes.len()).max(src.param_start)
+}
+
+/// Largest |coordinate| of the valid samples.
+fn max_valid_abs(pts: &crate::points::Points) -> f32 {
+    pts.xyz
+        .iter()
+        .zip(&pts.residual)
+        .filter(|(_, &r)| r >= 0.0)
+        .flat_map(|(xyz, _)| xyz.iter().map(|v| v.abs()))
+        .fold(0f32, f32::max)
+}
+
+/// A requested integer scale must hold the data: fine enough that the largest coordinate
+/// is at least one step (else every coordinate is stored as 0 or ±1 and the trial is lost),
+/// coarse enough that it fits in 16 bits.
+fn check_integer_scale(pts: &crate::points::Points, scale: f32) -> Result<()> {
+    let max = max_valid_abs(pts);
+    if max > 0.0 && max.is_finite() && (scale > max || max / scale > 32767.0) {
+        return Err(Error::Misuse(format!(
+            "scale {scale} does not suit the data: the largest coordinate is {max}, so the scale must be from {} to {max}",
+            max / 32767.0
+        )));
+    }
+    Ok(())
 }
 
 /// The POINT:SCALE for integer data: the current one when every valid coordinate is an exact

@@ -15,20 +15,10 @@ pub enum Error {
         #[source]
         source: c3d::Error,
     },
-    /// A file-system operation failed; `action` says which ("create", "rename", …).
-    #[error("cannot {action} {}: {source}", path.display())]
-    Io {
-        action: &'static str,
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
-    /// The destination exists and replacing it was not asked for.
-    #[error("{} exists (use --force to overwrite)", .0.display())]
-    Exists(PathBuf),
-    /// The destination is something a file must not replace (a folder, device or FIFO).
-    #[error("{}: {what}", path.display())]
-    Destination { path: PathBuf, what: String },
+    /// A destination cannot be written (the message names it and says why: its folder is
+    /// missing, it is a device, it exists and replacing it was not asked for, …).
+    #[error("{0}")]
+    Output(String),
     /// Options that make no sense (an unknown method, a malformed filter spec, a marker the
     /// file does not have, a value out of range).
     #[error("{0}")]
@@ -46,18 +36,6 @@ pub enum Error {
 }
 
 impl Error {
-    pub(crate) fn io(
-        action: &'static str,
-        path: impl Into<PathBuf>,
-        source: std::io::Error,
-    ) -> Self {
-        Error::Io {
-            action,
-            path: path.into(),
-            source,
-        }
-    }
-
     pub(crate) fn options(what: impl Into<String>) -> Self {
         Error::Options(what.into())
     }

@@ -12,10 +12,7 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-/// Longest artificial gap that may be asked for, in frames.
-pub const MAX_GAP_LENGTH: usize = 100_000;
-/// Most artificial gaps per length and file.
-pub const MAX_GAPS_PER_LENGTH: usize = 100_000;
+pub use repair::evaluate::{MAX_GAPS_PER_LENGTH, MAX_GAP_LENGTH};
 
 /// What to measure.
 #[derive(Debug, Clone, PartialEq)]

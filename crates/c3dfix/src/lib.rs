@@ -35,7 +35,7 @@ pub use options::{fill_method, filter_spec, method_name, spike_options, RepairOp
 pub use repair::{repair, Repaired, Summary};
 pub use trial::open;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// How [`save()`] treats what is already at the destination.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -46,24 +46,46 @@ pub struct SaveOptions {
     pub backup: bool,
 }
 
-/// Encode `c` and write it to `path` atomically (see [`save::write_atomic`]); with
-/// `backup`, the file being replaced is kept first. Returns the backup's path when one was
-/// written.
-pub fn save(c: &c3d::C3d, path: &Path, opts: &SaveOptions) -> Result<Option<std::path::PathBuf>> {
-    save::check_destination(path, opts.force || opts.backup)?;
+/// Encode `c` and write it to `path` atomically (see [`save::write_all`]). With `backup`,
+/// the file being replaced is kept first as `FILE.bak` (unless a backup exists: the first
+/// is the true original), written together with the new file, all or nothing. Returns the
+/// backup's path when one was written.
+pub fn save(c: &c3d::C3d, path: &Path, opts: &SaveOptions) -> Result<Option<PathBuf>> {
+    let replace = opts.force || opts.backup;
+    save::check_destination(path, replace)?;
     let bytes = c.to_bytes().map_err(|source| Error::C3d {
         path: path.to_path_buf(),
         source,
     })?;
-    let mut kept = None;
-    if opts.backup && path.exists() {
-        let b = save::backup_path(path);
-        if save::write_backup(path, &b)? {
-            kept = Some(b);
-        }
+    let backup = if opts.backup && path.exists() {
+        save::new_backup(path)
+    } else {
+        None
+    };
+    let old = match &backup {
+        Some(_) => std::fs::read(path).map_err(|e| {
+            Error::Output(format!(
+                "cannot read {} for its backup: {e}",
+                path.display()
+            ))
+        })?,
+        None => Vec::new(),
+    };
+    let mut outs = Vec::with_capacity(2);
+    if let Some(b) = &backup {
+        outs.push(save::Output {
+            path: b,
+            bytes: &old,
+            replace: false,
+        });
     }
-    save::write_atomic(path, &bytes, opts.force || opts.backup)?;
-    Ok(kept)
+    outs.push(save::Output {
+        path,
+        bytes: &bytes,
+        replace,
+    });
+    save::write_all(&outs)?;
+    Ok(backup)
 }
 
 /// Open `input`, repair it, and save the result to `output` atomically: what
@@ -79,7 +101,7 @@ pub fn repair_file(
 }
 
 /// [`repair_file`] for a trial already opened from `input` (callers that look at a file
-/// first read and parse it once).
+/// first read and parse it once). The destination is checked before any work is done.
 pub fn repair_opened(
     c: &mut c3d::C3d,
     input: &Path,

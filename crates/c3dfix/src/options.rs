@@ -7,9 +7,8 @@ use crate::error::{Error, Result};
 use crate::markers::mm_per_unit;
 use repair::{FillMethod, FillOptions, FilterSpec, RepairConfig, SpikeMode, SpikeOptions};
 
-/// Largest half window of the Hampel identifier: 1 000 samples each side is already 20 s at
-/// 100 Hz; more would only allocate without bound.
-pub const MAX_SPIKE_HALF_WINDOW: usize = 1000;
+/// Largest half window of the Hampel identifier (the repair library's bound).
+pub const MAX_SPIKE_HALF_WINDOW: usize = repair::spikes::MAX_HALF_WINDOW;
 /// Longest gap that may be asked for, in frames (a C3D file holds at most 2³² frames).
 pub const MAX_GAP_FRAMES: usize = u32::MAX as usize;
 
@@ -135,13 +134,8 @@ pub fn spike_options(spec: &str, mode: &str, min_dev: f64, classic: bool) -> Res
         }
     }
     if let Some(n) = parts.next() {
+        // Its range is the repair library's to check (SpikeOptions::validate).
         o.nsigma = number("--spikes NSIGMA", n)?;
-        if !(o.nsigma.is_finite() && o.nsigma > 0.0) {
-            return Err(Error::options(format!(
-                "--spikes NSIGMA = {}: must be a finite number above 0",
-                o.nsigma
-            )));
-        }
     }
     if parts.next().is_some() {
         return Err(Error::options(format!(
@@ -207,7 +201,11 @@ mod tests {
             .contains("not a valid number"));
         assert!(spike_options("hampel:18446744073709551615", "gap", 0.0, false).is_err());
         assert!(spike_options("hampel:1000000000", "gap", 0.0, false).is_err());
-        assert!(spike_options("hampel:3:nan", "gap", 0.0, false).is_err());
+        let nan = RepairOptions {
+            spikes: Some("hampel:3:nan".into()),
+            ..RepairOptions::default()
+        };
+        assert!(nan.config("mm").is_err());
         assert_eq!(
             filter_spec("butterworth:4:6").unwrap(),
             FilterSpec::Butterworth {

@@ -1,37 +1,191 @@
-//! Saving files safely: a temporary file in the target folder, written, synced, renamed into
-//! place, then the folder synced, so that a crash or a kill never leaves a partial file and a
-//! completed save survives a power loss.
+//! Saving files safely, for the library, the command and the Python package alike. Every destination of a run is checked before the first byte
+//! is written; each file goes to a temporary file in its target folder, is synced, and is
+//! renamed into place only once every temporary file of the run exists; the folder is then
+//! synced so the rename itself survives a crash. An interrupted or failed run leaves each
+//! destination as it was or fully written, and never leaves one output of a run without the
+//! others.
 
 use crate::error::{Error, Result};
+use std::ffi::OsStr;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// Temporary names are unique per call (process id and a counter), so that parallel jobs
-/// writing into one folder, even to the same target, never share a temporary file.
-static COUNTER: AtomicU64 = AtomicU64::new(0);
-
-/// Longest file name most file systems accept, in bytes.
-const NAME_MAX: usize = 255;
-
-fn temp_path(dir: &Path, name: &str) -> PathBuf {
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let suffix = format!(".c3dfix-tmp-{}-{n}", std::process::id());
-    // Keep the whole name within NAME_MAX bytes: shorten the target's name (on a character
-    // boundary) rather than fail on a long but valid output name.
-    let room = NAME_MAX - suffix.len() - 1;
-    let mut stem = name;
-    while stem.len() > room {
-        let mut cut = room.min(stem.len() - 1);
-        while !stem.is_char_boundary(cut) {
-            cut -= 1;
-        }
-        stem = &stem[..cut];
-    }
-    dir.join(format!(".{stem}{suffix}"))
+/// Return an [`Error::Output`] with a formatted message (every message names its path).
+macro_rules! bail {
+    ($($t:tt)*) => {
+        return Err(Error::Output(format!($($t)*)))
+    };
 }
 
-/// The folder a path is in (`.` for a bare file name).
+/// Attach a message naming the path to an I/O error.
+trait Context<T> {
+    fn with_context(self, what: impl FnOnce() -> String) -> Result<T>;
+}
+
+impl<T> Context<T> for std::io::Result<T> {
+    fn with_context(self, what: impl FnOnce() -> String) -> Result<T> {
+        self.map_err(|e| Error::Output(format!("{}: {e}", what())))
+    }
+}
+
+impl<T> Context<T> for Option<T> {
+    fn with_context(self, what: impl FnOnce() -> String) -> Result<T> {
+        self.ok_or_else(|| Error::Output(what()))
+    }
+}
+
+/// The longest file name (in bytes) written: the limit of ext4, XFS, Btrfs, APFS and NTFS.
+pub const NAME_MAX: usize = 255;
+
+/// Bytes of the destination's name kept in a temporary name (so a stray temporary file says
+/// what it was for, while the whole name stays far below [`NAME_MAX`]).
+const TMP_STEM_MAX: usize = 64;
+
+/// Temporary files made by this process so far: with the process id, a name no other call
+/// (another thread of `batch`, or another c3dfix) uses at the same time.
+static TMP_COUNT: AtomicU64 = AtomicU64::new(0);
+
+/// One file a command writes.
+pub struct Output<'a> {
+    pub path: &'a Path,
+    pub bytes: &'a [u8],
+    /// Whether an existing file there may be replaced (`--force`, `--in-place`).
+    pub replace: bool,
+}
+
+/// Write `bytes` to `path` atomically. Refuses to replace an existing file unless `force`.
+pub fn write_atomic(path: &Path, bytes: &[u8], force: bool) -> Result<()> {
+    write_all(&[Output {
+        path,
+        bytes,
+        replace: force,
+    }])
+}
+
+/// Write the outputs of one run: all of them, or (on any failure before the renames) none.
+pub fn write_all(outputs: &[Output]) -> Result<()> {
+    for (i, o) in outputs.iter().enumerate() {
+        check_destination(o.path, o.replace)?;
+        if let Some(other) = outputs[..i].iter().find(|p| same_file(p.path, o.path)) {
+            bail!(
+                "{} and {} are the same file: each output needs its own path",
+                other.path.display(),
+                o.path.display()
+            );
+        }
+    }
+    let mut temps: Vec<PathBuf> = Vec::with_capacity(outputs.len());
+    let written = outputs.iter().try_for_each(|o| {
+        let tmp = temp_path(o.path)?;
+        let r = write_synced(&tmp, o.bytes)
+            .map_err(|e| Error::Output(format!("cannot write {}: {e}", o.path.display())));
+        // Recorded even on failure: a partly written temporary file is removed below.
+        temps.push(tmp);
+        r
+    });
+    if let Err(e) = written {
+        temps.iter().for_each(|t| drop(std::fs::remove_file(t)));
+        return Err(e);
+    }
+    for (k, (o, tmp)) in outputs.iter().zip(&temps).enumerate() {
+        if let Err(e) = std::fs::rename(tmp, o.path) {
+            temps[k..]
+                .iter()
+                .for_each(|t| drop(std::fs::remove_file(t)));
+            return Err(Error::Output(format!(
+                "cannot rename {} to {}: {e}",
+                tmp.display(),
+                o.path.display()
+            )));
+        }
+    }
+    let mut synced: Vec<&Path> = Vec::new();
+    for o in outputs {
+        let dir = folder_of(o.path);
+        if !synced.contains(&dir) {
+            sync_folder(dir)?;
+            synced.push(dir);
+        }
+    }
+    Ok(())
+}
+
+/// Everything about a destination that can be known before writing: its folder exists, its
+/// name fits the file system, and what is there now is a regular file that may be replaced.
+/// A device, a FIFO or a folder is never replaced by a file, even with `--force`.
+pub fn check_destination(path: &Path, replace: bool) -> Result<()> {
+    let name = path
+        .file_name()
+        .with_context(|| format!("{}: not a file path", path.display()))?;
+    if name.len() > NAME_MAX {
+        bail!(
+            "{}: the file name is {} bytes, longer than file systems allow ({NAME_MAX})",
+            path.display(),
+            name.len()
+        );
+    }
+    let dir = folder_of(path);
+    match std::fs::metadata(dir) {
+        Ok(m) if m.is_dir() => {}
+        Ok(_) => bail!(
+            "cannot write {}: {} is not a folder",
+            path.display(),
+            dir.display()
+        ),
+        Err(e) => bail!(
+            "cannot write {}: folder {}: {e}",
+            path.display(),
+            dir.display()
+        ),
+    }
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() => bail!(
+            "{} is {}, not a regular file: c3dfix writes only regular files",
+            path.display(),
+            kind_of(&m)
+        ),
+        Ok(_) if !replace => bail!("{} exists (use --force to overwrite)", path.display()),
+        Ok(_) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => bail!("cannot write {}: {e}", path.display()),
+    }
+}
+
+/// Refuse `dest` when it is one of the files the run reads: an output of another kind (a
+/// report, a CSV, a picture) written there would destroy the input, `--force` or not.
+pub fn refuse_input(dest: &Path, inputs: &[&Path], what: &str) -> Result<()> {
+    if let Some(i) = inputs.iter().find(|i| same_file(i, dest)) {
+        bail!(
+            "{what} {} is the input file {}: refusing to overwrite it",
+            dest.display(),
+            i.display()
+        );
+    }
+    Ok(())
+}
+
+/// Whether two paths name the same file: the same inode when both exist, else the same
+/// absolute path once their folders are resolved.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if let (Ok(x), Ok(y)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+            return x.dev() == y.dev() && x.ino() == y.ino();
+        }
+    }
+    let resolved = |p: &Path| -> Option<PathBuf> {
+        let dir = std::fs::canonicalize(folder_of(p)).ok()?;
+        Some(dir.join(p.file_name()?))
+    };
+    match (resolved(a), resolved(b)) {
+        (Some(x), Some(y)) => x == y,
+        _ => a == b,
+    }
+}
+
+/// The folder a path's file is in (`.` for a bare name).
 fn folder_of(path: &Path) -> &Path {
     match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
@@ -39,114 +193,99 @@ fn folder_of(path: &Path) -> &Path {
     }
 }
 
-/// Check that `path` can be written as a file: its folder exists, and it is not a folder, a
-/// device or a FIFO; an existing file is refused unless `force`. Checking every destination
-/// of a run first keeps a run from writing one output and then failing on the next.
-pub fn check_destination(path: &Path, force: bool) -> Result<()> {
-    if path.file_name().is_none() {
-        return Err(Error::Destination {
-            path: path.to_path_buf(),
-            what: "is not a file path".into(),
-        });
-    }
-    let dir = folder_of(path);
-    match std::fs::metadata(dir) {
-        Ok(m) if m.is_dir() => {}
-        Ok(_) => {
-            return Err(Error::Destination {
-                path: path.to_path_buf(),
-                what: format!("{} is not a folder", dir.display()),
-            })
+fn kind_of(m: &std::fs::Metadata) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let t = m.file_type();
+        if t.is_fifo() {
+            return "a FIFO";
         }
-        Err(e) => return Err(Error::io("use the folder of", path, e)),
-    }
-    match std::fs::symlink_metadata(path) {
-        Ok(m) => {
-            let t = m.file_type();
-            if t.is_dir() {
-                return Err(Error::Destination {
-                    path: path.to_path_buf(),
-                    what: "is a folder".into(),
-                });
-            }
-            if !(t.is_file() || t.is_symlink())
-                || !std::fs::metadata(path).is_ok_and(|m| m.is_file())
-            {
-                return Err(Error::Destination {
-                    path: path.to_path_buf(),
-                    what: "is not a regular file (a device, FIFO or socket); it is never replaced"
-                        .into(),
-                });
-            }
-            if !force {
-                return Err(Error::Exists(path.to_path_buf()));
-            }
-            Ok(())
+        if t.is_block_device() || t.is_char_device() {
+            return "a device";
         }
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
-        Err(e) => Err(Error::io("inspect", path, e)),
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    if m.is_dir() {
+        "a folder"
+    } else {
+        "not a regular file"
     }
 }
 
-/// Write `bytes` to `path` atomically. An existing file is replaced only when `force`.
-pub fn write_atomic(path: &Path, bytes: &[u8], force: bool) -> Result<()> {
-    check_destination(path, force)?;
-    let dir = folder_of(path);
+/// A fresh temporary name beside `path`: a short prefix of its name, the process id and a
+/// per-process counter — unique per call, and well within [`NAME_MAX`].
+fn temp_path(path: &Path) -> Result<PathBuf> {
     let name = path
         .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = temp_path(dir, &name);
-    let result = (|| -> Result<()> {
-        let mut f = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&tmp)
-            .map_err(|e| Error::io("create", &tmp, e))?;
-        f.write_all(bytes)
-            .map_err(|e| Error::io("write", &tmp, e))?;
-        f.sync_all().map_err(|e| Error::io("sync", &tmp, e))?;
-        drop(f);
-        std::fs::rename(&tmp, path)
-            .map_err(|e| Error::io("rename a temporary file to", path, e))?;
-        sync_folder(dir);
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+        .map(OsStr::to_string_lossy)
+        .with_context(|| format!("{}: not a file path", path.display()))?;
+    let mut end = name.len().min(TMP_STEM_MAX);
+    while !name.is_char_boundary(end) {
+        end -= 1;
     }
-    result
+    let n = TMP_COUNT.fetch_add(1, Ordering::Relaxed);
+    Ok(folder_of(path).join(format!(
+        ".{}.{}-{n}.c3dfix-tmp",
+        &name[..end],
+        std::process::id()
+    )))
 }
 
-/// Make a rename in `dir` durable. Best effort: some file systems refuse to sync a folder,
-/// and the data itself is already synced.
-fn sync_folder(dir: &Path) {
+/// Create `tmp` (it must not exist), write `bytes` and sync them to disk.
+fn write_synced(tmp: &Path, bytes: &[u8]) -> Result<()> {
+    let mut f = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(tmp)
+        .with_context(|| format!("cannot create {}", tmp.display()))?;
+    f.write_all(bytes)
+        .with_context(|| format!("cannot write {}", tmp.display()))?;
+    f.sync_all()
+        .with_context(|| format!("cannot sync {}", tmp.display()))
+}
+
+/// Sync a folder, so that a rename into it is on disk. File systems that cannot sync a
+/// folder say so with "invalid input"; their renames are as durable as they get.
+fn sync_folder(dir: &Path) -> Result<()> {
     #[cfg(unix)]
-    if let Ok(d) = std::fs::File::open(dir) {
-        let _ = d.sync_all();
+    {
+        let r = std::fs::File::open(dir).and_then(|d| d.sync_all());
+        match r {
+            Err(e)
+                if !matches!(
+                    e.kind(),
+                    std::io::ErrorKind::InvalidInput | std::io::ErrorKind::Unsupported
+                ) =>
+            {
+                return Err(Error::Output(format!(
+                    "cannot sync folder {}: {e}",
+                    dir.display()
+                )));
+            }
+            _ => {}
+        }
     }
     #[cfg(not(unix))]
     let _ = dir;
+    Ok(())
 }
 
-/// Where a backup of `original` is kept: `FILE.bak` beside it.
+/// Where `--backup` keeps the original: `FILE.bak` beside it.
 pub fn backup_path(original: &Path) -> PathBuf {
     let mut name = original.file_name().unwrap_or_default().to_os_string();
     name.push(".bak");
     original.with_file_name(name)
 }
 
-/// Copy `original` to `backup` atomically, unless a backup already exists: the first backup
-/// is the true original, and a second in-place repair must not replace it with a repaired
-/// file. Returns whether a backup was written.
-pub fn write_backup(original: &Path, backup: &Path) -> Result<bool> {
-    if backup.exists() {
-        return Ok(false);
-    }
-    let bytes =
-        std::fs::read(original).map_err(|e| Error::io("read for its backup", original, e))?;
-    write_atomic(backup, &bytes, false)?;
-    Ok(true)
+/// The backup to write for `original` with `--backup`: none when one already exists, since
+/// the first backup is the true original and a second in-place repair must not replace it
+/// with a repaired file.
+pub fn new_backup(original: &Path) -> Option<PathBuf> {
+    let b = backup_path(original);
+    (!b.exists()).then_some(b)
 }
 
 #[cfg(test)]
@@ -155,37 +294,55 @@ mod tests {
 
     #[test]
     fn temporary_names_are_unique_and_short() {
-        let long = "x".repeat(250);
-        let a = temp_path(Path::new("/d"), &long);
-        let b = temp_path(Path::new("/d"), &long);
+        let long = "x".repeat(NAME_MAX);
+        let p = Path::new("/some/folder").join(&long);
+        let a = temp_path(&p).unwrap();
+        let b = temp_path(&p).unwrap();
         assert_ne!(a, b);
-        assert!(a.file_name().unwrap().len() <= NAME_MAX);
-        let multi = "é".repeat(200);
-        assert!(
-            temp_path(Path::new("/d"), &multi)
-                .file_name()
-                .unwrap()
-                .len()
-                <= NAME_MAX
-        );
+        let n = a.file_name().unwrap().len();
+        assert!(n < 120, "temporary name of {n} bytes");
+        assert_eq!(a.parent(), Some(Path::new("/some/folder")));
+        // A name cut inside a multi-byte character is cut before it.
+        let name = "é".repeat(100);
+        assert!(temp_path(Path::new(&name)).is_ok());
     }
 
     #[test]
-    fn writes_replace_only_with_force_and_never_a_folder() {
-        let dir = tempfile::tempdir().unwrap();
-        let p = dir.path().join("a.bin");
-        write_atomic(&p, b"one", false).unwrap();
-        assert!(matches!(
-            write_atomic(&p, b"two", false),
-            Err(Error::Exists(_))
-        ));
-        write_atomic(&p, b"two", true).unwrap();
-        assert_eq!(std::fs::read(&p).unwrap(), b"two");
-        assert!(write_atomic(dir.path(), b"x", true).is_err());
-        let missing = dir.path().join("no/such/folder/a.bin");
-        let e = write_atomic(&missing, b"x", true).unwrap_err().to_string();
-        assert!(e.contains("no/such/folder"), "{e}");
-        let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().flatten().collect();
-        assert_eq!(left.len(), 1);
+    fn all_or_nothing() {
+        let d = tempfile::tempdir().unwrap();
+        let a = d.path().join("a.txt");
+        let b = d.path().join("missing").join("b.txt");
+        let outs = [
+            Output {
+                path: &a,
+                bytes: b"a",
+                replace: false,
+            },
+            Output {
+                path: &b,
+                bytes: b"b",
+                replace: false,
+            },
+        ];
+        let e = write_all(&outs).unwrap_err().to_string();
+        assert!(e.contains("missing"), "{e}");
+        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 0);
+        let same = [
+            Output {
+                path: &a,
+                bytes: b"a",
+                replace: true,
+            },
+            Output {
+                path: &d.path().join(".").join("a.txt"),
+                bytes: b"b",
+                replace: true,
+            },
+        ];
+        assert!(write_all(&same)
+            .unwrap_err()
+            .to_string()
+            .contains("same file"));
+        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 0);
     }
 }

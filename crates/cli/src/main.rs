@@ -1,12 +1,10 @@
-//! `c3dfix`: a thin command-line layer over the `c3d`, `repair` and `bvh` crates.
+//! `c3dfix`: a thin command-line layer over the `c3dfix` library and the `c3d`, `repair`
+//! and `bvh` crates.
 //!
 //! Exit codes: 0 success, 1 "differences found" (diff), 2 error.
 
-mod commands;
-mod output;
-mod plot;
-mod view;
-
+use c3dfix_cli::commands;
+use c3dfix_cli::console::{flush_stdout, write_stderr};
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
@@ -49,7 +47,20 @@ enum Command {
 
 fn main() {
     reset_sigpipe();
-    let cli = Cli::parse();
+    // Help and version go to standard output, which may fail like any other output.
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if !e.use_stderr() => match e.print() {
+            Ok(()) => std::process::exit(0),
+            Err(err) => {
+                write_stderr(format_args!(
+                    "c3dfix: error: cannot write to standard output: {err}\n"
+                ));
+                std::process::exit(2);
+            }
+        },
+        Err(e) => e.exit(),
+    };
     let result = match cli.command {
         Command::Info(a) => commands::info::run(a),
         Command::Convert(a) => commands::convert::run(a),
@@ -63,10 +74,12 @@ fn main() {
         Command::Plot(a) => commands::plot::run(a),
         Command::View(a) => commands::view::run(a),
     };
-    match result {
+    // `process::exit` skips the flush at the end of `main`: a last buffered line is flushed
+    // here, where a failure can still be reported.
+    match result.and_then(|code| flush_stdout().map(|()| code)) {
         Ok(code) => std::process::exit(code),
         Err(e) => {
-            eprintln!("c3dfix: error: {e:#}");
+            write_stderr(format_args!("c3dfix: error: {e:#}\n"));
             std::process::exit(2);
         }
     }

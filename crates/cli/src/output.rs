@@ -1,13 +1,16 @@
 //! Writing output files: every command writes through the library's atomic writer
-//! ([`c3dfix::save::write_atomic`]: a temporary file in the target folder, synced, renamed into place, the
-//! folder synced), so that an interrupted run never leaves a partial file behind.
+//! ([`c3dfix::save`]): every destination of a run checked before the first byte is written,
+//! temporary files synced and renamed together, folders synced.
 
-use anyhow::Result;
+pub use c3dfix::save::{
+    backup_path, check_destination, new_backup, refuse_input, same_file, write_all, Output,
+    NAME_MAX,
+};
 use std::path::Path;
 
 /// Write `bytes` to `path` atomically. Refuses to replace an existing file unless `force`,
 /// and never replaces a folder, device or FIFO.
-pub fn write_atomic(path: &Path, bytes: &[u8], force: bool) -> Result<()> {
+pub fn write_atomic(path: &Path, bytes: &[u8], force: bool) -> anyhow::Result<()> {
     Ok(c3dfix::save::write_atomic(path, bytes, force)?)
 }
 

@@ -17,12 +17,20 @@ const MARGIN: usize = 4;
 const TRIES: usize = 200;
 
 /// What to evaluate.
+/// Longest artificial gap, in frames (over an hour at 200 Hz): longer ones could not be
+/// placed in any trial, and the bound keeps placement arithmetic from overflowing.
+pub const MAX_GAP_LENGTH: usize = 1_000_000;
+
+/// Most artificial gaps per length: each is filled by every method, so this bounds the work.
+pub const MAX_GAPS_PER_LENGTH: usize = 10_000;
+
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct EvalConfig {
     /// Markers that lose data (`None`: all).
     pub markers: Option<Vec<usize>>,
+    /// Lengths of the artificial gaps, 1 to [`MAX_GAP_LENGTH`] frames.
     pub gap_lengths: Vec<usize>,
-    /// Artificial gaps (or groups) per length.
+    /// Artificial gaps (or groups) per length, 0 to [`MAX_GAPS_PER_LENGTH`].
     pub gaps_per_length: usize,
     pub methods: Vec<FillMethod>,
     /// Markers losing overlapping frames together: 1, or 2–3 (the chosen marker and its
@@ -88,10 +96,20 @@ pub fn evaluate(trial: &Trial, cfg: &EvalConfig) -> Result<Evaluation> {
         ));
     }
     cfg.fill.validate()?;
-    if cfg.gap_lengths.contains(&0) {
-        return Err(RepairError::Option(
-            "evaluation gap lengths must be at least 1".into(),
-        ));
+    if let Some(len) = cfg
+        .gap_lengths
+        .iter()
+        .find(|l| !(1..=MAX_GAP_LENGTH).contains(*l))
+    {
+        return Err(RepairError::Option(format!(
+            "evaluation gap length {len} must be from 1 to {MAX_GAP_LENGTH} frames"
+        )));
+    }
+    if cfg.gaps_per_length > MAX_GAPS_PER_LENGTH {
+        return Err(RepairError::Option(format!(
+            "{} gaps per length: at most {MAX_GAPS_PER_LENGTH}",
+            cfg.gaps_per_length
+        )));
     }
     let markers: Vec<usize> = match &cfg.markers {
         Some(v) => v.iter().copied().filter(|&m| m < trial.markers()).collect(),

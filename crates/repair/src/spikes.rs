@@ -27,10 +27,14 @@ pub enum SpikeMode {
     Median,
 }
 
+/// Largest half window K: a window of 2001 samples (10 s at 200 Hz) is far wider than any
+/// spike, and the bound keeps window buffers and index arithmetic small whatever is asked.
+pub const MAX_HALF_WINDOW: usize = 1000;
+
 /// Hampel settings.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct SpikeOptions {
-    /// Samples on each side of the centre (K).
+    /// Samples on each side of the centre (K), 1 to [`MAX_HALF_WINDOW`].
     pub half_window: usize,
     /// Outlier threshold in scaled MADs (1.4826 × MAD).
     pub nsigma: f64,
@@ -58,10 +62,11 @@ impl Default for SpikeOptions {
 
 impl SpikeOptions {
     pub fn validate(&self) -> Result<()> {
-        if self.half_window == 0 {
-            return Err(RepairError::Option(
-                "spike half_window must be at least 1".into(),
-            ));
+        if !(1..=MAX_HALF_WINDOW).contains(&self.half_window) {
+            return Err(RepairError::Option(format!(
+                "spike half window {} must be from 1 to {MAX_HALF_WINDOW}",
+                self.half_window
+            )));
         }
         if !(self.nsigma > 0.0 && self.nsigma.is_finite()) {
             return Err(RepairError::Option("spike nsigma must be above 0".into()));

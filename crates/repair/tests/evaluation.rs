@@ -112,6 +112,15 @@ fn bad_evaluation_settings_are_typed_errors_and_results_serialize() {
             gap_lengths: vec![0],
             ..EvalConfig::default()
         },
+        // Lengths and counts from a command line are bounded before any arithmetic on them.
+        EvalConfig {
+            gap_lengths: vec![usize::MAX],
+            ..EvalConfig::default()
+        },
+        EvalConfig {
+            gaps_per_length: usize::MAX,
+            ..EvalConfig::default()
+        },
     ] {
         assert!(matches!(
             evaluate(&trial, &cfg),

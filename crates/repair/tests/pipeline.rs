@@ -2,6 +2,7 @@
 
 use repair::pipeline::change;
 use repair::synth::gait_like;
+use repair::{filter, spikes};
 use repair::{
     repair_trial, FillMethod, FillOptions, FillOutcome, FilterSpec, RepairConfig, RepairError,
     SkipReason, SpikeMode, SpikeOptions, Trial,
@@ -172,8 +173,29 @@ fn bad_configs_and_shapes_are_typed_errors() {
                 cutoff_hz: 6.0
             })
         ),
-        Err(RepairError::FilterOrder)
+        Err(RepairError::FilterOrder(0))
     ));
+    // Options from a command line are bounded before anything is allocated from them.
+    for (order, atten) in [
+        (usize::MAX, 40.0),
+        (filter::MAX_ORDER + 1, 40.0),
+        (4, 1e300),
+    ] {
+        let spec = FilterSpec::Cheby2 {
+            order,
+            cutoff_hz: 6.0,
+            atten_db: atten,
+        };
+        assert!(RepairConfig::new(None, FillOptions::default(), Some(spec)).is_err());
+    }
+    for k in [usize::MAX, 1_000_000_000, spikes::MAX_HALF_WINDOW + 1] {
+        let s = SpikeOptions {
+            half_window: k,
+            ..SpikeOptions::default()
+        };
+        let e = RepairConfig::new(Some(s), FillOptions::default(), None).unwrap_err();
+        assert!(e.to_string().contains("from 1 to 1000"), "{e}");
+    }
     let bad_fill = FillOptions {
         rigid_donors: 2,
         ..FillOptions::default()

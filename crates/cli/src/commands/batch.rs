@@ -8,6 +8,7 @@ use crate::commands::parallel::run_each;
 use crate::commands::repair::print_summary;
 use crate::commands::repair_io::RepairArgs;
 use crate::commands::targets::{plan, TargetArgs};
+use crate::console::outln;
 use anyhow::{bail, Context, Result};
 use c3dfix::save::write_atomic;
 use c3dfix::{SaveOptions, Summary};
@@ -81,22 +82,24 @@ pub fn run(a: Args) -> Result<i32> {
     let spikes: usize = ok.iter().map(|s| s.spikes).sum();
     let changed: usize = ok.iter().map(|s| s.samples_changed).sum();
     if t.json {
-        println!(
+        outln!(
             "{}",
             serde_json::json!({"summary": {"files": results.len(), "repaired": ok.len() - skipped, "skipped": skipped, "failed": failed,
                 "gaps": gaps, "filled": filled, "spikes": spikes, "samples_changed": changed,
                 "listed": plan.listed, "duplicates": plan.duplicates, "shard": t.shard.map(|s| s.to_string())}})
-        );
+        )?;
     } else {
         if ok.len() <= 3 {
-            ok.iter().for_each(|s| print_summary(s));
+            for s in &ok {
+                print_summary(s)?;
+            }
         }
-        println!(
+        outln!(
             "{} files: {} repaired, {skipped} skipped (no points), {} failed; {gaps} gaps, {filled} filled, {spikes} spikes, {changed} samples changed",
             results.len(),
             ok.len() - skipped,
             failed
-        );
+        )?;
     }
     Ok(if failed > 0 { 1 } else { 0 })
 }

@@ -1,5 +1,6 @@
 //! BVH part of `c3dfix info`: joints, channels, frames and rate of a BVH file.
 
+use crate::console::outln;
 use std::path::Path;
 
 use serde::Serialize;
@@ -56,25 +57,27 @@ pub fn run(file: &Path, json: bool) -> anyhow::Result<i32> {
         joints,
     };
     if json {
-        println!("{}", serde_json::to_string_pretty(&info)?);
+        outln!("{}", serde_json::to_string_pretty(&info)?)?;
         return Ok(0);
     }
-    println!("{}: BVH", info.file);
-    println!(
+    outln!("{}: BVH", info.file)?;
+    outln!(
         "  {} joints ({} root(s), {} End Sites), {} channels per frame",
         info.joints.len(),
         info.roots,
         info.end_sites,
         info.channels
-    );
+    )?;
     let rate = info
         .rate
         .map(|r| format!("{r:.3} Hz"))
         .unwrap_or_else(|| "unknown rate".into());
-    println!(
+    outln!(
         "  {} frames, frame time {} s ({rate}), {:.3} s",
-        info.frames, info.frame_time, info.duration
-    );
+        info.frames,
+        info.frame_time,
+        info.duration
+    )?;
     // Depth for indentation: parents precede children.
     let mut depth = vec![0usize; s.joints.len()];
     for (i, j) in s.joints.iter().enumerate() {
@@ -88,7 +91,7 @@ pub fn run(file: &Path, json: bool) -> anyhow::Result<i32> {
         } else {
             ""
         };
-        println!("{pad}{} [{}]{end}", j.name, channels.join(" "));
+        outln!("{pad}{} [{}]{end}", j.name, channels.join(" "))?;
     }
     Ok(0)
 }

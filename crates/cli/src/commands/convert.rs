@@ -8,8 +8,9 @@
 use crate::commands::info::read_c3d;
 use crate::commands::parallel::run_each;
 use crate::commands::targets::{plan, TargetArgs};
+use crate::console::{errln, outln};
 use anyhow::{bail, Context, Result};
-use c3dfix::save::{backup_path, check_destination, write_atomic, write_backup};
+use c3dfix::save::{check_destination, new_backup, write_all, Output};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -40,7 +41,9 @@ pub struct Args {
     #[arg(long, value_enum)]
     pub format: Option<FormatArg>,
     /// POINT:SCALE for integer output (default: keep it if exact, else the finest that fits).
-    #[arg(long)]
+    /// Above 0, from the largest coordinate / 32767 (finer does not fit in 16 bits) to the
+    /// largest coordinate (coarser would store every coordinate as 0).
+    #[arg(long, value_parser = crate::ranges::scale)]
     pub scale: Option<f32>,
 }
 
@@ -99,13 +102,32 @@ fn convert_one(
     check_destination(output, overwrite)?;
     // In place the output is the file itself (by its canonical path, so a backup of a file
     // reached through a link sits beside the file, as `c3dfix::save` puts it).
-    if backup && output.exists() {
-        let b = backup_path(output);
-        if write_backup(output, &b)? {
-            done.backup = Some(b.display().to_string());
-        }
+    let backup_to = if backup && output.exists() {
+        new_backup(output)
+    } else {
+        None
+    };
+    let old = match &backup_to {
+        Some(_) => std::fs::read(output)
+            .with_context(|| format!("cannot read {} for its backup", output.display()))?,
+        None => Vec::new(),
+    };
+    let mut outs = Vec::with_capacity(2);
+    if let Some(b) = &backup_to {
+        outs.push(Output {
+            path: b,
+            bytes: &old,
+            replace: false,
+        });
+        done.backup = Some(b.display().to_string());
     }
-    write_atomic(output, &bytes, overwrite)?;
+    outs.push(Output {
+        path: output,
+        bytes: &bytes,
+        replace: overwrite,
+    });
+    // The backup and the converted file land together, or neither does.
+    write_all(&outs)?;
     Ok(done)
 }
 
@@ -146,14 +168,17 @@ fn one(t: &TargetArgs, output: &Path, want: Wanted) -> Result<i32> {
     if t.json {
         let line =
             serde_json::json!({"file": input.display().to_string(), "ok": true, "result": done});
-        println!("{line}");
+        outln!("{line}")?;
     } else {
         for w in &done.warnings {
-            eprintln!("c3dfix: warning: {}: {w}", input.display());
+            errln!("c3dfix: warning: {}: {w}", input.display());
         }
-        eprintln!(
+        errln!(
             "wrote {} ({} processor, {} data, {} bytes)",
-            done.output, done.processor, done.format, done.bytes
+            done.output,
+            done.processor,
+            done.format,
+            done.bytes
         );
     }
     Ok(0)
@@ -202,19 +227,19 @@ fn many(t: &TargetArgs, want: Wanted) -> Result<i32> {
     let unchanged = ok.iter().filter(|d| d.unchanged).count();
     let with_warnings = ok.iter().filter(|d| !d.warnings.is_empty()).count();
     if t.json {
-        println!(
+        outln!(
             "{}",
             serde_json::json!({"summary": {"files": results.len(), "converted": ok.len() - unchanged,
                 "unchanged": unchanged, "failed": failed, "with_warnings": with_warnings,
                 "listed": plan.listed, "duplicates": plan.duplicates,
                 "shard": t.shard.map(|s| s.to_string())}})
-        );
+        )?;
     } else {
-        println!(
+        outln!(
             "{} files: {} converted, {unchanged} already so, {failed} failed; {with_warnings} with warnings (see c3dfix info FILE)",
             results.len(),
             ok.len() - unchanged,
-        );
+        )?;
     }
     Ok(if failed > 0 { 1 } else { 0 })
 }

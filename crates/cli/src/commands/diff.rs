@@ -1,6 +1,7 @@
 //! `c3dfix diff`: compare two C3D files. Exit 0 when equal, 1 when different, 2 on error.
 
 use crate::commands::info::read_c3d;
+use crate::console::outln;
 use anyhow::Result;
 use std::path::PathBuf;
 
@@ -11,8 +12,8 @@ pub struct Args {
     /// Print a JSON report instead of text.
     #[arg(long)]
     pub json: bool,
-    /// Coordinates closer than this (in POINT:UNITS) count as equal.
-    #[arg(long, default_value_t = 0.0)]
+    /// Coordinates closer than this (in POINT:UNITS; a finite number, 0 or more) count as equal.
+    #[arg(long, default_value_t = 0.0, value_parser = crate::ranges::non_negative)]
     pub tolerance: f64,
 }
 
@@ -30,42 +31,40 @@ pub fn run(a: Args) -> Result<i32> {
             "equal": d.is_empty(),
             "diff": d,
         });
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        outln!("{}", serde_json::to_string_pretty(&v)?)?;
     } else if d.is_empty() {
-        println!("no differences");
+        outln!("no differences")?;
     } else {
-        print_text(&d);
+        print_text(&d)?;
     }
     Ok(if d.is_empty() { 0 } else { 1 })
 }
 
-fn print_text(d: &c3d::diff::Diff) {
+fn print_text(d: &c3d::diff::Diff) -> Result<()> {
     for f in d.format.iter().chain(&d.header) {
-        println!("header     {:<24} {} -> {}", f.field, f.a, f.b);
+        outln!("header     {:<24} {} -> {}", f.field, f.a, f.b)?;
     }
     for p in &d.parameters {
         match (&p.a, &p.b) {
-            (Some(x), Some(y)) => {
-                println!("parameter  {:<24} {}: {} -> {}", p.name, p.change, x, y)
-            }
-            _ => println!("parameter  {:<24} {}", p.name, p.change),
+            (Some(x), Some(y)) => outln!("parameter  {:<24} {}: {} -> {}", p.name, p.change, x, y)?,
+            _ => outln!("parameter  {:<24} {}", p.name, p.change)?,
         }
     }
     if d.parameters_reordered {
-        println!("parameter  records are in a different order");
+        outln!("parameter  records are in a different order")?;
     }
     let pd = &d.points;
     if let Some((x, y)) = pd.frames {
-        println!("points     frames {x} -> {y}");
+        outln!("points     frames {x} -> {y}")?;
     }
     for l in &pd.only_in_a {
-        println!("points     {l}: only in the first file");
+        outln!("points     {l}: only in the first file")?;
     }
     for l in &pd.only_in_b {
-        println!("points     {l}: only in the second file");
+        outln!("points     {l}: only in the second file")?;
     }
     for m in &pd.markers {
-        println!(
+        outln!(
             "points     {:<24} {} frames changed ({}–{}), max displacement {:.3}, +{} valid, -{} valid, {} flag-only",
             m.label,
             m.frames_changed,
@@ -75,22 +74,25 @@ fn print_text(d: &c3d::diff::Diff) {
             m.became_valid,
             m.became_invalid,
             m.flags_changed
-        );
+        )?;
     }
     let ad = &d.analog;
     if let Some((x, y)) = ad.samples {
-        println!("analog     samples {x} -> {y}");
+        outln!("analog     samples {x} -> {y}")?;
     }
     for l in &ad.only_in_a {
-        println!("analog     {l}: only in the first file");
+        outln!("analog     {l}: only in the first file")?;
     }
     for l in &ad.only_in_b {
-        println!("analog     {l}: only in the second file");
+        outln!("analog     {l}: only in the second file")?;
     }
     for c in &ad.channels {
-        println!(
+        outln!(
             "analog     {:<24} {} samples changed, max difference {:.6}",
-            c.label, c.samples_changed, c.max_difference
-        );
+            c.label,
+            c.samples_changed,
+            c.max_difference
+        )?;
     }
+    Ok(())
 }

@@ -1,6 +1,8 @@
 //! `c3dfix evaluate`: knock out known data, fill it with every method, and report the 3D
 //! error per method and gap length.
 
+use crate::console::{out, outln};
+use crate::ranges;
 use anyhow::Result;
 use c3dfix::{method_name, EvaluateOptions};
 use repair::FillMethod;
@@ -10,8 +12,8 @@ use std::path::PathBuf;
 pub struct Args {
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
-    /// Lengths of the artificial gaps, in frames (1 to 100000).
-    #[arg(long, value_delimiter = ',', default_value = "5,10,20,40,80")]
+    /// Lengths of the artificial gaps, in frames (each 1 to 1 000 000).
+    #[arg(long, value_delimiter = ',', default_value = "5,10,20,40,80", value_parser = ranges::gap_length)]
     pub gap_lengths: Vec<usize>,
     /// Markers that lose data (labels; default: all markers).
     #[arg(long, value_delimiter = ',')]
@@ -19,14 +21,14 @@ pub struct Args {
     /// Methods to compare (default: all).
     #[arg(long, value_delimiter = ',')]
     pub methods: Option<Vec<String>>,
-    /// Artificial gaps (or groups of gaps) per length (1 to 100000).
-    #[arg(long, default_value_t = 40)]
+    /// Artificial gaps (or groups of gaps) per length, 1 to 10 000.
+    #[arg(long, default_value_t = 40, value_parser = ranges::gaps_per_length)]
     pub gaps_per_length: usize,
     /// Markers that lose overlapping frames together: 1, or 2–3 (a marker and its nearest
     /// neighbours) — the harder case.
     #[arg(long, default_value_t = 1)]
     pub group: usize,
-    /// Seed of the gap placement.
+    /// Seed of the gap placement (any whole number from 0 to 2^64 − 1).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Print JSON instead of a table.
@@ -44,15 +46,17 @@ pub fn run(a: Args) -> Result<i32> {
         seed: a.seed,
     };
     let methods = opts.fill_methods()?;
+    let mut printed: Result<()> = Ok(());
     let ev = c3dfix::evaluate(&a.files, &opts, |fe| {
-        if !a.json {
-            print_table(&fe.file, &fe.units, &a.gap_lengths, &methods, |len, m| {
+        if !a.json && printed.is_ok() {
+            printed = print_table(&fe.file, &fe.units, &a.gap_lengths, &methods, |len, m| {
                 fe.evaluation.score(m, len).map(|s| (s.mean, s.failed))
             });
         }
     })?;
+    printed?;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&ev)?);
+        outln!("{}", serde_json::to_string_pretty(&ev)?)?;
     } else if a.files.len() > 1 {
         print_table(
             "all files (sample-weighted, in mm whatever each file's unit)",
@@ -65,7 +69,7 @@ pub fn run(a: Args) -> Result<i32> {
                     .find(|p| p.gap_len == len && p.method == method_name(m) && p.samples > 0)
                     .map(|p| (p.mean, 0))
             },
-        );
+        )?;
     }
     Ok(0)
 }
@@ -76,25 +80,25 @@ fn print_table(
     lengths: &[usize],
     methods: &[FillMethod],
     get: impl Fn(usize, FillMethod) -> Option<(f64, usize)>,
-) {
-    println!("{title}: mean 3D error ({units}) by gap length");
-    print!("{:>6}", "gap");
+) -> Result<()> {
+    outln!("{title}: mean 3D error ({units}) by gap length")?;
+    out!("{:>6}", "gap")?;
     for m in methods {
-        print!(" {:>10}", method_name(*m));
+        out!(" {:>10}", method_name(*m))?;
     }
-    println!();
+    outln!()?;
     for &len in lengths {
-        print!("{len:>6}");
+        out!("{len:>6}")?;
         for &m in methods {
             match get(len, m) {
                 Some((mean, failed)) if mean.is_finite() => {
                     let mark = if failed > 0 { "*" } else { " " };
-                    print!(" {mean:>9.2}{mark}");
+                    out!(" {mean:>9.2}{mark}")?;
                 }
-                _ => print!(" {:>10}", "-"),
+                _ => out!(" {:>10}", "-")?,
             }
         }
-        println!();
+        outln!()?;
     }
-    println!("  (* some artificial gaps could not be filled by that method)");
+    outln!("  (* some artificial gaps could not be filled by that method)")
 }

@@ -1,7 +1,8 @@
 //! `c3dfix export`: point data (and analog) as CSV, TRC or JSON.
 
 use crate::commands::info::read_c3d;
-use crate::output::write_atomic;
+use crate::console::{errln, out, outln};
+use crate::output::{refuse_input, write_all, write_atomic, Output};
 use anyhow::Result;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -28,6 +29,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<i32> {
+    if let Some(out) = &a.output {
+        refuse_input(out, &[&a.file], "output")?;
+    }
     let c = read_c3d(&a.file)?;
     match a.format {
         ExportFormat::Csv => {
@@ -36,29 +40,37 @@ pub fn run(a: Args) -> Result<i32> {
             match &a.output {
                 Some(out) => {
                     let ana_path = out.with_extension("analog.csv");
+                    let mut outs = vec![Output {
+                        path: out,
+                        bytes: pts.as_bytes(),
+                        replace: a.force,
+                    }];
                     if let Some(text) = &ana {
-                        if !a.force && ana_path.exists() {
-                            anyhow::bail!(
-                                "{} exists (use --force to overwrite)",
-                                ana_path.display()
-                            );
-                        }
-                        write_atomic(out, pts.as_bytes(), a.force)?;
-                        write_atomic(&ana_path, text.as_bytes(), a.force)?;
-                    } else {
-                        write_atomic(out, pts.as_bytes(), a.force)?;
+                        refuse_input(&ana_path, &[&a.file], "analog output")?;
+                        outs.push(Output {
+                            path: &ana_path,
+                            bytes: text.as_bytes(),
+                            replace: a.force,
+                        });
                     }
+                    write_all(&outs)?;
                 }
                 None => {
-                    print!("{pts}");
+                    out!("{pts}")?;
                     if let Some(text) = ana {
-                        println!();
-                        print!("{text}");
+                        outln!()?;
+                        out!("{text}")?;
                     }
                 }
             }
         }
-        ExportFormat::Trc => emit(&a.output, trc(&c, &a.file), a.force)?,
+        ExportFormat::Trc => {
+            let (text, changed) = trc(&c, &a.file);
+            emit(&a.output, text, a.force)?;
+            for l in changed {
+                errln!("c3dfix: warning: {}: label {l:?} holds a tab or line break, which TRC cannot; written with spaces", a.file.display());
+            }
+        }
         ExportFormat::Json => emit(&a.output, json(&c)?, a.force)?,
     }
     Ok(0)
@@ -68,7 +80,7 @@ fn emit(out: &Option<PathBuf>, text: String, force: bool) -> Result<()> {
     match out {
         Some(p) => write_atomic(p, text.as_bytes(), force),
         None => {
-            print!("{text}");
+            out!("{text}")?;
             Ok(())
         }
     }
@@ -83,14 +95,42 @@ fn time_of(c: &c3d::C3d, f: usize) -> f64 {
     }
 }
 
+/// A CSV field as RFC 4180 writes it: in double quotes, with quotes doubled, when it holds
+/// a comma, a quote or a line break; as it is otherwise.
+fn csv_field(f: &str) -> std::borrow::Cow<'_, str> {
+    if f.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", f.replace('"', "\"\"")).into()
+    } else {
+        f.into()
+    }
+}
+
+/// A label for a TRC header, where tabs separate fields and line breaks separate rows: those
+/// characters become spaces. Also whether anything was replaced.
+fn trc_label(l: &str) -> (String, bool) {
+    let clean: String = l
+        .chars()
+        .map(|ch| {
+            if matches!(ch, '\t' | '\n' | '\r') {
+                ' '
+            } else {
+                ch
+            }
+        })
+        .collect();
+    let changed = clean != l;
+    (clean, changed)
+}
+
 /// One row per frame: frame number, time, then X/Y/Z per marker; invalid samples are empty.
 fn points_csv(c: &c3d::C3d) -> String {
     let p = c.points();
     let labels = c.point_labels();
     let mut s = String::from("Frame,Time");
     for l in &labels {
-        let l = l.replace(',', " ");
-        let _ = write!(s, ",{l}_X,{l}_Y,{l}_Z");
+        for axis in ["X", "Y", "Z"] {
+            let _ = write!(s, ",{}", csv_field(&format!("{l}_{axis}")));
+        }
     }
     s.push('\n');
     let first = c.first_frame();
@@ -123,7 +163,7 @@ fn analog_csv(c: &c3d::C3d) -> String {
         } else {
             format!("{l} ({u})")
         };
-        let _ = write!(s, ",{}", name.replace(',', " "));
+        let _ = write!(s, ",{}", csv_field(&name));
     }
     s.push('\n');
     for k in 0..a.samples() {
@@ -138,13 +178,17 @@ fn analog_csv(c: &c3d::C3d) -> String {
 }
 
 /// The Motion Analysis TRC text format (PathFileType 4, X/Y/Z); invalid samples are empty.
-fn trc(c: &c3d::C3d, path: &Path) -> String {
+/// Also the labels that had to be changed to fit it.
+fn trc(c: &c3d::C3d, path: &Path) -> (String, Vec<String>) {
     let p = c.points();
     let labels = c.point_labels();
     let rate = c.point_rate();
     let name = path
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let (name, _) = trc_label(&name);
+    let units = trc_label(&c.point_units()).0;
+    let mut changed = Vec::new();
     let mut s = format!("PathFileType\t4\t(X/Y/Z)\t{name}\n");
     s.push_str("DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\tOrigNumFrames\n");
     let first = c.first_frame();
@@ -153,12 +197,16 @@ fn trc(c: &c3d::C3d, path: &Path) -> String {
         "{rate}\t{rate}\t{}\t{}\t{}\t{rate}\t{first}\t{}",
         p.frames(),
         p.count(),
-        c.point_units(),
+        units,
         p.frames()
     );
     s.push_str("Frame#\tTime");
     for l in &labels {
-        let _ = write!(s, "\t{l}\t\t");
+        let (clean, was_changed) = trc_label(l);
+        if was_changed {
+            changed.push(l.clone());
+        }
+        let _ = write!(s, "\t{clean}\t\t");
     }
     s.push_str("\n\t");
     for i in 1..=p.count() {
@@ -177,7 +225,7 @@ fn trc(c: &c3d::C3d, path: &Path) -> String {
         }
         s.push('\n');
     }
-    s
+    (s, changed)
 }
 
 /// Per-marker arrays (null for invalid samples) and per-channel analog arrays.

@@ -1,6 +1,7 @@
 //! `c3dfix gaps`: every gap of every marker.
 
 use crate::commands::info::read_c3d;
+use crate::console::outln;
 use anyhow::Result;
 use c3dfix::markers::marker_indices;
 use c3dfix::trial::to_trial;
@@ -58,15 +59,15 @@ pub fn run(a: Args) -> Result<i32> {
             "markers": points.len(),
             "gaps": out,
         });
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        outln!("{}", serde_json::to_string_pretty(&v)?)?;
     } else {
-        println!(
+        outln!(
             "{}: {} gaps in {} markers ({} frames)",
             a.file.display(),
             out.len(),
             points.len(),
             c.points().frames()
-        );
+        )?;
         for g in &out {
             let edge = match (g.at_start, g.at_end) {
                 (true, true) => "  (whole trial)",
@@ -74,10 +75,13 @@ pub fn run(a: Args) -> Result<i32> {
                 (false, true) => "  (at end)",
                 _ => "",
             };
-            println!(
+            outln!(
                 "  {:<24} frames {:>6}–{:<6} {:>5} frames{edge}",
-                g.label, g.first_frame, g.last_frame, g.length
-            );
+                g.label,
+                g.first_frame,
+                g.last_frame,
+                g.length
+            )?;
         }
     }
     Ok(0)

@@ -1,5 +1,6 @@
 //! `c3dfix info`: what a file holds, and what is wrong with it.
 
+use crate::console::outln;
 use anyhow::Result;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -30,8 +31,9 @@ struct GroupInfo {
     parameters: Vec<String>,
 }
 
+/// What `info` says about a C3D file.
 #[derive(Serialize)]
-struct Report<'a> {
+pub struct Report<'a> {
     file: String,
     bytes: usize,
     processor: &'static str,
@@ -72,6 +74,17 @@ pub fn run(a: Args) -> Result<i32> {
         return crate::commands::bvh_info::run(&a.file, a.json);
     }
     let c = read_c3d(&a.file)?;
+    let r = describe(&c, &a.file);
+    if a.json {
+        outln!("{}", serde_json::to_string_pretty(&r)?)?;
+    } else {
+        print_text(&r)?;
+    }
+    Ok(0)
+}
+
+/// Everything `info` reports about `c`, read from `file`.
+pub fn describe<'a>(c: &'a c3d::C3d, file: &Path) -> Report<'a> {
     let pts = c.points();
     let labels = c.point_labels();
     let markers = (0..pts.count())
@@ -104,8 +117,8 @@ pub fn run(a: Args) -> Result<i32> {
         .filter(|&k| pts.is_valid_at(k) && pts.xyz[k] == [0.0; 3])
         .count();
     let rate = c.point_rate();
-    let r = Report {
-        file: a.file.display().to_string(),
+    Report {
+        file: file.display().to_string(),
         bytes: c.source_bytes().map_or(0, |b| b.len()),
         processor: c.processor().name(),
         format: c.format().name(),
@@ -138,72 +151,82 @@ pub fn run(a: Args) -> Result<i32> {
         header_events: c.header_events(),
         events: c.events(),
         warnings: c.warnings().iter().map(|w| w.to_string()).collect(),
-    };
-    if a.json {
-        println!("{}", serde_json::to_string_pretty(&r)?);
-    } else {
-        print_text(&r);
     }
-    Ok(0)
 }
 
 /// From this many valid samples at the exact origin on, `info` names `--zero-invalid`: a real
 /// marker lands on (0, 0, 0) to the last bit rarely, a writer's stand-in for "missing" often.
 const ORIGIN_NOTE: usize = 10;
 
-fn print_text(r: &Report) {
-    println!("{}  ({} bytes)", r.file, r.bytes);
-    println!(
+fn print_text(r: &Report) -> Result<()> {
+    outln!("{}  ({} bytes)", r.file, r.bytes)?;
+    outln!(
         "  format       {} processor, {} data",
-        r.processor, r.format
-    );
-    println!(
+        r.processor,
+        r.format
+    )?;
+    outln!(
         "  frames       {} (first {}), {} Hz, {:.3} s",
-        r.frames, r.first_frame, r.point_rate, r.duration_s
-    );
-    println!(
+        r.frames,
+        r.first_frame,
+        r.point_rate,
+        r.duration_s
+    )?;
+    outln!(
         "  points       {} ({}, POINT:SCALE {})",
-        r.points, r.point_units, r.point_scale
-    );
+        r.points,
+        r.point_units,
+        r.point_scale
+    )?;
     if r.analog_channels > 0 {
-        println!(
+        outln!(
             "  analog       {} channels at {} Hz ({} samples per frame)",
-            r.analog_channels, r.analog_rate, r.analog_samples_per_frame
-        );
+            r.analog_channels,
+            r.analog_rate,
+            r.analog_samples_per_frame
+        )?;
     } else {
-        println!("  analog       none");
+        outln!("  analog       none")?;
     }
-    println!(
+    outln!(
         "  header       parameters at block {}, data at block {}, max gap {}",
-        r.header.parameter_block, r.header.data_start, r.header.max_gap
-    );
+        r.header.parameter_block,
+        r.header.data_start,
+        r.header.max_gap
+    )?;
     let with_gaps: Vec<_> = r.markers.iter().filter(|m| m.gaps > 0).collect();
     if r.origin_samples >= ORIGIN_NOTE {
-        println!(
+        outln!(
             "  note         {} valid samples sit exactly at (0, 0, 0); if this writer stores missing points that way, use --zero-invalid with gaps, repair and batch",
             r.origin_samples
-        );
+        )?;
     }
-    println!(
+    outln!(
         "  markers      {} with gaps out of {}",
         with_gaps.len(),
         r.markers.len()
-    );
+    )?;
     if !r.markers.is_empty() {
-        println!(
+        outln!(
             "    {:<24} {:>8} {:>6} {:>8}",
-            "label", "valid", "gaps", "longest"
-        );
+            "label",
+            "valid",
+            "gaps",
+            "longest"
+        )?;
         for m in &r.markers {
-            println!(
+            outln!(
                 "    {:<24} {:>8} {:>6} {:>8}",
-                m.label, m.valid_frames, m.gaps, m.longest_gap
-            );
+                m.label,
+                m.valid_frames,
+                m.gaps,
+                m.longest_gap
+            )?;
         }
     }
-    println!("  groups");
+    outln!("  groups")?;
     for g in &r.groups {
-        println!(
+        outln!(
             "    {:<16}{} {} parameters{}",
             g.name,
             if g.locked { " (locked)" } else { "" },
@@ -213,23 +236,24 @@ fn print_text(r: &Report) {
             } else {
                 format!("  — {}", g.description)
             }
-        );
+        )?;
     }
     if !r.header_events.is_empty() || !r.events.is_empty() {
-        println!("  events");
+        outln!("  events")?;
         for e in &r.header_events {
-            println!("    header  {:<8} {:>9.3} s", e.label, e.time);
+            outln!("    header  {:<8} {:>9.3} s", e.label, e.time)?;
         }
         for e in &r.events {
-            println!("    {:<7} {:<16} {:>9.3} s", e.context, e.label, e.time);
+            outln!("    {:<7} {:<16} {:>9.3} s", e.context, e.label, e.time)?;
         }
     }
     if r.warnings.is_empty() {
-        println!("  warnings     none");
+        outln!("  warnings     none")?;
     } else {
-        println!("  warnings");
+        outln!("  warnings")?;
         for w in &r.warnings {
-            println!("    - {w}");
+            outln!("    - {w}")?;
         }
     }
+    Ok(())
 }

@@ -50,7 +50,7 @@ where
                 } else if let Err(e) = &r {
                     match &bar {
                         Some(b) => b.println(format!("failed: {e}")),
-                        None => eprintln!("failed: {e}"),
+                        None => crate::console::errln!("failed: {e}"),
                     }
                 }
                 if let Some(b) = &bar {

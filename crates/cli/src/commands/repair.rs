@@ -1,10 +1,13 @@
-//! `c3dfix repair`: spikes → fill → filter on one file, written back as a valid C3D.
+//! `c3dfix repair`: spikes → fill → filter on one file, written back as a valid C3D, through
+//! the library ([`c3dfix::repair`]).
 
+use crate::commands::info::read_c3d;
 use crate::commands::repair_io::{self, RepairArgs};
-use anyhow::Result;
-use c3dfix::save::{check_destination, write_atomic};
-use c3dfix::{SaveOptions, Summary};
-use std::path::PathBuf;
+use crate::console::outln;
+use crate::output::{check_destination, new_backup, refuse_input, write_all, Output};
+use anyhow::{Context, Result};
+use c3dfix::Summary;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -18,10 +21,11 @@ pub struct Args {
     /// With --in-place: keep the original as FILE.bak (an existing backup is kept as is).
     #[arg(long)]
     pub backup: bool,
-    /// Replace an existing output file.
+    /// Replace an existing output (and report) file.
     #[arg(long)]
     pub force: bool,
-    /// Write the full report (every gap and what filled it, spikes, filter segments) here.
+    /// Write the full report (every gap and what filled it, spikes, filter segments) here;
+    /// an existing file is replaced only with --force, and never the input or the output.
     #[arg(long)]
     pub report: Option<PathBuf>,
     /// Print the summary as JSON.
@@ -31,42 +35,89 @@ pub struct Args {
     pub repair: RepairArgs,
 }
 
+/// A repair done in memory: the repaired file's bytes, the full report, the summary.
+pub struct Repaired {
+    pub bytes: Vec<u8>,
+    pub report: serde_json::Value,
+    pub summary: Summary,
+}
+
+/// Repair `c` (read from `input`, to be written to `output`, with its original kept at
+/// `backup` when given) in memory; nothing is written, so every destination can be checked
+/// and written together afterwards.
+pub fn repair_c3d(
+    c: &mut c3d::C3d,
+    input: &Path,
+    output: &Path,
+    a: &RepairArgs,
+    backup: Option<&Path>,
+) -> Result<Repaired> {
+    let mut done = c3dfix::repair(c, &a.options(), input)?;
+    done.summary.output = output.display().to_string();
+    done.summary.backup = backup.map(|b| b.display().to_string());
+    let bytes = c
+        .to_bytes()
+        .with_context(|| format!("writing the repaired {}", input.display()))?;
+    Ok(Repaired {
+        bytes,
+        report: done.report(),
+        summary: done.summary,
+    })
+}
+
 pub fn run(a: Args) -> Result<i32> {
     let out = repair_io::output_path(&a.input, &a.output, a.in_place)?;
     if a.backup && !a.in_place {
         anyhow::bail!("--backup goes with --in-place");
     }
     a.repair.check()?;
-    let save = SaveOptions {
-        force: a.force || a.in_place,
-        backup: a.backup,
+    let overwrite = a.force || a.in_place;
+    // Every destination is checked before the work, and written together after it.
+    check_destination(&out, overwrite)?;
+    if let Some(r) = &a.report {
+        refuse_input(r, &[&a.input, &out], "--report")?;
+        check_destination(r, a.force)?;
+    }
+    let backup = if a.backup { new_backup(&a.input) } else { None };
+    let mut c = read_c3d(&a.input)?;
+    let r = repair_c3d(&mut c, &a.input, &out, &a.repair, backup.as_deref())?;
+    let report = match &a.report {
+        Some(_) => serde_json::to_string_pretty(&r.report)?,
+        None => String::new(),
     };
-    // Every destination is checked before the first is written, so that a run writes all
-    // of its outputs or none.
-    check_destination(&out, save.force)?;
-    if let Some(r) = &a.report {
-        check_destination(r, true)?;
+    let mut outs = Vec::with_capacity(3);
+    if let Some(b) = &backup {
+        outs.push(Output {
+            path: b,
+            bytes: c.source_bytes().unwrap_or_default(),
+            replace: false,
+        });
     }
-    let done = c3dfix::repair_file(&a.input, &out, &a.repair.options(), &save)?;
-    let s = &done.summary;
-    if let Some(r) = &a.report {
-        write_atomic(
-            r,
-            serde_json::to_string_pretty(&done.report())?.as_bytes(),
-            true,
-        )?;
+    outs.push(Output {
+        path: &out,
+        bytes: &r.bytes,
+        replace: overwrite,
+    });
+    if let Some(path) = &a.report {
+        outs.push(Output {
+            path,
+            bytes: report.as_bytes(),
+            replace: a.force,
+        });
     }
+    write_all(&outs)?;
+    let s = r.summary;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(s)?);
+        outln!("{}", serde_json::to_string_pretty(&s)?)?;
     } else {
-        print_summary(s);
+        print_summary(&s)?;
     }
     Ok(0)
 }
 
 /// The few lines a person reads after a repair.
-pub fn print_summary(s: &Summary) {
-    println!("repaired {} -> {}", s.file, s.output);
+pub fn print_summary(s: &Summary) -> Result<()> {
+    outln!("repaired {} -> {}", s.file, s.output)?;
     let by: Vec<String> = s
         .filled_by
         .iter()
@@ -77,7 +128,7 @@ pub fn print_summary(s: &Summary) {
         .iter()
         .map(|(m, n)| format!("{m} {n}"))
         .collect();
-    println!(
+    outln!(
         "  gaps     {} found in {} markers: {} filled ({}), {} left{}",
         s.gaps,
         s.markers,
@@ -93,27 +144,30 @@ pub fn print_summary(s: &Summary) {
         } else {
             format!(" ({})", left.join(", "))
         }
-    );
+    )?;
     if s.spikes > 0 {
-        println!("  spikes   {} found", s.spikes);
+        outln!("  spikes   {} found", s.spikes)?;
     }
     if s.segments_filtered + s.segments_too_short > 0 {
-        println!(
+        outln!(
             "  filter   {} segments filtered, {} too short (left unfiltered)",
-            s.segments_filtered, s.segments_too_short
-        );
+            s.segments_filtered,
+            s.segments_too_short
+        )?;
     }
-    println!(
+    outln!(
         "  changed  {} samples in {} markers",
-        s.samples_changed, s.markers_changed
-    );
+        s.samples_changed,
+        s.markers_changed
+    )?;
     if s.model_outputs_left > 0 {
-        println!(
+        outln!(
             "  kept     {} model outputs (angles, forces, …) untouched",
             s.model_outputs_left
-        );
+        )?;
     }
     if let Some(b) = &s.backup {
-        println!("  backup   {b}");
+        outln!("  backup   {b}")?;
     }
+    Ok(())
 }

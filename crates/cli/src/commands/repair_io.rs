@@ -1,6 +1,7 @@
 //! The repair options shared by `repair` and `batch`, as command-line arguments: they become
 //! the library's [`c3dfix::RepairOptions`], which checks them.
 
+use crate::ranges;
 use anyhow::{bail, Result};
 use std::path::{Path, PathBuf};
 
@@ -10,11 +11,11 @@ pub struct RepairArgs {
     /// Fill method: auto, linear, lagrange2, lagrange5, spline, rigid, pattern, pca, none.
     #[arg(long, default_value = "auto")]
     pub fill: String,
-    /// Longest gap (frames) to fill; longer ones are left and reported (1 to 4294967295).
-    #[arg(long, default_value_t = 200)]
+    /// Longest gap (frames, 1 or more) to fill; longer ones are left and reported.
+    #[arg(long, default_value_t = 200, value_parser = ranges::max_gap)]
     pub max_gap: usize,
     /// Remove spikes first: `hampel[:K[:NSIGMA]]` (window of K samples each side, 1 to 1000,
-    /// default 5; NSIGMA scaled MADs above 0, default 3). Off by default.
+    /// default 5; NSIGMA scaled MADs, a finite number above 0, default 3). Off by default.
     #[arg(long)]
     pub spikes: Option<String>,
     /// What to do with a spike: `gap` (refill it with the fill method) or `median` (replace
@@ -22,15 +23,16 @@ pub struct RepairArgs {
     #[arg(long, default_value = "gap")]
     pub spike_mode: String,
     /// Deviations from the window median below this many millimetres are never spikes
-    /// (keeps measurement noise on still coordinates from being flagged; 0 or more).
-    #[arg(long, default_value_t = 5.0)]
+    /// (keeps measurement noise on still coordinates from being flagged); 0 or more.
+    #[arg(long, default_value_t = 5.0, value_parser = ranges::non_negative)]
     pub spike_min_mm: f64,
     /// Judge raw coordinates (the classic Hampel identifier, as MATLAB's hampel) instead of
     /// residuals from a local robust prediction, which also finds spikes along fast motion.
     #[arg(long)]
     pub spike_classic: bool,
     /// Low-pass filter, zero-phase: `butterworth:ORDER:CUTOFF_HZ` or
-    /// `cheby2:ORDER:CUTOFF_HZ:ATTEN_DB`. Off by default.
+    /// `cheby2:ORDER:CUTOFF_HZ:ATTEN_DB` (ORDER 1 to 10; CUTOFF_HZ above 0 and below half the
+    /// frame rate; ATTEN_DB above 0, at most 200). Off by default.
     #[arg(long)]
     pub lowpass: Option<String>,
     /// Repair only these markers (comma-separated labels); all markers still serve as donors.

@@ -38,8 +38,8 @@ pub struct TargetArgs {
     /// Replace existing output files (in place, files are always replaced).
     #[arg(long)]
     pub force: bool,
-    /// Files worked on at once (default: one per core).
-    #[arg(long)]
+    /// Files worked on at once, 1 to 256 (default: one per core).
+    #[arg(long, value_parser = crate::ranges::jobs)]
     pub jobs: Option<usize>,
     /// One JSON line per file, then a JSON summary line.
     #[arg(long)]

@@ -14,6 +14,15 @@ pub use filtfilt::{lfilter_zi, padlen};
 
 type C64 = Complex<f64>;
 
+/// Highest filter order. The filters run in transfer-function form (as scipy's `filtfilt`
+/// with `b, a`), whose coefficients lose precision as the order grows; beyond this the
+/// design is refused rather than run inaccurately.
+pub const MAX_ORDER: usize = 10;
+
+/// Highest Chebyshev II stopband attenuation, in dB: 200 dB is a ratio of 1e10, well inside
+/// what double precision resolves.
+pub const MAX_ATTEN_DB: f64 = 200.0;
+
 /// Which low-pass filter to run over each continuous valid segment. The sample rate comes
 /// from the trial, so one spec serves trials recorded at different rates.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -40,14 +49,14 @@ impl FilterSpec {
                 cutoff_hz,
                 atten_db,
             } => {
-                if !(atten_db > 0.0 && atten_db.is_finite()) {
+                if !(atten_db > 0.0 && atten_db <= MAX_ATTEN_DB) {
                     return Err(RepairError::Attenuation(atten_db));
                 }
                 (order, cutoff_hz)
             }
         };
-        if order == 0 {
-            return Err(RepairError::FilterOrder);
+        if !(1..=MAX_ORDER).contains(&order) {
+            return Err(RepairError::FilterOrder(order));
         }
         if !(cutoff > 0.0 && cutoff.is_finite()) {
             return Err(RepairError::CutoffNotPositive(cutoff));
@@ -86,7 +95,7 @@ impl Iir {
     /// Low-pass Chebyshev type II with stopband edge `cutoff_hz` and `atten_db` of stopband
     /// attenuation, as `scipy.signal.cheby2`.
     pub fn cheby2(order: usize, cutoff_hz: f64, atten_db: f64, fs: f64) -> Result<Iir> {
-        if !(atten_db > 0.0 && atten_db.is_finite()) {
+        if !(atten_db > 0.0 && atten_db <= MAX_ATTEN_DB) {
             return Err(RepairError::Attenuation(atten_db));
         }
         let wn = normalized_cutoff(order, cutoff_hz, fs)?;
@@ -108,8 +117,8 @@ impl Iir {
 
 /// Cutoff as a fraction of Nyquist, validated as scipy's iirfilter does.
 fn normalized_cutoff(order: usize, cutoff_hz: f64, fs: f64) -> Result<f64> {
-    if order == 0 {
-        return Err(RepairError::FilterOrder);
+    if !(1..=MAX_ORDER).contains(&order) {
+        return Err(RepairError::FilterOrder(order));
     }
     if !(fs > 0.0 && fs.is_finite()) {
         return Err(RepairError::SampleRate(fs));
@@ -172,7 +181,7 @@ mod tests {
     fn invalid_designs_are_typed_errors() {
         assert_eq!(
             Iir::butterworth(0, 6.0, 100.0),
-            Err(RepairError::FilterOrder)
+            Err(RepairError::FilterOrder(0))
         );
         assert!(matches!(
             Iir::butterworth(4, 50.0, 100.0),

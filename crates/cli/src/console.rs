@@ -1,0 +1,53 @@
+//! Standard output and error without panics. `println!` panics when standard output cannot
+//! be written (`c3dfix info FILE > /dev/full`); these macros return the failure as an error
+//! instead, so the command ends with a message and exit code 2 — after `repair` and `batch`
+//! have written their files, a lost summary is no reason to crash.
+
+use std::fmt;
+use std::io::Write;
+
+/// Write formatted text to standard output; the error names standard output.
+pub fn write_stdout(args: fmt::Arguments) -> anyhow::Result<()> {
+    let mut out = std::io::stdout().lock();
+    out.write_fmt(args)
+        .map_err(|e| anyhow::anyhow!("cannot write to standard output: {e}"))
+}
+
+/// Flush standard output (its last line may still be buffered).
+pub fn flush_stdout() -> anyhow::Result<()> {
+    std::io::stdout()
+        .flush()
+        .map_err(|e| anyhow::anyhow!("cannot write to standard output: {e}"))
+}
+
+/// Write formatted text to standard error. Failure is ignored: there is nowhere left to say
+/// anything, and a message is never worth a crash.
+pub fn write_stderr(args: fmt::Arguments) {
+    let _ = std::io::stderr().lock().write_fmt(args);
+}
+
+/// `print!` that returns `anyhow::Result<()>` instead of panicking.
+macro_rules! out {
+    ($($t:tt)*) => {
+        $crate::console::write_stdout(format_args!($($t)*))
+    };
+}
+
+/// `println!` that returns `anyhow::Result<()>` instead of panicking.
+macro_rules! outln {
+    () => {
+        $crate::console::write_stdout(format_args!("\n"))
+    };
+    ($($t:tt)*) => {
+        $crate::console::write_stdout(format_args!("{}\n", format_args!($($t)*)))
+    };
+}
+
+/// `eprintln!` that never panics.
+macro_rules! errln {
+    ($($t:tt)*) => {
+        $crate::console::write_stderr(format_args!("{}\n", format_args!($($t)*)))
+    };
+}
+
+pub(crate) use {errln, out, outln};

@@ -1,0 +1,89 @@
+//! What the `repair` fuzz target checks, shared with the test that replays what it found.
+//!
+//! For any bytes that read as a C3D file with points: `c3dfix repair` (run in memory, with
+//! options picked from the input's last byte) either fails with an error or gives bytes that
+//! read back with the same shape, that `info` can describe, and in which every sample the
+//! repair left alone (residual above 0 afterwards) and every analog value is as it was.
+
+use c3dfix_cli::commands::info::describe;
+use c3dfix_cli::commands::repair::repair_c3d;
+use c3dfix_cli::commands::repair_io::RepairArgs;
+use std::path::Path;
+
+/// The repair options for an input: its last byte picks the fill method, spikes and filter.
+fn options(data: &[u8]) -> RepairArgs {
+    let k = data.last().copied().unwrap_or(0);
+    let fill = [
+        "linear",
+        "spline",
+        "auto",
+        "rigid",
+        "pca",
+        "lagrange5",
+        "pattern",
+        "none",
+    ];
+    RepairArgs {
+        fill: fill[(k & 7) as usize].into(),
+        max_gap: 200,
+        spikes: (k & 8 != 0).then(|| "hampel:5:3".into()),
+        spike_mode: if k & 16 != 0 { "median" } else { "gap" }.into(),
+        spike_min_mm: 5.0,
+        spike_classic: k & 32 != 0,
+        lowpass: match k >> 6 {
+            1 => Some("butterworth:4:6".into()),
+            2 => Some("cheby2:4:10:40".into()),
+            _ => None,
+        },
+        markers: None,
+        zero_invalid: k & 1 != 0,
+    }
+}
+
+pub fn check(data: &[u8]) {
+    let Ok(mut c) = c3d::read(data.to_vec()) else {
+        return;
+    };
+    let input = Path::new("fuzz-input.c3d");
+    serde_json::to_string(&describe(&c, input)).expect("info on the input serialises");
+    if c.points().count() == 0 {
+        return;
+    }
+    let original = c.clone();
+    let Ok(r) = repair_c3d(
+        &mut c,
+        input,
+        Path::new("fuzz-output.c3d"),
+        &options(data),
+        None,
+    ) else {
+        return;
+    };
+    let out = match c3d::read(r.bytes) {
+        Ok(out) => out,
+        Err(e) => panic!("the repaired file does not read: {e}"),
+    };
+    serde_json::to_string(&describe(&out, Path::new("fuzz-output.c3d")))
+        .expect("info on the output serialises");
+    let (a, b) = (original.points(), out.points());
+    assert_eq!(b.frames(), a.frames(), "frames");
+    assert_eq!(b.count(), a.count(), "points");
+    assert_eq!(out.point_labels(), original.point_labels(), "labels");
+    for k in 0..a.xyz.len() {
+        if b.residual[k] > 0.0 {
+            let same = a.xyz[k].map(f32::to_bits) == b.xyz[k].map(f32::to_bits)
+                && a.residual[k].to_bits() == b.residual[k].to_bits();
+            assert!(
+                same,
+                "sample {k} not repaired but changed: {:?} -> {:?}",
+                (a.xyz[k], a.residual[k]),
+                (b.xyz[k], b.residual[k])
+            );
+        }
+    }
+    let (x, y) = (original.analog(), out.analog());
+    assert_eq!(y.channels(), x.channels(), "analog channels");
+    assert_eq!(y.samples(), x.samples(), "analog samples");
+    let bits = |v: &[f32]| v.iter().map(|f| f.to_bits()).collect::<Vec<_>>();
+    assert!(bits(&x.raw) == bits(&y.raw), "analog values changed");
+}

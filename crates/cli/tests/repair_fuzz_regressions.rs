@@ -1,0 +1,35 @@
+//! Replays every input on which the `repair` fuzz target once failed (kept in
+//! `tests/fuzz-regressions/`), and the shared corpora, through the target's checks.
+
+mod common {
+    pub mod repair_check;
+}
+
+#[test]
+fn repair_fuzz_regressions_replay() {
+    let dir = testkit::workspace_root().join("crates/cli/tests/fuzz-regressions");
+    let mut n = 0;
+    for e in std::fs::read_dir(&dir)
+        .expect("regression folder")
+        .flatten()
+    {
+        if e.path().extension().is_some_and(|x| x == "md") {
+            continue;
+        }
+        let data = std::fs::read(e.path()).expect("read regression file");
+        common::repair_check::check(&data);
+        n += 1;
+    }
+    eprintln!("{n} regression inputs replayed");
+}
+
+#[test]
+fn small_corpus_files_pass_the_repair_checks() {
+    // The repair is the slow part: files up to 300 kB, as the fuzz corpus takes them.
+    for f in testkit::all_c3d_files() {
+        let data = std::fs::read(&f).expect("read corpus file");
+        if data.len() <= 300_000 {
+            common::repair_check::check(&data);
+        }
+    }
+}
