@@ -2,7 +2,7 @@
 //! error per method and gap length.
 
 use crate::commands::info::read_c3d;
-use crate::commands::repair_io::{fill_method, marker_indices, method_name, trial};
+use crate::commands::repair_io::{fill_method, marker_indices, method_name, mm_per_unit, trial};
 use anyhow::{bail, Result};
 use repair::{EvalConfig, FillMethod};
 use std::collections::BTreeMap;
@@ -60,7 +60,14 @@ pub fn run(a: Args) -> Result<i32> {
                 points.len()
             );
         }
-        let t = trial(&c, &points, false)?;
+        // Errors are reported in mm whatever the file's units, so files pool.
+        let mut t = trial(&c, &points, false)?;
+        let k = mm_per_unit(&c.point_units());
+        if k != 1.0 {
+            for p in t.xyz.iter_mut().flatten() {
+                *p = p.map(|x| x * k);
+            }
+        }
         let rows = match &a.markers {
             None => None,
             Some(names) => {
@@ -102,13 +109,13 @@ pub fn run(a: Args) -> Result<i32> {
         if !a.json {
             print_table(
                 &f.display().to_string(),
-                &c.point_units(),
+                "mm",
                 &a.gap_lengths,
                 &methods,
                 |len, m| ev.score(m, len).map(|s| (s.mean, s.failed)),
             );
         }
-        all.push(serde_json::json!({"file": f.display().to_string(), "units": c.point_units(), "evaluation": ev}));
+        all.push(serde_json::json!({"file": f.display().to_string(), "file_units": c.point_units(), "units": "mm", "evaluation": ev}));
     }
     let pooled_rows: Vec<_> = pooled
         .iter()

@@ -55,11 +55,34 @@ pub struct Summary {
     /// Repaired samples clamped to the integer range of POINT:SCALE (integer files only).
     pub samples_clamped: usize,
     pub markers_changed: usize,
+    /// Largest and mean expected error of the filled gaps, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub expected_error_mm_max: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub expected_error_mm_mean: Option<f64>,
+    /// Every gap: where, what became of it, and its expected error in mm.
+    pub gap_list: Vec<GapBrief>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub backup: Option<String>,
     /// Why the file was left as it was (batch only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped: Option<String>,
+}
+
+/// One gap in a summary.
+#[derive(Debug, Clone, Serialize)]
+pub struct GapBrief {
+    pub label: String,
+    pub first: usize,
+    pub last: usize,
+    /// The method that filled it (`auto`: the one it chose), or why it was left.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub method: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    /// Expected mean 3D error of the fill, mm (for `uncertain` gaps: of the fill withheld).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub expected_error_mm: Option<f64>,
 }
 
 /// Repair `input` into `output`; the full report as JSON, and the summary.
@@ -104,21 +127,50 @@ pub fn repair_read(
         ..Summary::default()
     };
     let mut gaps_json = Vec::new();
+    let mm = repair_io::mm_per_unit(&c.point_units());
+    let mut expected = Vec::new();
     for g in report.gaps.iter().filter(|g| in_scope(g.gap.marker)) {
         s.gaps += 1;
+        let mut brief = GapBrief {
+            label: row_label(g.gap.marker),
+            first: g.gap.first,
+            last: g.gap.last,
+            method: None,
+            reason: None,
+            expected_error_mm: None,
+        };
         match g.outcome {
-            FillOutcome::Filled { method, .. } => {
+            FillOutcome::Filled {
+                method,
+                expected_error,
+                ..
+            } => {
                 s.filled += 1;
                 *s.filled_by.entry(method_name(method)).or_default() += 1;
+                brief.method = Some(method_name(method));
+                brief.expected_error_mm = expected_error.map(|e| e * mm);
+                expected.extend(brief.expected_error_mm);
             }
             FillOutcome::Skipped(reason) => {
                 s.left += 1;
                 *s.left_because.entry(reason.name().to_string()).or_default() += 1;
+                brief.reason = Some(reason.name().to_string());
+                if let repair::SkipReason::Uncertain { expected_error, .. } = reason {
+                    brief.expected_error_mm = Some(expected_error * mm);
+                }
             }
         }
         let mut v = serde_json::to_value(g)?;
         v["label"] = row_label(g.gap.marker).into();
+        if let Some(e) = brief.expected_error_mm {
+            v["expected_error_mm"] = e.into();
+        }
         gaps_json.push(v);
+        s.gap_list.push(brief);
+    }
+    if !expected.is_empty() {
+        s.expected_error_mm_max = Some(expected.iter().copied().fold(0.0, f64::max));
+        s.expected_error_mm_mean = Some(expected.iter().sum::<f64>() / expected.len() as f64);
     }
     let spikes: Vec<_> = report
         .spikes
@@ -227,6 +279,22 @@ pub fn print_summary(s: &Summary) {
             format!(" ({})", left.join(", "))
         }
     );
+    if let (Some(mean), Some(max)) = (s.expected_error_mm_mean, s.expected_error_mm_max) {
+        println!("  expected fill error {mean:.2} mm on average, {max:.2} mm at most");
+    }
+    for g in s
+        .gap_list
+        .iter()
+        .filter(|g| g.reason.as_deref() == Some("uncertain"))
+    {
+        println!(
+            "  uncertain {} frames {}..{}: expected error {:.1} mm (left unfilled)",
+            g.label,
+            g.first,
+            g.last,
+            g.expected_error_mm.unwrap_or(f64::NAN)
+        );
+    }
     if s.spikes > 0 {
         println!("  spikes   {} found", s.spikes);
     }
