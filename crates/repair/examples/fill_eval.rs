@@ -454,11 +454,12 @@ fn fit(gs: &[&GapScore]) -> Option<([f64; 3], f64)> {
         if m[c][c].abs() < 1e-12 {
             return None;
         }
-        for r in 0..3 {
+        let pivot = m[c];
+        for (r, row) in m.iter_mut().enumerate() {
             if r != c {
-                let f = m[r][c] / m[c][c];
-                for k in c..4 {
-                    m[r][k] -= f * m[c][k];
+                let f = row[c] / pivot[c];
+                for (x, p) in row.iter_mut().zip(pivot).skip(c) {
+                    *x -= f * p;
                 }
             }
         }

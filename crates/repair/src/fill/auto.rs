@@ -12,6 +12,7 @@
 //! trial is scored with never saw the trial's hole.
 //! Without any artificial gap, PCA is used for long gaps and the quintic for short ones.
 
+use super::skeleton::Skeleton;
 use super::{
     dist, fill_with, linear, step_ratio, FillMethod, FillOptions, FillOutcome, Plan, SkipReason,
     Span, Target, STEP_FACTOR,
@@ -56,6 +57,8 @@ pub(crate) struct Choice {
     pub second: Option<(FillMethod, f64)>,
     pub third: Option<(FillMethod, f64)>,
     pub expected_error: Option<f64>,
+    /// Whether the fill (or a part of the blend) was held to the skeleton.
+    pub skeleton: bool,
     /// What the expected error was made from (see [`Diag`]).
     pub diag: Option<Diag>,
 }
@@ -77,6 +80,7 @@ impl Choice {
             second: None,
             third: None,
             expected_error: None,
+            skeleton: false,
             diag: None,
         }
     }
@@ -89,6 +93,7 @@ impl Choice {
             blended_with_2: self.third.map(|s| s.0),
             weight_2: self.third.map(|s| s.1),
             expected_error: self.expected_error,
+            skeleton: self.skeleton,
         }
     }
 }
@@ -200,6 +205,24 @@ pub(super) fn fill_checked(
     if shortened && fills.iter().any(|(m, _)| !m.is_polynomial()) {
         fills.retain(|(m, _)| !m.is_polynomial());
     }
+    // Long gaps: each fill also held to the skeleton (Tits et al. 2018), as a candidate of
+    // its own, so the artificial gaps say whether the constraint helps here. Short gaps
+    // drift too little for it to matter.
+    let mut skel = vec![false; fills.len()];
+    if len >= LONG {
+        if let Some(sk) = Skeleton::new(t, span, plan, opts) {
+            for c in 0..fills.len() {
+                if fills[c].0 == FillMethod::Hold {
+                    continue;
+                }
+                let mut v = fills[c].1.clone();
+                if sk.apply(t, span, &mut v) && step_ratio(t, span, &v) <= STEP_FACTOR {
+                    fills.push((fills[c].0, v));
+                    skel.push(true);
+                }
+            }
+        }
+    }
 
     // preds[c]: candidate c's predictions over the artificial gaps where every candidate
     // succeeded (so all are compared on the same samples), truth: the true samples.
@@ -223,6 +246,8 @@ pub(super) fn fill_checked(
                 fills.retain(|_| *k.next().unwrap_or(&true));
                 let mut k = keep.iter();
                 preds.retain(|_| *k.next().unwrap_or(&true));
+                let mut k = keep.iter();
+                skel.retain(|_| *k.next().unwrap_or(&true));
             }
         }
         let tt = Target {
@@ -231,12 +256,29 @@ pub(super) fn fill_checked(
             data: t.data,
         };
         let p = tr.plan.map_or(plan, |i| &plans[i]);
-        let mut got = Vec::with_capacity(fills.len());
-        for (m, _) in &fills {
-            match fill_with(*m, &tt, tr.span, p, opts) {
-                Ok(v) => got.push(v),
-                Err(_) => break,
+        let mut got: Vec<Vec<[f64; 3]>> = Vec::with_capacity(fills.len());
+        let mut sk: Option<Option<Skeleton>> = None;
+        for (c, (m, _)) in fills.iter().enumerate() {
+            // A constrained candidate follows its method's plain fill of this trial.
+            let base = if skel[c] {
+                (0..c).find(|&b| !skel[b] && fills[b].0 == *m)
+            } else {
+                None
+            };
+            let mut v = match base {
+                Some(b) => got[b].clone(),
+                None => match fill_with(*m, &tt, tr.span, p, opts) {
+                    Ok(v) => v,
+                    Err(_) => break,
+                },
+            };
+            if skel[c] {
+                let s = sk.get_or_insert_with(|| Skeleton::new(&tt, tr.span, p, opts));
+                if let Some(s) = s {
+                    s.apply(&tt, tr.span, &mut v);
+                }
             }
+            got.push(v);
         }
         if got.len() < fills.len() {
             continue;
@@ -290,6 +332,7 @@ pub(super) fn fill_checked(
     let out: Vec<[f64; 3]> = (0..len)
         .map(|i| combine(&blend, |c| fills[c].1[i]))
         .collect();
+
     let others: Vec<(FillMethod, f64)> = blend[1..].iter().map(|&(c, w)| (fills[c].0, w)).collect();
     let spread = match order.get(1) {
         Some(&(_, c1)) => {
@@ -304,6 +347,7 @@ pub(super) fn fill_checked(
         len,
     };
     let choice = Choice {
+        skeleton: blend.iter().any(|&(c, _)| skel[c]),
         method: fills[blend[0].0].0,
         second: others.first().copied(),
         third: others.get(1).copied(),
@@ -358,8 +402,8 @@ fn fallback(mut fills: Vec<(FillMethod, Vec<[f64; 3]>)>, len: usize) -> (Vec<[f6
 /// leave-one-lab-out), with the offset that leaves 5 % of those gaps above twice their
 /// estimate: the estimate is meant to vouch for a fill.
 pub(crate) fn calibrated(d: &Diag) -> f64 {
-    const BETA: [f64; 3] = [0.5439, 0.3495, -0.2014];
-    const OFFSET: f64 = 0.6310;
+    const BETA: [f64; 3] = [0.1862, 0.2601, -0.0358];
+    const OFFSET: f64 = 0.4560;
     let s = d.scored.max(1e-12);
     let q = (d.spread / s).clamp(0.05, 20.0);
     s * (BETA[0] + BETA[1] * q.ln() + BETA[2] * (d.len as f64).ln() + OFFSET).exp()

@@ -9,6 +9,7 @@ mod pca;
 mod plan;
 mod poly;
 mod rigid;
+mod skeleton;
 mod spline;
 
 use serde::Serialize;
@@ -225,6 +226,11 @@ pub enum FillOutcome {
         /// artificial gaps nearby, calibrated on real trials (see `auto`).
         #[serde(skip_serializing_if = "Option::is_none")]
         expected_error: Option<f64>,
+        /// The fill was held to the skeleton: each distance to a neighbouring marker
+        /// within the interval it spans in the recorded data (long gaps, when that scored
+        /// better on the artificial gaps).
+        #[serde(skip_serializing_if = "std::ops::Not::not")]
+        skeleton: bool,
     },
     Skipped(SkipReason),
 }
