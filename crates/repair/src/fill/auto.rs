@@ -139,10 +139,12 @@ pub(super) fn fill_checked(
             Ok(v) if !estimate => return Ok((v, Choice::single(m))),
             Ok(v) => {
                 let r = step_ratio(t, span, &v);
-                if r > STEP_FACTOR {
-                    implausible = implausible.min(r);
-                } else {
+                if r <= STEP_FACTOR {
                     fills.push((m, v));
+                } else if let Some(d) = slowed(t, span, &v) {
+                    fills.push((m, d));
+                } else {
+                    implausible = implausible.min(r);
                 }
             }
             Err(r) => {
@@ -278,6 +280,12 @@ pub(super) fn fill_checked(
                     s.apply(&tt, tr.span, &mut v);
                 }
             }
+            // Scored as it would be used: slowed down where it is too fast.
+            if step_ratio(&tt, tr.span, &v) > STEP_FACTOR {
+                if let Some(d) = slowed(&tt, tr.span, &v) {
+                    v = d;
+                }
+            }
             got.push(v);
         }
         if got.len() < fills.len() {
@@ -355,6 +363,37 @@ pub(super) fn fill_checked(
         diag: Some(diag),
     };
     Ok((out, choice))
+}
+
+/// A fill too fast for the marker, slowed down: the largest share `a` of its deviation
+/// from the straight line across the gap (from the held anchor at the trial's edges) whose
+/// steps all stay within [`STEP_FACTOR`] times the marker's largest recorded step. The
+/// largest step is convex in `a`, so bisection finds it. `None` when even the line is too
+/// fast (or the marker has no recorded step).
+fn slowed(t: &Target, span: Span, v: &[[f64; 3]]) -> Option<Vec<[f64; 3]>> {
+    let base = match (span.before, span.after) {
+        (Some(_), Some(_)) => super::linear::fill(t, span).ok()?,
+        _ => linear::hold(t, span).ok()?,
+    };
+    let mix = |a: f64| -> Vec<[f64; 3]> {
+        base.iter()
+            .zip(v)
+            .map(|(b, p)| [0, 1, 2].map(|k| b[k] + a * (p[k] - b[k])))
+            .collect()
+    };
+    if step_ratio(t, span, &base) > STEP_FACTOR || t.data.max_step[t.m] <= 0.0 {
+        return None;
+    }
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..20 {
+        let mid = 0.5 * (lo + hi);
+        if step_ratio(t, span, &mix(mid)) <= STEP_FACTOR {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(mix(lo))
 }
 
 /// The weighted sum of candidates' predictions (weights sum to 1).

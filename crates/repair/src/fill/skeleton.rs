@@ -42,7 +42,9 @@ impl Skeleton {
                         n += 1;
                     }
                 }
-                (n >= MIN_FRAMES).then_some((j, mn, mx))
+                // Intervals seen over fewer frames than twice the gap may well miss the
+                // poses inside it, and would then pull a good fill off.
+                (n >= MIN_FRAMES.max(2 * span.len())).then_some((j, mn, mx))
             })
             .collect();
         (intervals.len() >= 2).then_some(Skeleton { intervals })
