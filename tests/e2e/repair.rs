@@ -441,3 +441,110 @@ fn killing_a_batch_leaves_each_file_original_or_fully_repaired() {
         eprintln!("killed after {delay_ms} ms: {done} of 40 files repaired");
     }
 }
+
+/// Issue 10 on the full-body trial with real gaps: with `--max-expected-error off` every
+/// gap is filled, plausibly (no step above 1.5× the marker's largest recorded step), with an
+/// expected error in the report and the summary; only missing samples change, to residual 0.
+/// With the default threshold, gaps that cannot be vouched for are left as `uncertain`.
+#[test]
+fn every_gap_filled_plausibly_with_an_expected_error_or_left_uncertain() {
+    let Some(dir) = testkit::c3d_fullbody() else {
+        return;
+    };
+    let src = dir.join("03_rolling.c3d");
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("all.c3d");
+    let report = tmp.path().join("all.json");
+    let o = c3dfix(&[
+        "repair",
+        s(&src),
+        "-o",
+        s(&out),
+        "--max-gap",
+        "100000",
+        "--max-expected-error",
+        "off",
+        "--report",
+        s(&report),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let sum: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(sum["gaps"], 215);
+    assert_eq!(sum["filled"], 215, "{sum}");
+    let list = sum["gap_list"].as_array().unwrap();
+    assert_eq!(list.len(), 215);
+    assert!(list
+        .iter()
+        .all(|g| g["expected_error_mm"].as_f64().is_some_and(|e| e > 0.0)));
+    let rep: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert!(rep["gaps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|g| g["expected_error_mm"].as_f64().is_some()));
+
+    let a = c3d::read_file(&src).unwrap();
+    let b = c3d::read_file(&out).unwrap();
+    assert_eq!(a.parameters, b.parameters);
+    let (pa, pb) = (a.points(), b.points());
+    assert_eq!(pa.frames(), pb.frames());
+    let n = pa.frames();
+    let markers = pa.xyz.len() / n;
+    for m in 0..markers {
+        let at = |p: &c3d::Points, f: usize| p.xyz[p.index(f, m)];
+        let step = |p: [f32; 3], q: [f32; 3]| {
+            (0..3)
+                .map(|i| (p[i] as f64 - q[i] as f64).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
+        let mut largest = 0f64;
+        for f in 1..n {
+            if pa.is_valid(f, m) && pa.is_valid(f - 1, m) {
+                largest = largest.max(step(at(pa, f), at(pa, f - 1)));
+            }
+        }
+        for f in 0..n {
+            let k = pa.index(f, m);
+            if pa.is_valid(f, m) {
+                assert_eq!(pa.xyz[k], pb.xyz[k]);
+                assert_eq!(pa.residual[k].to_bits(), pb.residual[k].to_bits());
+                assert_eq!(pa.camera_mask[k], pb.camera_mask[k]);
+            } else if largest > 0.0 {
+                assert!(pb.is_valid(f, m), "marker {m} frame {f} left missing");
+                assert_eq!(pb.residual[k], 0.0);
+                if f > 0 {
+                    let s = step(at(pb, f), at(pb, f - 1));
+                    assert!(
+                        s <= 1.5 * largest + 1e-3,
+                        "marker {m} frame {f}: step {s} vs {largest}"
+                    );
+                }
+            }
+        }
+    }
+
+    // The default threshold leaves the fills it cannot vouch for, with their estimate.
+    let o = c3dfix(&[
+        "repair",
+        s(&src),
+        "-o",
+        s(&tmp.path().join("d.c3d")),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let sum: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let uncertain: Vec<_> = sum["gap_list"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|g| g["reason"] == "uncertain")
+        .collect();
+    assert!(!uncertain.is_empty());
+    assert!(uncertain
+        .iter()
+        .all(|g| g["expected_error_mm"].as_f64().is_some_and(|e| e > 20.0)));
+    assert_eq!(sum["left_because"]["uncertain"], uncertain.len());
+    assert!(sum["expected_error_mm_max"].as_f64().unwrap() <= 20.0);
+}

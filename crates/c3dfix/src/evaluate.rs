@@ -44,13 +44,13 @@ impl Default for EvaluateOptions {
     }
 }
 
-/// One file's evaluation; errors in its own units (`units`) and scaled by `mm_per_unit`
-/// in the pooled results.
+/// One file's evaluation, its errors in mm (`units`) whatever the file's own unit
+/// (`file_units`).
 #[derive(Debug, Clone, Serialize)]
 pub struct FileEvaluation {
     pub file: String,
     pub units: String,
-    pub mm_per_unit: f64,
+    pub file_units: String,
     pub evaluation: repair::Evaluation,
 }
 
@@ -123,7 +123,15 @@ pub fn evaluate(
                 what: format!("needs at least 4 markers to evaluate, has {}", points.len()),
             });
         }
-        let t = to_trial(&c, &points, false)?;
+        // Errors in mm whatever the file's units, so that files pool and tables compare.
+        let units = c.point_units();
+        let scale = mm_per_unit(&units);
+        let mut t = to_trial(&c, &points, false)?;
+        if scale != 1.0 {
+            for p in t.xyz.iter_mut().flatten() {
+                *p = p.map(|x| x * scale);
+            }
+        }
         let rows = match &opts.markers {
             None => None,
             Some(names) => {
@@ -164,20 +172,18 @@ pub fn evaluate(
             path: f.clone(),
             source,
         })?;
-        let units = c.point_units();
-        let scale = mm_per_unit(&units);
         for s in &ev.scores {
             let e = pooled
                 .entry((s.gap_len, method_name(s.method)))
                 .or_insert((0.0, 0, 0.0));
-            e.0 += s.mean * scale * s.samples as f64;
+            e.0 += s.mean * s.samples as f64;
             e.1 += s.samples;
-            e.2 = e.2.max(s.max * scale);
+            e.2 = e.2.max(s.max);
         }
         let fe = FileEvaluation {
             file: f.display().to_string(),
-            units,
-            mm_per_unit: scale,
+            units: "mm".into(),
+            file_units: units,
             evaluation: ev,
         };
         each(&fe);

@@ -31,8 +31,11 @@ pub use ::c3d;
 pub use ::repair as repair_lib;
 pub use error::{Error, Result};
 pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
-pub use options::{fill_method, filter_spec, method_name, spike_options, RepairOptions};
-pub use repair::{repair, Repaired, Summary};
+pub use options::{
+    fill_method, filter_spec, max_expected_error, method_name, spike_options, RepairOptions,
+    DEFAULT_MAX_EXPECTED_ERROR_MM,
+};
+pub use repair::{repair, GapBrief, Repaired, Summary};
 pub use trial::open;
 
 use std::path::{Path, PathBuf};

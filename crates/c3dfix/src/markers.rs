@@ -54,7 +54,7 @@ pub fn select(c: &c3d::C3d, names: &[String]) -> Result<Vec<usize>> {
 /// errors are reported in mm whatever the file's unit.
 pub fn mm_per_unit(units: &str) -> f64 {
     match units.trim().to_ascii_lowercase().as_str() {
-        "m" => 1000.0,
+        "m" | "mete" | "meter" | "meters" | "metre" | "metres" => 1000.0,
         "cm" => 10.0,
         "dm" => 100.0,
         "in" | "inch" | "inches" => 25.4,

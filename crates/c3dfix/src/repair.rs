@@ -2,7 +2,7 @@
 //! samples written back with their flags, and a report of every gap, spike and segment.
 
 use crate::error::{Error, Result};
-use crate::markers::{marker_indices, select};
+use crate::markers::{marker_indices, mm_per_unit, select};
 use crate::options::{method_name, RepairOptions};
 use crate::trial::{to_trial, write_back};
 use repair::FillOutcome;
@@ -31,11 +31,35 @@ pub struct Summary {
     /// Repaired samples clamped to the integer range of POINT:SCALE (integer files only).
     pub samples_clamped: usize,
     pub markers_changed: usize,
+    /// Largest and mean expected error of the filled gaps, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub expected_error_mm_max: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub expected_error_mm_mean: Option<f64>,
+    /// Every gap: where, what became of it, and its expected error in mm.
+    pub gap_list: Vec<GapBrief>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub backup: Option<String>,
     /// Why the file was left as it was (batch only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped: Option<String>,
+}
+
+/// One gap in a summary.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct GapBrief {
+    pub label: String,
+    /// First and last missing frame, 0-based.
+    pub first: usize,
+    pub last: usize,
+    /// The method that filled it (`auto`: the one it chose), or why it was left.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub method: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    /// Expected mean 3D error of the fill, mm (for `uncertain` gaps: of the fill withheld).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub expected_error_mm: Option<f64>,
 }
 
 /// The outcome of [`repair()`]: the summary and the details behind it.
@@ -107,19 +131,49 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
         ..Summary::default()
     };
     let mut gaps = Vec::new();
+    let mm = mm_per_unit(&c.point_units());
+    let mut expected = Vec::new();
     for g in report.gaps.iter().filter(|g| in_scope(g.gap.marker)) {
         s.gaps += 1;
+        let mut brief = GapBrief {
+            label: row_label(g.gap.marker),
+            first: g.gap.first,
+            last: g.gap.last,
+            method: None,
+            reason: None,
+            expected_error_mm: None,
+        };
         match g.outcome {
-            FillOutcome::Filled { method, .. } => {
+            FillOutcome::Filled {
+                method,
+                expected_error,
+                ..
+            } => {
                 s.filled += 1;
                 *s.filled_by.entry(method_name(method)).or_default() += 1;
+                brief.method = Some(method_name(method));
+                brief.expected_error_mm = expected_error.map(|e| e * mm);
+                expected.extend(brief.expected_error_mm);
             }
             FillOutcome::Skipped(reason) => {
                 s.left += 1;
                 *s.left_because.entry(reason.name().to_string()).or_default() += 1;
+                brief.reason = Some(reason.name().to_string());
+                if let repair::SkipReason::Uncertain { expected_error, .. } = reason {
+                    brief.expected_error_mm = Some(expected_error * mm);
+                }
             }
         }
-        gaps.push(labelled(g, row_label(g.gap.marker)));
+        let mut v = labelled(g, row_label(g.gap.marker));
+        if let Some(e) = brief.expected_error_mm {
+            v["expected_error_mm"] = e.into();
+        }
+        gaps.push(v);
+        s.gap_list.push(brief);
+    }
+    if !expected.is_empty() {
+        s.expected_error_mm_max = Some(expected.iter().copied().fold(0.0, f64::max));
+        s.expected_error_mm_mean = Some(expected.iter().sum::<f64>() / expected.len() as f64);
     }
     let spikes: Vec<_> = report
         .spikes

@@ -310,17 +310,18 @@ fn read(py: Python<'_>, path: PathBuf) -> PyResult<PyC3d> {
     })
 }
 
-/// repair(c3d, fill="auto", spikes=None, lowpass=None, max_gap=200, spike_mode="gap",
-///        spike_min_mm=5.0, spike_classic=False, markers=None, zero_invalid=False)
-///        -> (C3d, dict)
+/// repair(c3d, fill="auto", spikes=None, lowpass=None, max_gap=200,
+///        max_expected_error=20.0, spike_mode="gap", spike_min_mm=5.0, spike_classic=False,
+///        markers=None, zero_invalid=False) -> (C3d, dict)
 ///
 /// The `c3dfix repair` pipeline (spikes -> fill -> filter) on a copy of `c3d`; returns the
 /// repaired copy and the report `c3dfix repair --report` writes. Options as on the command
 /// line: fill is a method name (auto, linear, lagrange2, lagrange5, spline, rigid, pattern,
 /// pca, none), spikes "hampel[:K[:NSIGMA]]", lowpass "butterworth:ORDER:CUTOFF_HZ" or
-/// "cheby2:ORDER:CUTOFF_HZ:ATTEN_DB", markers a list of labels to repair.
+/// "cheby2:ORDER:CUTOFF_HZ:ATTEN_DB", markers a list of labels to repair; gaps whose expected
+/// fill error is above max_expected_error mm are left (reason "uncertain"), None fills all.
 #[pyfunction]
-#[pyo3(signature = (c3d, fill="auto", spikes=None, lowpass=None, max_gap=200, spike_mode="gap", spike_min_mm=5.0, spike_classic=false, markers=None, zero_invalid=false))]
+#[pyo3(signature = (c3d, fill="auto", spikes=None, lowpass=None, max_gap=200, max_expected_error=Some(c3dfix::DEFAULT_MAX_EXPECTED_ERROR_MM), spike_mode="gap", spike_min_mm=5.0, spike_classic=false, markers=None, zero_invalid=false))]
 #[allow(clippy::too_many_arguments)]
 fn repair(
     py: Python<'_>,
@@ -329,6 +330,7 @@ fn repair(
     spikes: Option<String>,
     lowpass: Option<String>,
     max_gap: usize,
+    max_expected_error: Option<f64>,
     spike_mode: &str,
     spike_min_mm: f64,
     spike_classic: bool,
@@ -338,6 +340,7 @@ fn repair(
     let opts = c3dfix::RepairOptions {
         fill: fill.to_string(),
         max_gap,
+        max_expected_error_mm: max_expected_error,
         spikes,
         spike_mode: spike_mode.to_string(),
         spike_min_mm,

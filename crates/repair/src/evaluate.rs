@@ -6,7 +6,9 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::{RepairError, Result};
-use crate::fill::{fill_gap, Data, FillMethod, FillOptions, FillOutcome};
+use crate::fill::{
+    fill_gap_diag, max_steps, step_ratio, Data, FillMethod, FillOptions, FillOutcome, Span, Target,
+};
 use crate::gaps::Gap;
 use crate::rng::SplitMix64;
 use crate::Trial;
@@ -70,12 +72,37 @@ pub struct MethodScore {
     pub max: f64,
 }
 
+/// One artificial gap filled by one method: its real errors, the error the fill expected
+/// of itself, and its largest step relative to the marker's largest recorded step.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct GapScore {
+    pub method: FillMethod,
+    pub gap_len: usize,
+    pub marker: usize,
+    pub first: usize,
+    /// Mean and largest 3D error over the gap's frames.
+    pub mean: f64,
+    pub max: f64,
+    /// The fill's own expected error (`auto`; `None` for unchecked single methods).
+    pub expected: Option<f64>,
+    /// Largest step of the fill (joins to the anchors included) divided by the marker's
+    /// largest recorded step.
+    pub step_ratio: f64,
+    /// What `expected` was made from: the choice's mean error on artificial gaps nearby,
+    /// and the mean distance between the two best candidates' fills of this gap.
+    pub scored: Option<f64>,
+    pub spread: Option<f64>,
+}
+
 /// All scores, method-major within each gap length.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Evaluation {
     pub group: usize,
     pub seed: u64,
     pub scores: Vec<MethodScore>,
+    /// Every filled artificial gap (not serialized: one record per gap and method).
+    #[serde(skip)]
+    pub gaps: Vec<GapScore>,
 }
 
 impl Evaluation {
@@ -119,13 +146,14 @@ pub fn evaluate(trial: &Trial, cfg: &EvalConfig) -> Result<Evaluation> {
         .map(|m| nearest(trial, m, cfg.group - 1))
         .collect();
     let mut scores = Vec::new();
+    let mut gaps = Vec::new();
     for &len in &cfg.gap_lengths {
         let mut rng = SplitMix64::new(cfg.seed ^ (len as u64).wrapping_mul(0x9E37_79B9));
         let groups: Vec<Vec<(usize, usize)>> = (0..cfg.gaps_per_length)
             .filter_map(|_| place(trial, &markers, &neighbours, len, &mut rng))
             .collect();
         // errors[method] = per-sample errors, failures[method] = gaps left.
-        let per_group: Vec<Vec<(Vec<f64>, usize)>> = groups
+        let per_group: Vec<Vec<MethodRun>> = groups
             .par_iter()
             .map(|g| run_group(trial, g, len, cfg))
             .collect();
@@ -135,6 +163,7 @@ pub fn evaluate(trial: &Trial, cfg: &EvalConfig) -> Result<Evaluation> {
             for pg in &per_group {
                 e.extend_from_slice(&pg[i].0);
                 failed += pg[i].1;
+                gaps.extend_from_slice(&pg[i].2);
             }
             scores.push(summarize(
                 method,
@@ -149,6 +178,7 @@ pub fn evaluate(trial: &Trial, cfg: &EvalConfig) -> Result<Evaluation> {
         group: cfg.group,
         seed: cfg.seed,
         scores,
+        gaps,
     })
 }
 
@@ -249,28 +279,29 @@ fn place(
     None
 }
 
+/// One method on one group: per-sample errors, gaps it could not fill, per-gap records.
+type MethodRun = (Vec<f64>, usize, Vec<GapScore>);
+
 /// Errors of every method on one group of artificial gaps.
-fn run_group(
-    trial: &Trial,
-    g: &[(usize, usize)],
-    len: usize,
-    cfg: &EvalConfig,
-) -> Vec<(Vec<f64>, usize)> {
+fn run_group(trial: &Trial, g: &[(usize, usize)], len: usize, cfg: &EvalConfig) -> Vec<MethodRun> {
     let mut valid = trial.valid.clone();
     for &(m, a) in g {
         valid[m][a..a + len].iter_mut().for_each(|v| *v = false);
     }
-    let data = Data::new(&trial.xyz, &valid);
+    let steps = max_steps(&trial.xyz, &valid);
+    let data = Data::new(&trial.xyz, &valid, &steps);
     cfg.methods
         .iter()
         .map(|&method| {
             let opts = FillOptions {
                 method,
                 max_gap: None,
+                max_expected_error: None,
                 ..cfg.fill.clone()
             };
             let mut e = Vec::new();
             let mut failed = 0;
+            let mut recs = Vec::new();
             for &(m, a) in g {
                 let gap = Gap {
                     marker: m,
@@ -280,22 +311,113 @@ fn run_group(
                     at_start: false,
                     at_end: false,
                 };
-                match fill_gap(data, &gap, &opts) {
-                    (Some(v), FillOutcome::Filled { .. }) => {
-                        for (i, p) in v.iter().enumerate() {
-                            let q = trial.xyz[m][a + i];
-                            e.push(
-                                ((p[0] - q[0]).powi(2)
-                                    + (p[1] - q[1]).powi(2)
-                                    + (p[2] - q[2]).powi(2))
-                                .sqrt(),
-                            );
-                        }
+                match fill_gap_diag(data, &gap, &opts, false) {
+                    (Some(v), FillOutcome::Filled { expected_error, .. }, diag) => {
+                        let errs: Vec<f64> = v
+                            .iter()
+                            .enumerate()
+                            .map(|(i, p)| crate::fill::dist(*p, trial.xyz[m][a + i]))
+                            .collect();
+                        let t = Target {
+                            m,
+                            data,
+                            hole: None,
+                        };
+                        recs.push(GapScore {
+                            method,
+                            gap_len: len,
+                            marker: m,
+                            first: a,
+                            mean: errs.iter().sum::<f64>() / errs.len().max(1) as f64,
+                            max: errs.iter().copied().fold(0.0, f64::max),
+                            expected: expected_error,
+                            step_ratio: step_ratio(&t, Span::of(&gap, data.frames), &v),
+                            scored: diag.map(|d| d.scored),
+                            spread: diag.map(|d| d.spread),
+                        });
+                        e.extend(errs);
                     }
                     _ => failed += 1,
                 }
             }
-            (e, failed)
+            (e, failed, recs)
         })
         .collect()
+}
+
+/// How well expected errors match real ones over a set of filled gaps.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Calibration {
+    /// Gaps with an expected error.
+    pub gaps: usize,
+    /// Spearman rank correlation of expected and real mean error.
+    pub spearman: f64,
+    /// Share of gaps whose real error is within a factor 2 of the expected one.
+    pub within_2x: f64,
+    /// Share of gaps whose real error is above twice the expected one.
+    pub over_confident: f64,
+    /// Share of gaps whose real error is below half the expected one.
+    pub under_confident: f64,
+    /// Median of real / expected.
+    pub median_ratio: f64,
+}
+
+/// Calibration of the gaps that carry an expected error. Real and expected errors below
+/// `floor` (data units: the noise level, where a ratio means nothing) count as `floor`.
+pub fn calibration(gaps: &[GapScore], floor: f64) -> Calibration {
+    let pairs: Vec<(f64, f64)> = gaps
+        .iter()
+        .filter_map(|g| g.expected.map(|e| (e.max(floor), g.mean.max(floor))))
+        .collect();
+    let n = pairs.len();
+    let share = |f: &dyn Fn(f64, f64) -> bool| {
+        pairs.iter().filter(|&&(e, r)| f(e, r)).count() as f64 / n.max(1) as f64
+    };
+    let mut ratios: Vec<f64> = pairs.iter().map(|&(e, r)| r / e).collect();
+    ratios.sort_by(f64::total_cmp);
+    Calibration {
+        gaps: n,
+        spearman: spearman(&pairs),
+        within_2x: share(&|e, r| r <= 2.0 * e && r >= 0.5 * e),
+        over_confident: share(&|e, r| r > 2.0 * e),
+        under_confident: share(&|e, r| r < 0.5 * e),
+        median_ratio: ratios.get(n / 2).copied().unwrap_or(f64::NAN),
+    }
+}
+
+fn ranks(v: &[f64]) -> Vec<f64> {
+    let mut idx: Vec<usize> = (0..v.len()).collect();
+    idx.sort_by(|&a, &b| v[a].total_cmp(&v[b]));
+    let mut r = vec![0.0; v.len()];
+    let mut i = 0;
+    while i < idx.len() {
+        let mut j = i;
+        while j + 1 < idx.len() && v[idx[j + 1]] == v[idx[i]] {
+            j += 1;
+        }
+        let avg = (i + j) as f64 / 2.0;
+        for &k in &idx[i..=j] {
+            r[k] = avg;
+        }
+        i = j + 1;
+    }
+    r
+}
+
+fn spearman(pairs: &[(f64, f64)]) -> f64 {
+    let n = pairs.len();
+    if n < 2 {
+        return f64::NAN;
+    }
+    let a = ranks(&pairs.iter().map(|p| p.0).collect::<Vec<_>>());
+    let b = ranks(&pairs.iter().map(|p| p.1).collect::<Vec<_>>());
+    let mean = (n - 1) as f64 / 2.0;
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for i in 0..n {
+        let (x, y) = (a[i] - mean, b[i] - mean);
+        sab += x * y;
+        saa += x * x;
+        sbb += y * y;
+    }
+    sab / (saa * sbb).sqrt()
 }

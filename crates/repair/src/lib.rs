@@ -43,7 +43,9 @@ pub mod spikes;
 pub mod synth;
 
 pub use error::{RepairError, Result};
-pub use evaluate::{evaluate, EvalConfig, Evaluation, MethodScore};
+pub use evaluate::{
+    calibration, evaluate, Calibration, EvalConfig, Evaluation, GapScore, MethodScore,
+};
 pub use fill::{FillMethod, FillOptions, FillOutcome, SkipReason};
 pub use filter::{FilterSpec, Iir};
 pub use gaps::{find_gaps, Gap};

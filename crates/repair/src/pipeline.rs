@@ -4,7 +4,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::Result;
-use crate::fill::{fill_gap, Data, FillOptions, FillOutcome};
+use crate::fill::{fill_gap, max_steps, Data, FillOptions, FillOutcome};
 use crate::filter::FilterSpec;
 use crate::gaps::{find_gaps, valid_segments, Gap};
 use crate::spikes::{detect, Spike, SpikeMode, SpikeOptions};
@@ -169,14 +169,15 @@ pub fn repair_trial(trial: &mut Trial, cfg: &RepairConfig) -> Result<RepairRepor
     }
 
     // 2. Fill, reading the spike-free data; writes are applied afterwards.
-    let data = Data::new(&trial.xyz, &trial.valid);
+    let steps = max_steps(&trial.xyz, &trial.valid);
+    let data = Data::new(&trial.xyz, &trial.valid, &steps);
     let per_marker: Vec<Vec<FilledGap>> = (0..markers)
         .into_par_iter()
         .map(|m| {
             find_gaps(&trial.valid[m], m)
                 .into_iter()
                 .map(|gap| {
-                    let (v, outcome) = fill_gap(data, &gap, &cfg.fill);
+                    let (v, outcome) = fill_gap(data, &gap, &cfg.fill, true);
                     (GapRecord { gap, outcome }, v)
                 })
                 .collect()

@@ -264,8 +264,23 @@ fn every_gap_of_a_gappy_gait_trial_is_filled_accurately() {
     ] {
         let mut t = gappy.clone();
         let r = repair_trial(&mut t, &fill_only(method, None)).unwrap();
-        let interior_unfilled = r.unfilled().filter(|g| !g.gap.touches_edge()).count();
-        assert_eq!(interior_unfilled, 0, "{method:?}");
+        // A single method's fill that steps faster than the marker ever moves is refused
+        // (issue 10); `auto` then has other candidates, so it fills every interior gap.
+        let interior_unfilled: Vec<_> = r
+            .unfilled()
+            .filter(|g| !g.gap.touches_edge())
+            .filter(|g| {
+                method == FillMethod::Auto
+                    || !matches!(
+                        g.outcome,
+                        FillOutcome::Skipped(SkipReason::Implausible { .. })
+                    )
+            })
+            .collect();
+        assert!(
+            interior_unfilled.is_empty(),
+            "{method:?}: {interior_unfilled:?}"
+        );
         let (mut sum, mut n) = (0.0, 0usize);
         for (m, ch) in r.changes.iter().enumerate() {
             for (f, &c) in ch.iter().enumerate() {
@@ -277,7 +292,20 @@ fn every_gap_of_a_gappy_gait_trial_is_filled_accurately() {
                 }
             }
         }
-        assert!(n + 100 >= knocked, "{method:?}: {n} of {knocked} filled");
+        let refused: usize = r
+            .unfilled()
+            .filter(|g| {
+                matches!(
+                    g.outcome,
+                    FillOutcome::Skipped(SkipReason::Implausible { .. })
+                )
+            })
+            .map(|g| g.gap.len)
+            .sum();
+        assert!(
+            n + refused + 100 >= knocked,
+            "{method:?}: {n} of {knocked} filled, {refused} refused"
+        );
         errors.push((method, sum / n as f64));
     }
     eprintln!("mean fill error per method, mm: {errors:?}");

@@ -145,6 +145,22 @@ pub fn print_summary(s: &Summary) -> Result<()> {
             format!(" ({})", left.join(", "))
         }
     )?;
+    if let (Some(mean), Some(max)) = (s.expected_error_mm_mean, s.expected_error_mm_max) {
+        outln!("  expected fill error {mean:.2} mm on average, {max:.2} mm at most")?;
+    }
+    for g in s
+        .gap_list
+        .iter()
+        .filter(|g| g.reason.as_deref() == Some("uncertain"))
+    {
+        outln!(
+            "  uncertain {} frames {}..{}: expected error {:.1} mm (left unfilled)",
+            g.label,
+            g.first,
+            g.last,
+            g.expected_error_mm.unwrap_or(f64::NAN)
+        )?;
+    }
     if s.spikes > 0 {
         outln!("  spikes   {} found", s.spikes)?;
     }

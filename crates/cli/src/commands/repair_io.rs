@@ -14,6 +14,13 @@ pub struct RepairArgs {
     /// Longest gap (frames, 1 or more) to fill; longer ones are left and reported.
     #[arg(long, default_value_t = 200, value_parser = ranges::max_gap)]
     pub max_gap: usize,
+    /// Leave gaps whose expected fill error is above this many mm (reported as `uncertain`
+    /// with the estimate); `off` fills every gap a method can fill. The default, 20 mm, on
+    /// the artificial gaps of the real trials left 92 % of the fills worse than 50 mm and
+    /// 70 % of those worse than 20 mm, and 0.3 % of the gaps that would have been filled
+    /// within 5 mm.
+    #[arg(long, default_value = "20", value_parser = expected_error_arg)]
+    pub max_expected_error: ExpectedError,
     /// Remove spikes first: `hampel[:K[:NSIGMA]]` (window of K samples each side, 1 to 1000,
     /// default 5; NSIGMA scaled MADs, a finite number above 0, default 3). Off by default.
     #[arg(long)]
@@ -49,6 +56,7 @@ impl RepairArgs {
         c3dfix::RepairOptions {
             fill: self.fill.clone(),
             max_gap: self.max_gap,
+            max_expected_error_mm: self.max_expected_error.0,
             spikes: self.spikes.clone(),
             spike_mode: self.spike_mode.clone(),
             spike_min_mm: self.spike_min_mm,
@@ -64,6 +72,17 @@ impl RepairArgs {
         self.options().config("mm")?;
         Ok(())
     }
+}
+
+/// `--max-expected-error`: millimetres, or `None` for `off`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExpectedError(pub Option<f64>);
+
+/// `--max-expected-error MM|off`, checked while the command line is parsed.
+fn expected_error_arg(s: &str) -> std::result::Result<ExpectedError, String> {
+    c3dfix::max_expected_error(s)
+        .map(ExpectedError)
+        .map_err(|e| e.to_string())
 }
 
 /// Where to write: `-o OUT`, or the input itself with `--in-place`.

@@ -26,6 +26,9 @@ fn options(data: &[u8]) -> RepairArgs {
     RepairArgs {
         fill: fill[(k & 7) as usize].into(),
         max_gap: 200,
+        max_expected_error: c3dfix_cli::commands::repair_io::ExpectedError(
+            (k & 2 == 0).then_some(20.0),
+        ),
         spikes: (k & 8 != 0).then(|| "hampel:5:3".into()),
         spike_mode: if k & 16 != 0 { "median" } else { "gap" }.into(),
         spike_min_mm: 5.0,

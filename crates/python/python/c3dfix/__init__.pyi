@@ -60,6 +60,7 @@ def repair(
     spikes: Optional[str] = None,
     lowpass: Optional[str] = None,
     max_gap: int = 200,
+    max_expected_error: Optional[float] = 20.0,
     spike_mode: str = "gap",
     spike_min_mm: float = 5.0,
     spike_classic: bool = False,

@@ -23,6 +23,20 @@ pub(super) fn fill(t: &Target, span: Span) -> Fill {
         .collect())
 }
 
+/// The one anchor of a gap at the trial's edge, held through the gap (steps of zero, so
+/// always plausible; `auto`'s last resort there).
+pub(super) fn hold(t: &Target, span: Span) -> Fill {
+    let anchor = match (span.before, span.after) {
+        (Some(b), None) => b,
+        (None, Some(a)) => a,
+        _ => return Err(SkipReason::NoContext),
+    };
+    if !t.ok(anchor) {
+        return Err(SkipReason::NoContext);
+    }
+    Ok(vec![t.at(anchor); span.len()])
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::test_util::*;

@@ -9,6 +9,7 @@ mod pca;
 mod plan;
 mod poly;
 mod rigid;
+mod skeleton;
 mod spline;
 
 use serde::Serialize;
@@ -39,6 +40,9 @@ pub enum FillMethod {
     Pca,
     /// Per gap, the best method (or blend of up to three) judged on artificial gaps.
     Auto,
+    /// The one valid sample next to a gap at the trial's edge, held: `auto`'s last resort
+    /// there when every donor fill moves the marker implausibly fast.
+    Hold,
 }
 
 impl FillMethod {
@@ -75,6 +79,7 @@ impl FillMethod {
             "pattern" => FillMethod::Pattern,
             "pca" => FillMethod::Pca,
             "auto" => FillMethod::Auto,
+            "hold" => FillMethod::Hold,
             _ => return None,
         })
     }
@@ -105,6 +110,9 @@ pub struct FillOptions {
     /// test, 10 chose no better (per-file losses to the best single method: 10–13 of 30
     /// cells either way) at 1.25× the cost.
     pub auto_trials: usize,
+    /// Gaps whose expected error (in the data's units) is above this are left unfilled
+    /// and reported as `uncertain`; `None` fills every gap a method can fill.
+    pub max_expected_error: Option<f64>,
 }
 
 impl Default for FillOptions {
@@ -118,6 +126,7 @@ impl Default for FillOptions {
             pca_variance: 0.999,
             pca_window: 250,
             auto_trials: 6,
+            max_expected_error: None,
         }
     }
 }
@@ -144,12 +153,18 @@ impl FillOptions {
         if self.auto_trials < 1 {
             return bad("auto_trials must be at least 1");
         }
+        if self
+            .max_expected_error
+            .is_some_and(|e| !(e > 0.0 && e.is_finite()))
+        {
+            return bad("max_expected_error must be a positive number");
+        }
         Ok(())
     }
 }
 
 /// Why a gap was left unfilled.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(tag = "reason", rename_all = "snake_case")]
 pub enum SkipReason {
     /// The method is `none`.
@@ -164,6 +179,14 @@ pub enum SkipReason {
     NoContext,
     /// A linear system was singular.
     Degenerate,
+    /// Every candidate fill has a step between consecutive frames above [`STEP_FACTOR`]
+    /// times the marker's largest recorded step (`step_ratio`: the smallest such ratio).
+    Implausible { step_ratio: f64 },
+    /// The fill's expected error is above `max_expected_error` (both in the data's units).
+    Uncertain {
+        expected_error: f64,
+        max_expected_error: f64,
+    },
 }
 
 impl SkipReason {
@@ -176,6 +199,8 @@ impl SkipReason {
             SkipReason::NoDonors => "no_donors",
             SkipReason::NoContext => "no_context",
             SkipReason::Degenerate => "degenerate",
+            SkipReason::Implausible { .. } => "implausible",
+            SkipReason::Uncertain { .. } => "uncertain",
         }
     }
 }
@@ -197,9 +222,15 @@ pub enum FillOutcome {
         blended_with_2: Option<FillMethod>,
         #[serde(skip_serializing_if = "Option::is_none")]
         weight_2: Option<f64>,
-        /// `auto` only: mean 3D error of the choice on the artificial gaps it was scored on.
+        /// Expected mean 3D error of the fill (data units), from the same fill's errors on
+        /// artificial gaps nearby, calibrated on real trials (see `auto`).
         #[serde(skip_serializing_if = "Option::is_none")]
         expected_error: Option<f64>,
+        /// The fill was held to the skeleton: each distance to a neighbouring marker
+        /// within the interval it spans in the recorded data (long gaps, when that scored
+        /// better on the artificial gaps).
+        #[serde(skip_serializing_if = "std::ops::Not::not")]
+        skeleton: bool,
     },
     Skipped(SkipReason),
 }
@@ -210,12 +241,65 @@ pub(crate) struct Data<'a> {
     pub xyz: &'a [Vec<[f64; 3]>],
     pub valid: &'a [Vec<bool>],
     pub frames: usize,
+    /// Per marker, its largest step between consecutive valid frames ([`max_steps`]):
+    /// no fill may move the marker faster than its own recorded data does.
+    pub max_step: &'a [f64],
+}
+
+/// Per marker, the largest distance between two consecutive valid samples (0 without any
+/// such pair). Fills are held to [`STEP_FACTOR`] times this.
+pub(crate) fn max_steps(xyz: &[Vec<[f64; 3]>], valid: &[Vec<bool>]) -> Vec<f64> {
+    xyz.iter()
+        .zip(valid)
+        .map(|(x, v)| {
+            let mut m = 0.0f64;
+            for f in 1..x.len().min(v.len()) {
+                if v[f] && v[f - 1] {
+                    m = m.max(dist(x[f], x[f - 1]));
+                }
+            }
+            m
+        })
+        .collect()
+}
+
+/// A fill step between consecutive frames above this many times the marker's largest
+/// recorded step makes the fill implausible (issue 10).
+pub const STEP_FACTOR: f64 = 1.5;
+
+pub(crate) fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// The largest step of `fill` (frames `span.first..`) including the joins to the anchors,
+/// as a multiple of the marker's largest recorded step (0 when it has none recorded).
+pub(crate) fn step_ratio(t: &Target, span: Span, fill: &[[f64; 3]]) -> f64 {
+    let limit = t.data.max_step[t.m];
+    if limit <= 0.0 || fill.is_empty() {
+        return 0.0;
+    }
+    let mut worst = 0.0f64;
+    for w in fill.windows(2) {
+        worst = worst.max(dist(w[0], w[1]));
+    }
+    if let Some(b) = span.before.filter(|&f| t.ok(f)) {
+        worst = worst.max(dist(t.at(b), fill[0]));
+    }
+    if let Some(a) = span.after.filter(|&f| t.ok(f)) {
+        worst = worst.max(dist(fill[fill.len() - 1], t.at(a)));
+    }
+    worst / limit
 }
 
 impl<'a> Data<'a> {
-    pub fn new(xyz: &'a [Vec<[f64; 3]>], valid: &'a [Vec<bool>]) -> Self {
+    pub fn new(xyz: &'a [Vec<[f64; 3]>], valid: &'a [Vec<bool>], max_step: &'a [f64]) -> Self {
         let frames = xyz.first().map_or(0, Vec::len);
-        Data { xyz, valid, frames }
+        Data {
+            xyz,
+            valid,
+            frames,
+            max_step,
+        }
     }
 
     #[inline]
@@ -323,18 +407,34 @@ pub(crate) fn fill_with(
         FillMethod::Rigid => rigid::fill(t, span, plan),
         FillMethod::Pattern => pattern::fill(t, span, plan),
         FillMethod::Pca => pca::fill(t, span, plan, opts),
-        FillMethod::Auto => auto::fill(t, span, plan, opts).map(|(v, _)| v),
+        FillMethod::Auto => auto::fill(t, span, plan, opts, auto::candidates(span)).map(|(v, _)| v),
+        FillMethod::Hold => linear::hold(t, span),
     }
 }
 
 /// Fills one gap of marker `gap.marker` with the configured method, applying `max_gap` and
 /// the edge rule. Returns the samples for `gap.first..=gap.last` and the outcome.
+/// With `checked` false a single method's fill is returned as the method makes it, without
+/// the plausibility check or an expected error (evaluations of the methods themselves);
+/// `auto` is always checked.
 pub(crate) fn fill_gap(
     data: Data,
     gap: &Gap,
     opts: &FillOptions,
+    checked: bool,
 ) -> (Option<Vec<[f64; 3]>>, FillOutcome) {
-    let skip = |r| (None, FillOutcome::Skipped(r));
+    let (v, o, _) = fill_gap_diag(data, gap, opts, checked);
+    (v, o)
+}
+
+/// [`fill_gap`] with the evidence behind the expected error (for calibration).
+pub(crate) fn fill_gap_diag(
+    data: Data,
+    gap: &Gap,
+    opts: &FillOptions,
+    checked: bool,
+) -> (Option<Vec<[f64; 3]>>, FillOutcome, Option<auto::Diag>) {
+    let skip = |r| (None, FillOutcome::Skipped(r), None);
     if opts.method == FillMethod::None {
         return skip(SkipReason::MethodNone);
     }
@@ -360,24 +460,21 @@ pub(crate) fn fill_gap(
     } else {
         Plan::build(&t, span, opts)
     };
-    if opts.method == FillMethod::Auto {
-        return match auto::fill(&t, span, &plan, opts) {
-            Ok((v, choice)) => (Some(v), choice.outcome()),
-            Err(r) => skip(r),
-        };
-    }
-    match fill_with(opts.method, &t, span, &plan, opts) {
-        Ok(v) => (
-            Some(v),
-            FillOutcome::Filled {
-                method: opts.method,
-                blended_with: None,
-                weight: None,
-                blended_with_2: None,
-                weight_2: None,
-                expected_error: None,
-            },
-        ),
+    let single = [opts.method];
+    let cands = if opts.method == FillMethod::Auto {
+        auto::candidates(span)
+    } else {
+        &single
+    };
+    let checked = checked || opts.method == FillMethod::Auto;
+    match auto::fill_checked(&t, span, &plan, opts, cands, checked) {
+        Ok((v, choice)) => match (choice.expected_error, opts.max_expected_error) {
+            (Some(e), Some(max)) if e > max => skip(SkipReason::Uncertain {
+                expected_error: e,
+                max_expected_error: max,
+            }),
+            _ => (Some(v), choice.outcome(), choice.diag),
+        },
         Err(r) => skip(r),
     }
 }
@@ -447,7 +544,8 @@ pub(crate) mod test_util {
         last: usize,
         method: FillMethod,
     ) -> Fill {
-        let data = Data::new(xyz, valid);
+        let steps = max_steps(xyz, valid);
+        let data = Data::new(xyz, valid, &steps);
         let t = Target {
             m: 0,
             data,
@@ -483,6 +581,11 @@ mod tests {
             SkipReason::NoDonors,
             SkipReason::NoContext,
             SkipReason::Degenerate,
+            SkipReason::Implausible { step_ratio: 2.0 },
+            SkipReason::Uncertain {
+                expected_error: 9.0,
+                max_expected_error: 5.0,
+            },
         ] {
             let v = serde_json::to_value(r).unwrap();
             assert_eq!(v["reason"], r.name());
