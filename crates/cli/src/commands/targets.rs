@@ -38,7 +38,7 @@ pub struct TargetArgs {
     /// Replace existing output files (in place, files are always replaced).
     #[arg(long)]
     pub force: bool,
-    /// Files worked on at once (default: one per core).
+    /// Files worked on at once (default: one per core; at most the number of files, and 256).
     #[arg(long)]
     pub jobs: Option<usize>,
     /// One JSON line per file, then a JSON summary line.
