@@ -9,6 +9,19 @@ use rayon::prelude::*;
 use std::io::{IsTerminal, Write};
 use std::sync::Mutex;
 
+/// Most threads a run starts, whatever `--jobs` says: enough to keep a disk busy with
+/// syncs while others compute, far below what would exhaust the system's threads.
+pub const MAX_THREADS: usize = 256;
+
+/// Threads for `files` jobs when `--jobs` asked for `jobs` (None: one per core): never more
+/// than there are files, nor than [`MAX_THREADS`]; 0 lets the pool pick one per core.
+fn threads(jobs: Option<usize>, files: usize) -> usize {
+    match jobs {
+        None => 0,
+        Some(j) => j.min(files.max(1)).min(MAX_THREADS),
+    }
+}
+
 /// Run `work` on every target with `jobs` threads (None: one per core). With `json`, `line`
 /// makes each file's JSON line from its result; otherwise failures are printed as they come.
 /// Results come back in the targets' order, errors as their full message.
@@ -25,7 +38,7 @@ where
     L: Fn(&Target, &Result<T, String>) -> serde_json::Value + Sync,
 {
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(jobs.unwrap_or(0))
+        .num_threads(threads(jobs, targets.len()))
         .build()
         .map_err(|e| anyhow::anyhow!("cannot start worker threads: {e}"))?;
     let bar = (!json && std::io::stderr().is_terminal()).then(|| {
@@ -65,4 +78,18 @@ where
         b.finish_and_clear();
     }
     Ok(results)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn threads_are_capped_by_files_and_the_maximum() {
+        assert_eq!(threads(None, 10), 0);
+        assert_eq!(threads(Some(2), 10), 2);
+        assert_eq!(threads(Some(usize::MAX), 3), 3);
+        assert_eq!(threads(Some(usize::MAX), 100_000), MAX_THREADS);
+        assert_eq!(threads(Some(4), 0), 1);
+    }
 }

@@ -38,7 +38,7 @@ pub struct TargetArgs {
     /// Replace existing output files (in place, files are always replaced).
     #[arg(long)]
     pub force: bool,
-    /// Files worked on at once, 1 to 256 (default: one per core).
+    /// Files worked on at once, 1 to 256 (default: one per core; never more than the files).
     #[arg(long, value_parser = crate::ranges::jobs)]
     pub jobs: Option<usize>,
     /// One JSON line per file, then a JSON summary line.
