@@ -187,7 +187,8 @@ fn convert_many_refuses_bad_combinations_and_keeps_backups() {
     assert_eq!(summary["unchanged"], 1);
     assert_eq!(lines[0]["result"]["unchanged"], true);
     assert_eq!(std::fs::read(d.join("a.c3d.bak")).unwrap(), good);
-    // A huge --jobs starts no more threads than there are files.
+    // --jobs has a range (issue 14), and within it no more threads start than there are
+    // files.
     let out = d.join("out");
     let o = c3dfix(&[
         "convert",
@@ -198,6 +199,9 @@ fn convert_many_refuses_bad_combinations_and_keeps_backups() {
         "--jobs",
         "18446744073709551615",
     ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("1 to 256"), "{}", stderr(&o));
+    let o = c3dfix(&["convert", &a, &b, "--out-dir", s(&out), "--jobs", "256"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(out.join("a.c3d").is_file() && out.join("b.c3d").is_file());
 }
