@@ -4,7 +4,7 @@
 use bvh::error_metric::{Effectors, Evaluator};
 use bvh::interp::{Interp, Interpolator};
 use bvh::keyframes::optimal::Cap;
-use bvh::keyframes::{greedy, optimal, Target};
+use bvh::keyframes::{greedy, optimal, KeyframeError, Target};
 
 /// A root moving along a piecewise-linear path (breakpoints at frames 7, 20 and 31 of 41) and
 /// one joint whose Z angle is piecewise linear with a breakpoint at frame 13.
@@ -78,6 +78,48 @@ fn bad_targets_are_errors() {
     assert!(optimal::reduce(&eval, Target::MaxError(f64::NAN), Cap::None).is_err());
     // Four segments of at most 5 frames cannot cover 40 frames.
     assert!(optimal::reduce(&eval, Target::Keys(5), Cap::Frames(5)).is_err());
+}
+
+/// Values no motion has: the first offending value is named, for every way in.
+#[test]
+fn absurd_and_non_finite_values_are_errors_naming_where() {
+    let mut b = piecewise_linear();
+    // Frame 3, joint `arm`, its first channel (Zrotation): column 6.
+    b.motion.values[3 * 9 + 6] = 1e200;
+    let eval = Evaluator::new(Interpolator::new(&b, Interp::Quat), Effectors::EndSites);
+    let want = KeyframeError::AbsurdValue {
+        place: "MOTION frame 3, joint `arm`, Zrotation".into(),
+        value: 1e200,
+    };
+    assert_eq!(bvh::keyframes::check_values(&b), Err(want.clone()));
+    assert_eq!(greedy::reduce(&eval, Target::Keys(5)), Err(want.clone()));
+    let o = optimal::reduce(&eval, Target::Keys(5), Cap::Auto);
+    assert_eq!(o, Err(want.clone()));
+    assert!(want.to_string().contains("1e200"), "{want}");
+    // The limit itself is accepted; NaN and infinities never are.
+    b.motion.values[3 * 9 + 6] = -bvh::keyframes::MAX_ABS_VALUE;
+    assert_eq!(bvh::keyframes::check_values(&b), Ok(()));
+    for v in [f64::NAN, f64::INFINITY, -f64::INFINITY] {
+        b.motion.values[0] = v;
+        assert!(matches!(
+            bvh::keyframes::check_values(&b),
+            Err(KeyframeError::AbsurdValue { ref place, .. }) if place == "MOTION frame 0, joint `root`, Xposition"
+        ));
+    }
+    b.motion.values[0] = 0.0;
+    b.skeleton.joints[1].end_site = Some([0.0, 2e9, 0.0]);
+    assert_eq!(
+        bvh::keyframes::check_values(&b),
+        Err(KeyframeError::AbsurdValue {
+            place: "End Site OFFSET of joint `arm`".into(),
+            value: 2e9
+        })
+    );
+    b.skeleton.joints[1].offset = [f64::NAN, 0.0, 0.0];
+    assert!(matches!(
+        bvh::keyframes::check_values(&b),
+        Err(KeyframeError::AbsurdValue { ref place, .. }) if place == "OFFSET of joint `arm`"
+    ));
 }
 
 /// The straightforward O(n²) per-key-count DP with exact segment costs: the oracle for the

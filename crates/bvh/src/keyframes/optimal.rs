@@ -61,7 +61,7 @@ pub fn reduce(eval: &Evaluator, target: Target, cap: Cap) -> Result<Reduction, K
     };
     let cap = match cap {
         Cap::None => n,
-        Cap::Frames(f) => f.max(1),
+        Cap::Frames(f) => f.clamp(1, n),
         Cap::Auto => {
             let spacing = (n - 1).div_ceil(k_max.max(2) - 1);
             let greedy_longest = g.keys.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(1);

@@ -2,11 +2,11 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use bvh::error_metric::{Effectors, Evaluator};
 use bvh::interp::{Interp, Interpolator};
 use bvh::keyframes::optimal::Cap;
-use bvh::keyframes::{greedy, optimal, rms, Reduction, Target};
+use bvh::keyframes::{check_values, greedy, optimal, rms, Reduction, Target};
 use serde::Serialize;
 
 use crate::output::write_atomic;
@@ -42,19 +42,20 @@ impl From<InterpArg> for Interp {
 pub struct Args {
     /// The BVH file to reduce.
     pub input: PathBuf,
-    /// Keep exactly this many key frames (first and last included).
-    #[arg(long)]
+    /// Keep exactly this many key frames, first and last included (2 to the number of frames).
+    #[arg(long, value_name = "N")]
     pub keys: Option<usize>,
-    /// Keep as few keys as possible with an RMS End Site distance at most this (file units).
-    #[arg(long, value_name = "MM")]
+    /// Keep as few keys as possible with an RMS End Site distance at most this (file units,
+    /// 0 to 1e9).
+    #[arg(long, value_name = "MM", value_parser = crate::ranges::keyframe_error)]
     pub max_error: Option<f64>,
     #[arg(long, value_enum, default_value = "greedy")]
     pub method: Method,
     #[arg(long, value_enum, default_value = "quat")]
     pub interp: InterpArg,
-    /// Optimal method: longest gap between keys it considers (0: none, exact but slow;
-    /// default: twice the average spacing, at least greedy's longest gap).
-    #[arg(long, value_name = "FRAMES")]
+    /// Optimal method: longest gap between keys it considers (0 to 4294967295 frames; 0: none,
+    /// exact but slow; default: twice the average spacing, at least greedy's longest gap).
+    #[arg(long, value_name = "FRAMES", value_parser = crate::ranges::max_segment)]
     pub max_segment: Option<usize>,
     /// Measure error on every joint, not only End Sites.
     #[arg(long)]
@@ -95,6 +96,7 @@ struct Report<'a> {
 
 pub fn run(a: Args) -> Result<i32> {
     let b = bvh::read(&a.input)?;
+    check_values(&b).with_context(|| a.input.display().to_string())?;
     let mode: Interp = a.interp.into();
     let effectors = if a.all_joints {
         Effectors::AllJoints
