@@ -293,3 +293,43 @@ fn keyframes_numeric_options_out_of_range_are_clear_errors() {
     let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
     assert_eq!(report["keys"], serde_json::json!([0, 5, 12, 20]));
 }
+
+/// The report says whether the keys are proven optimal: short motions are searched
+/// exhaustively; `--exact` forces it; greedy never claims it.
+#[test]
+fn keyframes_report_says_whether_the_keys_are_proven_optimal() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    synthetic(dir.path());
+    for (args, proven, step) in [
+        (&["--method", "optimal"][..], true, serde_json::json!(1)),
+        (
+            &["--method", "optimal", "--exact"],
+            true,
+            serde_json::json!(1),
+        ),
+        (&["--method", "greedy"], false, serde_json::Value::Null),
+    ] {
+        let o = c3dfix()
+            .current_dir(dir.path())
+            .args(["keyframes", "walk.bvh", "--keys", "4", "--json"])
+            .args(args)
+            .output()
+            .expect("run c3dfix");
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+        assert_eq!(report["proven_optimal"], proven, "{args:?}");
+        assert_eq!(report["search_step"], step, "{args:?}");
+        let o = c3dfix()
+            .current_dir(dir.path())
+            .args(["keyframes", "walk.bvh", "--keys", "4"])
+            .args(args)
+            .output()
+            .expect("run c3dfix");
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(
+            text.contains("proven optimal (exhaustive search)"),
+            proven,
+            "{text}"
+        );
+    }
+}

@@ -6,6 +6,7 @@
 //! per compared point and frame, in file units, so that it reads like a tolerance:
 //! `total ≤ bound² · frames · points`.
 
+mod dp;
 pub mod greedy;
 pub mod optimal;
 
