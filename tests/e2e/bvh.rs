@@ -156,3 +156,180 @@ fn keyframes_bad_input_names_the_line() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("line 5"), "{err}");
 }
+
+/// The shared walk with its first motion value (the root's Xposition in frame 0) replaced.
+fn walk_with_first_value(dir: &Path, value: &str) -> Option<std::path::PathBuf> {
+    let samples = testkit::bvh_samples()?;
+    let text = std::fs::read_to_string(samples.join("bvhtoolbox_walk01.bvh")).expect("read");
+    let motion = text.find("Frame Time:").expect("MOTION header");
+    let line_end = motion + text[motion..].find('\n').expect("line end") + 1;
+    let rest = &text[line_end..];
+    let first = rest.find(|c: char| !c.is_whitespace()).expect("a value");
+    let len = rest[first..].find(char::is_whitespace).expect("value end");
+    let edited = format!(
+        "{}{}{}{}",
+        &text[..line_end],
+        &rest[..first],
+        value,
+        &rest[first + len..]
+    );
+    let path = dir.join("walk.bvh");
+    std::fs::write(&path, edited).expect("write");
+    Some(path)
+}
+
+/// Run the binary, failing the test (not hanging it) if it takes more than a minute.
+fn run_with_deadline(cmd: &mut std::process::Command) -> std::process::Output {
+    let mut child = cmd
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run c3dfix");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    while child.try_wait().expect("wait").is_none() {
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("c3dfix did not finish within a minute");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.wait_with_output().expect("output")
+}
+
+/// A motion value no capture has (1e200, whose square overflows) used to make the error curve
+/// NaN and the plot never finish: now every keyframes run stops at once with an error naming
+/// the frame, joint and channel, and writes nothing.
+#[test]
+fn keyframes_absurd_motion_value_is_a_clear_error_and_never_hangs() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let Some(input) = walk_with_first_value(dir.path(), "1e200") else {
+        return;
+    };
+    for extra in [
+        &["--plot", "c.svg"][..],
+        &["--json"],
+        &["--method", "optimal", "-o", "out.bvh"],
+    ] {
+        let o = run_with_deadline(
+            c3dfix()
+                .current_dir(dir.path())
+                .arg("keyframes")
+                .arg(&input)
+                .args(["--keys", "10"])
+                .args(extra),
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {err}");
+        assert!(o.stdout.is_empty(), "{extra:?}");
+        for part in ["walk.bvh", "MOTION frame 0", "`Hips`", "Xposition", "1e200"] {
+            assert!(err.contains(part), "{extra:?}: {part} missing from {err}");
+        }
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    assert!(!dir.path().join("c.svg").exists());
+    assert!(!dir.path().join("out.bvh").exists());
+    // Non-finite values are refused by the reader already, with their line.
+    let input = walk_with_first_value(dir.path(), "nan").expect("corpus");
+    let o = run_with_deadline(c3dfix().arg("keyframes").arg(&input).args(["--keys", "10"]));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("not a finite number"));
+}
+
+/// Every numeric option has a documented range, and values outside it (however large) are
+/// refused with a message naming the range, never an overflow.
+#[test]
+fn keyframes_numeric_options_out_of_range_are_clear_errors() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    synthetic(dir.path());
+    let cases: [(&[&str], &str); 7] = [
+        (
+            &[
+                "--keys",
+                "3",
+                "--method",
+                "optimal",
+                "--max-segment",
+                "18446744073709551615",
+            ],
+            "from 0 to 4294967295",
+        ),
+        (&["--max-error", "1e300"], "from 0 to 1e9"),
+        (&["--max-error=-1"], "from 0 to 1e9"),
+        (&["--max-error", "nan"], "from 0 to 1e9"),
+        (
+            &["--keys", "18446744073709551615"],
+            "between 2 and the 21 frames",
+        ),
+        (&["--keys", "1"], "between 2 and the 21 frames"),
+        (&["--keys", "99999999999999999999999"], "--keys"),
+    ];
+    for (args, message) in cases {
+        let o = c3dfix()
+            .current_dir(dir.path())
+            .args(["keyframes", "walk.bvh"])
+            .args(args)
+            .output()
+            .expect("run c3dfix");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(message), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+    // The largest accepted cap is no cap at all.
+    let o = c3dfix()
+        .current_dir(dir.path())
+        .args([
+            "keyframes",
+            "walk.bvh",
+            "--keys",
+            "4",
+            "--method",
+            "optimal",
+        ])
+        .args(["--max-segment", "4294967295", "--json"])
+        .output()
+        .expect("run c3dfix");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    assert_eq!(report["keys"], serde_json::json!([0, 5, 12, 20]));
+}
+
+/// The report says whether the keys are proven optimal: short motions are searched
+/// exhaustively; `--exact` forces it; greedy never claims it.
+#[test]
+fn keyframes_report_says_whether_the_keys_are_proven_optimal() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    synthetic(dir.path());
+    for (args, proven, step) in [
+        (&["--method", "optimal"][..], true, serde_json::json!(1)),
+        (
+            &["--method", "optimal", "--exact"],
+            true,
+            serde_json::json!(1),
+        ),
+        (&["--method", "greedy"], false, serde_json::Value::Null),
+    ] {
+        let o = c3dfix()
+            .current_dir(dir.path())
+            .args(["keyframes", "walk.bvh", "--keys", "4", "--json"])
+            .args(args)
+            .output()
+            .expect("run c3dfix");
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+        assert_eq!(report["proven_optimal"], proven, "{args:?}");
+        assert_eq!(report["search_step"], step, "{args:?}");
+        let o = c3dfix()
+            .current_dir(dir.path())
+            .args(["keyframes", "walk.bvh", "--keys", "4"])
+            .args(args)
+            .output()
+            .expect("run c3dfix");
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(
+            text.contains("proven optimal (exhaustive search)"),
+            proven,
+            "{text}"
+        );
+    }
+}

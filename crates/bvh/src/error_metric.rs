@@ -6,7 +6,7 @@
 
 use crate::fk::{world_pose, LocalPose, Pose};
 use crate::interp::Interpolator;
-use crate::rotation::{pow, shortest_relative, Quat};
+use crate::rotation::{shortest_relative, Quat};
 use crate::skeleton::{Skeleton, Vec3};
 
 /// Which points the error compares.
@@ -86,7 +86,7 @@ pub struct Scratch {
     /// Segment walk: per joint, local translation at the first key and its change to the last.
     t0: Vec<Vec3>,
     dt: Vec<Vec3>,
-    /// Per factor: the rotation step per frame, and the current value of each walker.
+    /// Per factor: the rotation step per sample, and the current value of each walker.
     step: Vec<Quat>,
     down: Vec<Quat>,
     up: Vec<Quat>,
@@ -147,8 +147,11 @@ impl<'a> Evaluator<'a> {
         }
     }
 
-    /// Set up the walk along segment `a..b`: translations, per-frame rotation steps.
-    fn plan(&self, a: usize, b: usize, s: &mut Scratch) {
+    /// Set up the walk along segment `a..b`, sampled every `stride` frames from `a`: the
+    /// translations, each factor's rotation per sample step (`step`), and its value at the two
+    /// samples the walk starts from, `first` and `first + 1` (`down`, `up`). One arctangent and
+    /// two sine–cosine pairs per factor; the rest of the walk is quaternion products.
+    fn plan(&self, a: usize, b: usize, stride: usize, first: usize, s: &mut Scratch) {
         let bvh = self.interp.bvh();
         let (fa, fb) = (bvh.motion.frame(a), bvh.motion.frame(b));
         let frames = (b - a) as f64;
@@ -165,39 +168,32 @@ impl<'a> Evaluator<'a> {
             s.t0.push(ta);
             s.dt.push([tb[0] - ta[0], tb[1] - ta[1], tb[2] - ta[2]]);
         }
+        let u_step = stride as f64 / frames;
+        let u_first = (first * stride) as f64 / frames;
         s.step.clear();
+        s.down.clear();
+        s.up.clear();
         for f in &self.factors {
-            s.step.push(match *f {
+            let (start, step) = match *f {
                 Factor::Slerp { joint } => {
                     let qa = self.interp.key_rotation(a, joint).unwrap_or(Quat::IDENTITY);
                     let qb = self.interp.key_rotation(b, joint).unwrap_or(Quat::IDENTITY);
-                    pow(shortest_relative(qa, qb), 1.0 / frames)
+                    let r = shortest_relative(qa, qb);
+                    let half = r.x * r.x + r.y * r.y + r.z * r.z;
+                    let half = half.sqrt().atan2(r.w);
+                    (qa * pow_angle(r, half, u_first), pow_angle(r, half, u_step))
                 }
                 Factor::Angle { column, axis } => {
-                    Quat::about_axis(axis, ((fb[column] - fa[column]) / frames).to_radians())
+                    let d = fb[column] - fa[column];
+                    (
+                        Quat::about_axis(axis, (fa[column] + u_first * d).to_radians()),
+                        Quat::about_axis(axis, (u_step * d).to_radians()),
+                    )
                 }
-            });
-        }
-    }
-
-    /// The factors at frame `t` of segment `a..b`, computed directly (the walk's start).
-    fn factors_at(&self, a: usize, b: usize, t: usize, out: &mut Vec<Quat>) {
-        let bvh = self.interp.bvh();
-        let (fa, fb) = (bvh.motion.frame(a), bvh.motion.frame(b));
-        let u = (t - a) as f64 / (b - a) as f64;
-        out.clear();
-        for f in &self.factors {
-            out.push(match *f {
-                Factor::Slerp { joint } => {
-                    let qa = self.interp.key_rotation(a, joint).unwrap_or(Quat::IDENTITY);
-                    let qb = self.interp.key_rotation(b, joint).unwrap_or(Quat::IDENTITY);
-                    qa * pow(shortest_relative(qa, qb), u)
-                }
-                Factor::Angle { column, axis } => {
-                    let v = fa[column] + u * (fb[column] - fa[column]);
-                    Quat::about_axis(axis, v.to_radians())
-                }
-            });
+            };
+            s.step.push(step);
+            s.down.push(start);
+            s.up.push(start * step);
         }
     }
 
@@ -209,10 +205,11 @@ impl<'a> Evaluator<'a> {
         pos.clear();
         rot.clear();
         for (j, joint) in skeleton.joints.iter().enumerate() {
-            let mut q = Quat::IDENTITY;
-            for f in &factors[self.factor_range[j].clone()] {
-                q = q * *f;
-            }
+            let range = self.factor_range[j].clone();
+            let q = match range.len() {
+                1 => factors[range.start],
+                _ => factors[range].iter().fold(Quat::IDENTITY, |q, f| q * *f),
+            };
             let tr = [
                 t0[j][0] + u * dt[j][0],
                 t0[j][1] + u * dt[j][1],
@@ -280,33 +277,48 @@ impl<'a> Evaluator<'a> {
     /// sum). Frames are visited from the middle outwards, where errors are usually largest, so
     /// that hopeless segments are rejected after few evaluations.
     pub fn segment_cost(&self, a: usize, b: usize, bound: f64, s: &mut Scratch) -> f64 {
-        if b <= a + 1 {
+        self.sampled_segment_cost(a, b, 1, bound, s)
+    }
+
+    /// An estimate of [`Evaluator::segment_cost`] from every `stride`-th frame only: the frames
+    /// `a + stride, a + 2·stride, … < b`, each standing for `stride` frames (so `stride` 1 is the
+    /// exact cost). It costs about `1/stride` of the exact sum, which is what makes a search over
+    /// a coarse grid of keys cheap. Like the exact cost, it stops early once above `bound`.
+    pub fn sampled_segment_cost(
+        &self,
+        a: usize,
+        b: usize,
+        stride: usize,
+        bound: f64,
+        s: &mut Scratch,
+    ) -> f64 {
+        let stride = stride.max(1);
+        if b <= a + stride {
             return 0.0;
         }
-        // Incremental walk: every rotation factor turns by a fixed step per frame, so the
-        // frames are reached by one quaternion product per factor, outwards from the middle.
-        self.plan(a, b, s);
-        let mid = (a + b) / 2;
+        // Samples m = 1..=last sit at frames a + m·stride; the walk starts at the middle one.
+        let last = (b - a - 1) / stride;
+        let mid = last.div_ceil(2);
+        // Every rotation factor turns by a fixed step per sample, so the samples are reached by
+        // one quaternion product per factor, outwards from the middle.
+        self.plan(a, b, stride, mid, s);
         let mut down = std::mem::take(&mut s.down);
         let mut up = std::mem::take(&mut s.up);
-        self.factors_at(a, b, mid, &mut down);
-        if mid + 1 < b {
-            self.factors_at(a, b, mid + 1, &mut up);
-        }
+        let scale = stride as f64;
         let mut sum = 0.0;
         let (mut lo, mut hi) = (mid, mid + 1);
         loop {
             let mut moved = false;
-            if lo > a {
-                sum += self.walk_error(a, b, lo, &down, s);
+            if lo >= 1 {
+                sum += scale * self.walk_error(a, b, a + lo * stride, &down, s);
                 for (f, st) in down.iter_mut().zip(&s.step) {
                     *f = *f * st.conj();
                 }
                 lo -= 1;
                 moved = true;
             }
-            if hi < b {
-                sum += self.walk_error(a, b, hi, &up, s);
+            if hi <= last {
+                sum += scale * self.walk_error(a, b, a + hi * stride, &up, s);
                 for (f, st) in up.iter_mut().zip(&s.step) {
                     *f = *f * *st;
                 }
@@ -333,5 +345,20 @@ impl<'a> Evaluator<'a> {
             }
         }
         out
+    }
+}
+
+/// `q^t` for a unit quaternion `q` whose half-angle `atan2(|v|, w)` is `half`: the same axis,
+/// `t` times the angle (as [`crate::rotation::pow`], with the arctangent shared by the callers).
+fn pow_angle(q: Quat, half: f64, t: f64) -> Quat {
+    let s = (q.x * q.x + q.y * q.y + q.z * q.z).sqrt();
+    let (sin, cos) = (t * half).sin_cos();
+    // sin(t·φ)/sin(φ) tends to t as φ → 0.
+    let k = if s > 1e-12 { sin / s } else { t };
+    Quat {
+        w: cos,
+        x: q.x * k,
+        y: q.y * k,
+        z: q.z * k,
     }
 }

@@ -54,6 +54,24 @@ pub fn gaps_per_length(s: &str) -> Result<usize, String> {
     int_in(s, 1, repair::evaluate::MAX_GAPS_PER_LENGTH)
 }
 
+/// Most frames `keyframes --max-segment` takes (a gap longer than the motion is no limit).
+pub const MAX_SEGMENT: usize = u32::MAX as usize;
+
+/// `keyframes --max-segment`: 0 (no limit) to [`MAX_SEGMENT`] frames.
+pub fn max_segment(s: &str) -> Result<usize, String> {
+    int_in(s, 0, MAX_SEGMENT)
+}
+
+/// `keyframes --max-error`: an RMS distance from 0 to [`bvh::keyframes::MAX_ABS_VALUE`], the
+/// largest value a motion may hold.
+pub fn keyframe_error(s: &str) -> Result<f64, String> {
+    let hi = bvh::keyframes::MAX_ABS_VALUE;
+    match float_from(s, 0.0, false) {
+        Ok(v) if v <= hi => Ok(v),
+        _ => Err(format!("must be a finite number from 0 to {hi:e}")),
+    }
+}
+
 /// A length such as `--spike-min-mm` or `--tolerance`: finite, 0 or more.
 pub fn non_negative(s: &str) -> Result<f64, String> {
     float_from(s, 0.0, false)
@@ -96,5 +114,14 @@ mod tests {
         }
         assert!(scale("0").is_err());
         assert_eq!(scale("1e30"), Ok(1e30));
+        assert_eq!(max_segment("0"), Ok(0));
+        assert_eq!(max_segment("4294967295"), Ok(4294967295));
+        assert!(max_segment("18446744073709551615")
+            .unwrap_err()
+            .contains("from 0 to 4294967295"));
+        assert_eq!(keyframe_error("1e9"), Ok(1e9));
+        for bad in ["-1", "nan", "inf", "1e300", "x"] {
+            assert!(keyframe_error(bad).is_err(), "{bad}");
+        }
     }
 }

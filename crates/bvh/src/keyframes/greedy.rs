@@ -143,6 +143,16 @@ pub fn reduce(eval: &Evaluator, target: Target) -> Result<Reduction, KeyframeErr
     Ok(pick(&greedy, eval, target))
 }
 
+/// [`reduce`] from a run already made with the same evaluator.
+pub fn reduce_run(
+    eval: &Evaluator,
+    run: &GreedyRun,
+    target: Target,
+) -> Result<Reduction, KeyframeError> {
+    check(eval, target)?;
+    Ok(pick(run, eval, target))
+}
+
 /// The point of a greedy run that meets `target` (assumed valid).
 pub fn pick(greedy: &GreedyRun, eval: &Evaluator, target: Target) -> Reduction {
     let n = greedy.frames;

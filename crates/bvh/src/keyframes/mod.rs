@@ -6,10 +6,18 @@
 //! per compared point and frame, in file units, so that it reads like a tolerance:
 //! `total ≤ bound² · frames · points`.
 
+mod dp;
 pub mod greedy;
 pub mod optimal;
 
 use crate::error_metric::Evaluator;
+use crate::skeleton::Bvh;
+
+/// Largest magnitude accepted for a channel value or an offset (file units, or degrees).
+/// Anything beyond is a corrupt file rather than a motion (10⁹ mm is a thousand kilometres,
+/// 10⁹ degrees millions of turns), and squared distances built from it would overflow the
+/// error sums into infinities and NaN.
+pub const MAX_ABS_VALUE: f64 = 1e9;
 
 /// What the reduction aims for.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -41,6 +49,10 @@ pub enum KeyframeError {
     BadKeyCount { keys: usize, frames: usize },
     #[error("the error bound must be a finite number ≥ 0, got {0}")]
     BadErrorBound(f64),
+    #[error(
+        "{place}: {value:e} is not a plausible value (keyframes accepts magnitudes up to 1e9)"
+    )]
+    AbsurdValue { place: String, value: f64 },
     #[error("a maximum segment length of {max_segment} frames cannot cover {frames} frames with {keys} keys")]
     SegmentCapTooSmall {
         max_segment: usize,
@@ -64,7 +76,44 @@ pub fn rms(eval: &Evaluator, total: f64) -> f64 {
     }
 }
 
+/// Refuse non-finite or absurdly large offsets and channel values (see [`MAX_ABS_VALUE`]),
+/// naming the first one: the joint and, for motion values, the frame (0-based) and channel.
+pub fn check_values(bvh: &Bvh) -> Result<(), KeyframeError> {
+    let bad = |v: f64| v.is_nan() || v.abs() > MAX_ABS_VALUE;
+    for joint in &bvh.skeleton.joints {
+        if let Some(&v) = joint.offset.iter().find(|&&v| bad(v)) {
+            return Err(KeyframeError::AbsurdValue {
+                place: format!("OFFSET of joint `{}`", joint.name),
+                value: v,
+            });
+        }
+        if let Some(&v) = joint.end_site.iter().flatten().find(|&&v| bad(v)) {
+            return Err(KeyframeError::AbsurdValue {
+                place: format!("End Site OFFSET of joint `{}`", joint.name),
+                value: v,
+            });
+        }
+    }
+    let motion = &bvh.motion;
+    for (i, &v) in motion.values.iter().enumerate() {
+        if bad(v) {
+            let (frame, column) = (i / motion.channels.max(1), i % motion.channels.max(1));
+            let channel = bvh.skeleton.joints.iter().find_map(|j| {
+                let k = column.checked_sub(j.first_channel)?;
+                j.channels.get(k).map(|c| (j.name.as_str(), c.name()))
+            });
+            let place = match channel {
+                Some((joint, ch)) => format!("MOTION frame {frame}, joint `{joint}`, {ch}"),
+                None => format!("MOTION frame {frame}, value {}", column + 1),
+            };
+            return Err(KeyframeError::AbsurdValue { place, value: v });
+        }
+    }
+    Ok(())
+}
+
 fn check(eval: &Evaluator, target: Target) -> Result<(), KeyframeError> {
+    check_values(eval.interpolator().bvh())?;
     let n = eval.frames();
     if n < 2 {
         return Err(KeyframeError::TooFewFrames(n));

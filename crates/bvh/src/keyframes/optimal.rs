@@ -1,73 +1,130 @@
-//! Optimal keyframe selection by dynamic programming over key sets (after Roberts et al.,
-//! 2019): `cost(i, j)` is the error of the frames strictly between keys `i` and `j` when
-//! interpolated from them, and `D[k][j] = min_i D[k-1][i] + cost(i, j)` is the least error of
-//! frames `0..=j` with `k` keys ending at `j`. The answer is `D[K][n-1]`; it is exact.
+//! The optimal method: the key set of least error, searched exhaustively where that is
+//! affordable and coarse-to-fine where it is not.
 //!
-//! Complexity, with `n` frames, `K` keys, `L` the longest segment considered and `J` joints:
-//! in the worst case O(n · L² · J) for segment costs plus O(n · L · K) for the recurrence, in
-//! O(n · K) memory (no cost table is stored). The work actually done is much less, and the
-//! result still exact, thanks to branch and bound:
-//! - the DP pulls: for each end frame `j`, the candidate segments `(i, j)` are tried with the
-//!   best predecessors of `j - 1` first, then the rest; a segment is evaluated (from the middle
-//!   outwards, where errors are largest) only while, for some key count `k` from which `i` can
-//!   still lead to a full solution, `D[k][i] + partial cost` beats both the best way into `j`
-//!   found so far and the budget. A segment abandoned past these bounds is in no better
-//!   solution;
-//! - the budget is the greedy solution's error after a few sweeps of local search (each key
-//!   moved to its best frame between its neighbours), which is much closer to the optimum;
-//! - the candidates of each `j` are evaluated in parallel (rayon); segment frames are reached
-//!   incrementally ([`Evaluator::segment_cost`]): one quaternion product per rotation factor.
+//! The exhaustive search (dynamic programming with branch and bound, in `dp.rs`) needs, for `n`
+//! frames and keys about `s` frames apart, on the order of `n · s²` frame evaluations *even
+//! with perfect pruning bounds*: every plausible segment must be summed nearly in full before
+//! it can be ruled out. For 20 keys on the 2752-frame CMU file, restricted to gaps of at most
+//! 514 frames and given the exact prefix and suffix optima as bounds, 992 021 segments still
+//! need evaluating, 1.0·10⁸ frames in all: over a minute and a half. No lower bound cheap
+//! enough to rule out segments in bulk is known for this error (the interpolated pose is a
+//! nonlinear function of both keys, and the best solutions include long, expensive gaps), so
+//! neither optimality nor a gap to it can be certified for less. Hence:
 //!
-//! `L` decides the running time. Without a cap it is `n - K + 1`, the longest segment any
-//! `K`-key solution can have, and the result is the true optimum. By default ([`Cap::Auto`])
-//! `L` is twice the average key spacing, raised to the longest segment of the greedy solution;
-//! the result is then optimal among key sets whose gaps are at most `L` frames, and never worse
-//! than greedy (the greedy key set is one of them).
+//! - When the search is small (`n · L · (s + K/64)` at most [`EXHAUSTIVE_WORK`], `L` the
+//!   longest possible gap, `K` the keys), every frame is a candidate and the result is exact.
+//! - Otherwise the search runs on a grid of every `step`-th frame first, with segment costs
+//!   estimated from sampled frames (`step ≈ s / SAMPLES_PER_GAP`, at most [`MAX_SAMPLES`]
+//!   samples per segment): about `step³` times less work. Gaps up to twice the average spacing
+//!   (or greedy's longest) join any two grid frames, longer ones join anchors spread so that
+//!   there are about [`LONG_WORK`]` / K` of them: the best key sets often give up on one hard
+//!   stretch with a single long gap. The grid keys are then refined by exact searches over
+//!   windows around each key: first with the step halved at each level (windows of the
+//!   previous step, costs sampled at the new step), then at full resolution within ±2 frames,
+//!   repeated around each improvement, then again from the halving levels while that helps.
+//!   Two grids (offset by half a step) are searched and the better result kept.
 //!
-//! Measured on the 2752-frame, 31-joint CMU file (2 cores, quaternion interpolation, default
-//! cap, `c3dfix keyframes … --method optimal`): 400 keys 1.1 s (was 1.4 s), 100 keys 2.9 s
-//! (was 6.4 s), 20 keys 57 s (was 166–237 s; the cap is then 514 frames and the cost still
-//! grows like n³/K²). See `benches/keyframes.rs`.
+//! The coarse-to-fine result is never worse than greedy (for an error bound: never more keys)
+//! and no key moved by up to 2 frames, all keys at once, improves it; but it is not proven
+//! optimal, and [`Search::exact`] says so. On the CMU file with 20 keys it finds an error of
+//! 140 442 (greedy: 195 544; the exhaustive optimum among gaps of at most 514 frames, the
+//! former default, 142 629 after 80 s) in about twelve times greedy's time
+//! (`cargo bench -p bvh --bench keyframes`).
+//!
+//! The budget of every search is the best error known so far, so each one only looks for
+//! improvements, and segments that cannot give one are abandoned early.
 
-use super::greedy;
+use std::collections::HashMap;
+use std::sync::Mutex;
+
+use super::dp::{self, Problem};
+use super::greedy::{self, GreedyRun};
 use super::{check, total_bound, KeyframeError, Reduction, Target};
 use crate::error_metric::{Evaluator, Scratch};
-use rayon::prelude::*;
 
-/// Local-search sweeps over the greedy keys before the DP (see [`polish`]).
-const POLISH_SWEEPS: usize = 4;
+/// Grid samples per average gap in the coarse search: enough for the estimated costs to rank
+/// key sets like the exact ones, few enough for the coarse search to be cheap.
+pub const SAMPLES_PER_GAP: usize = 16;
 
-/// The longest gap between consecutive keys that the search considers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Cap {
-    /// Twice the average key spacing, at least the greedy solution's longest gap.
-    Auto,
-    /// No cap: the exact optimum (slow on long motions).
-    None,
-    /// At most this many frames between consecutive keys.
-    Frames(usize),
+/// Largest worst-case work, in frame evaluations, for which the exhaustive search is used by
+/// default: a few seconds at most. Each of its `frames × longest gap` segments may take up to
+/// an average gap of frame evaluations, and a check against each key count, at about 1/64 of
+/// a frame evaluation each ([`LAYER_CHECKS_PER_FRAME`]).
+pub const EXHAUSTIVE_WORK: usize = 1 << 22;
+
+/// Key-count checks of the search that cost about one frame evaluation (measured: a frame of
+/// the 31-joint CMU skeleton takes about 0.9 µs, a check about 10 ns).
+pub const LAYER_CHECKS_PER_FRAME: usize = 64;
+
+/// Most frames sampled per segment in the grid search (long gaps are sampled more sparsely).
+pub const MAX_SAMPLES: usize = 2 * SAMPLES_PER_GAP;
+
+/// Segments longer than the grid search's usual gap cap are tried only between anchors, spaced
+/// so that these segments times the key count (the layers each is checked against) stay about
+/// this many.
+pub const LONG_WORK: usize = 1 << 19;
+
+/// Radius, in frames, of the full-resolution windows of the refinement.
+const FINE_RADIUS: usize = 2;
+
+/// Cycles of the halving search around the refined keys at most.
+const CYCLES: usize = 4;
+
+/// How to search.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Options {
+    /// At most this many frames between consecutive keys (`None`: no limit).
+    pub max_segment: Option<usize>,
+    pub strategy: Strategy,
 }
 
-/// Optimal reduction to a target, searching key sets whose gaps respect `cap`.
-pub fn reduce(eval: &Evaluator, target: Target, cap: Cap) -> Result<Reduction, KeyframeError> {
+/// Which search to run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Strategy {
+    /// Exhaustive when its worst-case work is at most [`EXHAUSTIVE_WORK`], else coarse-to-fine.
+    #[default]
+    Auto,
+    /// Every frame a candidate from the start, however long that takes: always exact.
+    Exhaustive,
+    /// The grid search and its refinement, whatever the size (never worse than greedy).
+    CoarseToFine,
+}
+
+/// The outcome of the optimal search.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Search {
+    pub reduction: Reduction,
+    /// True when the keys are proven optimal: no key set with as many keys (and, for an error
+    /// bound, none with fewer) and gaps within `max_segment` has a smaller error.
+    pub exact: bool,
+    /// Grid step of the first search, in frames (1: exhaustive).
+    pub step: usize,
+}
+
+/// Optimal reduction to a target.
+pub fn reduce(
+    eval: &Evaluator,
+    target: Target,
+    options: Options,
+) -> Result<Reduction, KeyframeError> {
+    check(eval, target)?;
+    search(eval, &greedy::run(eval), target, options).map(|s| s.reduction)
+}
+
+/// [`reduce`], reusing a greedy run of the same evaluator, and saying whether the result is
+/// proven optimal.
+pub fn search(
+    eval: &Evaluator,
+    run: &GreedyRun,
+    target: Target,
+    options: Options,
+) -> Result<Search, KeyframeError> {
     check(eval, target)?;
     let n = eval.frames();
-    let run = greedy::run(eval);
     // Greedy gives a feasible solution, hence an upper bound on the key count and the error.
-    let g = greedy::pick(&run, eval, target);
-    let (k_max, budget) = match target {
-        Target::Keys(k) => (k, g.total_error),
-        Target::MaxError(rms) => (g.keys.len(), total_bound(eval, rms)),
-    };
-    let cap = match cap {
-        Cap::None => n,
-        Cap::Frames(f) => f.max(1),
-        Cap::Auto => {
-            let spacing = (n - 1).div_ceil(k_max.max(2) - 1);
-            let greedy_longest = g.keys.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(1);
-            (2 * spacing).max(greedy_longest)
-        }
-    };
+    let g = greedy::pick(run, eval, target);
+    let k_max = g.keys.len();
+    let cap = options.max_segment.unwrap_or(n).clamp(1, n);
     if (k_max - 1).saturating_mul(cap) < n - 1 {
         return Err(KeyframeError::SegmentCapTooSmall {
             max_segment: cap,
@@ -76,211 +133,443 @@ pub fn reduce(eval: &Evaluator, target: Target, cap: Cap) -> Result<Reduction, K
         });
     }
     if k_max >= n {
-        let keys: Vec<usize> = (0..n).collect();
-        return Ok(Reduction {
-            keys,
-            total_error: 0.0,
+        return Ok(Search {
+            reduction: Reduction {
+                keys: (0..n).collect(),
+                total_error: 0.0,
+            },
+            exact: true,
+            step: 1,
         });
     }
-    let budget = match target {
-        Target::Keys(_) => {
-            let mut keys = g.keys.clone();
-            budget.min(polish(eval, &mut keys, cap, POLISH_SWEEPS))
-        }
-        Target::MaxError(_) => budget,
+    // The longest gap any solution with these keys can have.
+    let max_len = cap.min(n - k_max + 1);
+    let spacing = (n - 1) / (k_max - 1);
+    let per_segment = spacing + k_max / LAYER_CHECKS_PER_FRAME;
+    let work = n.saturating_mul(max_len).saturating_mul(per_segment);
+    let small = match options.strategy {
+        Strategy::Auto => work <= EXHAUSTIVE_WORK,
+        Strategy::Exhaustive => true,
+        Strategy::CoarseToFine => false,
     };
-    // Slack for rounding, so the solution that set the budget is never pruned away.
-    let budget = budget * (1.0 + 1e-9) + 1e-12;
-    let max_len = cap.min(n - k_max + 1).max(1);
-    let dp = solve(eval, k_max, max_len, budget);
+    if small {
+        let (reduction, exact) = exhaustive(eval, target, g, max_len);
+        return Ok(Search {
+            reduction,
+            exact,
+            step: 1,
+        });
+    }
+    let step = grid_step(n, k_max);
+    // The grid search only: a gap cap as in earlier versions of this search (twice the average
+    // spacing, at least greedy's longest gap) keeps it cheap; refinement is not capped by it.
+    let greedy_longest = g.keys.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(1);
+    let lengths = Lengths {
+        fine: max_len,
+        coarse: max_len.min((2 * spacing).max(greedy_longest)),
+    };
+    let reduction = match target {
+        Target::Keys(k) => coarse_to_fine(eval, g, k, lengths, step),
+        Target::MaxError(rms) => fewest_keys(eval, g, total_bound(eval, rms), lengths, step),
+    };
+    Ok(Search {
+        reduction,
+        exact: false,
+        step,
+    })
+}
+
+/// The coarse grid's step for `keys` keys over `n` frames: about [`SAMPLES_PER_GAP`] grid
+/// frames per average gap, and at least 2.
+pub fn grid_step(n: usize, keys: usize) -> usize {
+    let spacing = (n - 1) / (keys.max(2) - 1);
+    (spacing / SAMPLES_PER_GAP).max(2)
+}
+
+/// Gap lengths: the user's cap (or the longest possible gap), and the grid search's longest
+/// gap between any two grid frames (longer ones are tried between anchors only).
+#[derive(Debug, Clone, Copy)]
+struct Lengths {
+    fine: usize,
+    coarse: usize,
+}
+
+/// Whether every gap between `keys` is at most `max_len` frames.
+fn fits(keys: &[usize], max_len: usize) -> bool {
+    keys.windows(2).all(|w| w[1] - w[0] <= max_len)
+}
+
+/// The exhaustive search over every frame, with the greedy solution as the budget (when it
+/// respects the gap cap), and whether it found the optimum.
+fn exhaustive(eval: &Evaluator, target: Target, g: Reduction, max_len: usize) -> (Reduction, bool) {
+    let n = eval.frames();
+    let k_max = g.keys.len();
+    let g_fits = fits(&g.keys, max_len);
+    let budget = match target {
+        Target::Keys(_) if g_fits => g.total_error,
+        Target::Keys(_) => f64::INFINITY,
+        Target::MaxError(rms) => total_bound(eval, rms),
+    };
+    let candidates: Vec<usize> = (0..n).collect();
+    let table = dp::solve(
+        &Problem {
+            candidates: &candidates,
+            keys: k_max,
+            max_len,
+            short_len: max_len,
+            anchor: 1,
+            budget: slack(budget),
+            windows: None,
+        },
+        &|a, b, bound, s| eval.segment_cost(a, b, bound, s),
+    );
     // Smallest key count whose optimum meets the target (for Keys: exactly K).
     let k = match target {
         Target::Keys(k) => k,
         Target::MaxError(_) => (2..=k_max)
-            .find(|&k| dp.best(k).is_some_and(|e| e <= budget))
+            .find(|&k| table.best(k).is_some_and(|e| e <= slack(budget)))
             .unwrap_or(k_max),
     };
-    match dp.keys(k) {
+    match table.keys(k) {
         Some(keys) => {
             let total_error = eval.frame_errors(&keys).iter().sum();
-            Ok(Reduction { keys, total_error })
+            let found = Reduction { keys, total_error };
+            // Fewer keys always wins for an error bound; otherwise keep the smaller error
+            // (the same up to rounding: the search found the optimum).
+            if !g_fits || found.keys.len() < g.keys.len() || found.total_error <= g.total_error {
+                (found, true)
+            } else {
+                (g, true)
+            }
         }
-        // Only reachable if a cap excludes every solution within the budget: the greedy
-        // answer is then the best we can honestly offer.
-        None => Ok(g),
+        // Only reachable for an error bound that no key set within the cap, with at most
+        // greedy's key count, meets: greedy's own answer is then the best we can offer.
+        None => (g, false),
     }
 }
 
-/// Improve a key set by moving one interior key at a time to the best frame between its
-/// neighbours (gaps kept within `cap`), sweeping until nothing moves or `sweeps` run out.
-/// Returns the new total error. Its only purpose is a tighter budget for the DP's pruning: the
-/// closer the budget is to the optimum, the sooner hopeless segments are abandoned.
-fn polish(eval: &Evaluator, keys: &mut [usize], cap: usize, sweeps: usize) -> f64 {
-    let mut s = Scratch::default();
-    let mut seg: Vec<f64> = keys
-        .windows(2)
-        .map(|w| eval.segment_cost(w[0], w[1], f64::INFINITY, &mut s))
-        .collect();
-    for _ in 0..sweeps {
-        let mut moved = false;
-        for k in 1..keys.len().saturating_sub(1) {
-            let (a, p, b) = (keys[k - 1], keys[k], keys[k + 1]);
-            let now = seg[k - 1] + seg[k];
-            let lo = (a + 1).max(b.saturating_sub(cap));
-            let hi = (b - 1).min(a + cap);
-            let best = (lo..hi + 1)
-                .into_par_iter()
-                .with_min_len(4)
-                .map_init(Scratch::default, |s, q| {
-                    let left = eval.segment_cost(a, q, now, s);
-                    if left > now {
-                        return (f64::INFINITY, 0.0, 0.0, q);
+/// Slack for rounding, so that the solution that set a budget is never pruned away.
+fn slack(budget: f64) -> f64 {
+    budget * (1.0 + 1e-9) + 1e-12
+}
+
+/// Exactly `k` keys: the grid searches, then refinement; never worse than the greedy `g`.
+fn coarse_to_fine(
+    eval: &Evaluator,
+    g: Reduction,
+    k: usize,
+    lengths: Lengths,
+    step: usize,
+) -> Reduction {
+    let n = eval.frames();
+    let cache = SegmentCache::default();
+    // Greedy's keys bound the error only when they respect the cap.
+    let mut best = match fits(&g.keys, lengths.fine) {
+        true => g.clone(),
+        false => Reduction {
+            keys: g.keys.clone(),
+            total_error: f64::INFINITY,
+        },
+    };
+    let mut searched = false;
+    for offset in [0, step / 2] {
+        let grid = grid(n, step, offset);
+        let Some(keys) =
+            coarse_search(eval, &grid, k, lengths, step, &best.keys, None).and_then(|t| t.keys(k))
+        else {
+            continue;
+        };
+        searched = true;
+        let keys = narrow(eval, keys, step, lengths.fine);
+        let total_error = eval.frame_errors(&keys).iter().sum();
+        let start = Reduction { keys, total_error };
+        let found = improve(eval, start, step, lengths.fine, &cache);
+        if found.total_error < best.total_error {
+            best = found;
+        }
+    }
+    if !searched {
+        // More keys than grid frames: refine the greedy keys themselves.
+        best = improve(eval, best, step, lengths.fine, &cache);
+    }
+    match best.total_error.is_finite() {
+        true => best,
+        // Nothing within the cap was found: greedy's answer is the best we can offer.
+        false => g,
+    }
+}
+
+/// As few keys as possible within the total-error `bound`: the grid search proposes a key
+/// count, refinement checks it at full resolution, adding keys until the bound is met. Never
+/// more keys than greedy (`g`, which meets the bound).
+fn fewest_keys(
+    eval: &Evaluator,
+    g: Reduction,
+    bound: f64,
+    lengths: Lengths,
+    step: usize,
+) -> Reduction {
+    let n = eval.frames();
+    let cache = SegmentCache::default();
+    let grid = grid(n, step, 0);
+    let k_max = g.keys.len();
+    let Some(table) = coarse_search(eval, &grid, k_max, lengths, step, &g.keys, Some(bound)) else {
+        return g;
+    };
+    let first = (2..k_max).find(|&k| table.best(k).is_some_and(|e| e <= bound));
+    for k in first.into_iter().flat_map(|k| k..k_max) {
+        let Some(keys) = table.keys(k) else {
+            continue;
+        };
+        let keys = narrow(eval, keys, step, lengths.fine);
+        let total_error: f64 = eval.frame_errors(&keys).iter().sum();
+        let start = Reduction { keys, total_error };
+        let r = improve(eval, start, step, lengths.fine, &cache);
+        if r.total_error <= bound {
+            return r;
+        }
+    }
+    g
+}
+
+/// Frame 0, every `step`-th frame from `offset` (or from `step` when it is 0), and the last.
+fn grid(n: usize, step: usize, offset: usize) -> Vec<usize> {
+    let from = if offset == 0 { step } else { offset };
+    let mut grid = vec![0];
+    grid.extend((from..n - 1).step_by(step));
+    grid.push(n - 1);
+    grid
+}
+
+/// The exhaustive search over the grid with sampled segment costs. Its budget is `bound` when
+/// given, else the estimated cost of `reference` moved to the grid (a feasible grid solution).
+fn coarse_search(
+    eval: &Evaluator,
+    grid: &[usize],
+    keys: usize,
+    lengths: Lengths,
+    step: usize,
+    reference: &[usize],
+    bound: Option<f64>,
+) -> Option<dp::Table> {
+    if grid.len() < keys {
+        return None;
+    }
+    // Long gaps are sampled more sparsely, so that each segment costs at most MAX_SAMPLES
+    // frame evaluations.
+    let cost = |a: usize, b: usize, bound: f64, s: &mut Scratch| {
+        let stride = step.max((b - a) / MAX_SAMPLES);
+        eval.sampled_segment_cost(a, b, stride, bound, s)
+    };
+    // Anchors close enough together that long gaps between them stay within LONG_WORK.
+    let m = grid.len();
+    let long_pairs = LONG_WORK / keys.max(1);
+    let anchor = m.div_ceil(((2 * long_pairs) as f64).sqrt() as usize).max(1);
+    let budget = match bound {
+        Some(b) => b,
+        None => {
+            let snapped = snap(reference, grid);
+            let mut s = Scratch::default();
+            let fits = snapped.windows(2).all(|w| w[1] - w[0] <= lengths.fine);
+            if snapped.len() == keys && fits {
+                snapped
+                    .windows(2)
+                    .map(|w| cost(w[0], w[1], f64::INFINITY, &mut s))
+                    .sum()
+            } else {
+                f64::INFINITY
+            }
+        }
+    };
+    Some(dp::solve(
+        &Problem {
+            candidates: grid,
+            keys,
+            max_len: lengths.fine,
+            short_len: lengths.coarse,
+            anchor,
+            budget: slack(budget),
+            windows: None,
+        },
+        &cost,
+    ))
+}
+
+/// `keys` moved to the nearest grid frames, kept distinct and in order (first and last stay).
+fn snap(keys: &[usize], grid: &[usize]) -> Vec<usize> {
+    let m = grid.len();
+    let k = keys.len();
+    if k < 2 || m < k {
+        return Vec::new();
+    }
+    let mut out = vec![0];
+    let mut prev = 0;
+    for (r, &x) in keys.iter().enumerate().take(k - 1).skip(1) {
+        let i = grid.partition_point(|&f| f < x);
+        let nearest = match i {
+            0 => 0,
+            i if i < m && grid[i] - x <= x - grid[i - 1] => i,
+            i => i - 1,
+        };
+        // Leave room for the keys still to place, each on its own grid frame.
+        let highest = m - 1 - (k - 1 - r);
+        let i = nearest.max(prev + 1).min(highest);
+        out.push(grid[i]);
+        prev = i;
+    }
+    out.push(grid[m - 1]);
+    out
+}
+
+/// Halve the step down to 2, each time searching windows of the previous step around each key,
+/// with candidates and cost samples at the new step (full-resolution refinement takes over
+/// from there).
+fn narrow(eval: &Evaluator, mut keys: Vec<usize>, mut step: usize, max_len: usize) -> Vec<usize> {
+    let n = eval.frames();
+    let k = keys.len();
+    while step > 2 {
+        let next = step / 2;
+        let reach = step.div_ceil(next);
+        let windows = windows(&keys, next * reach, n);
+        let mut candidates = Vec::new();
+        for (&x, &(lo, hi)) in keys.iter().zip(&windows) {
+            for d in 0..=reach {
+                for f in [x.saturating_sub(d * next), x + d * next] {
+                    if lo <= f && f <= hi {
+                        candidates.push(f);
                     }
-                    let right = eval.segment_cost(q, b, now - left, s);
-                    (left + right, left, right, q)
-                })
-                .min_by(|x, y| x.0.total_cmp(&y.0).then(x.3.cmp(&y.3)));
-            if let Some((total, left, right, q)) = best {
-                if q != p && total < now {
-                    keys[k] = q;
-                    seg[k - 1] = left;
-                    seg[k] = right;
-                    moved = true;
                 }
             }
         }
-        if !moved {
+        candidates.sort_unstable();
+        candidates.dedup();
+        let cost = |a: usize, b: usize, bound: f64, s: &mut Scratch| {
+            eval.sampled_segment_cost(a, b, next, bound, s)
+        };
+        let mut s = Scratch::default();
+        let now: f64 = keys
+            .windows(2)
+            .map(|w| cost(w[0], w[1], f64::INFINITY, &mut s))
+            .sum();
+        let fits = keys.windows(2).all(|w| w[1] - w[0] <= max_len);
+        let table = dp::solve(
+            &Problem {
+                candidates: &candidates,
+                keys: k,
+                max_len,
+                short_len: max_len,
+                anchor: 1,
+                budget: if fits { slack(now) } else { f64::INFINITY },
+                windows: Some(&windows),
+            },
+            &cost,
+        );
+        if let Some(found) = table.keys(k) {
+            keys = found;
+        }
+        step = next;
+    }
+    keys
+}
+
+/// Per key, the frames within `radius` of it (first and last key fixed).
+fn windows(keys: &[usize], radius: usize, n: usize) -> Vec<(usize, usize)> {
+    let k = keys.len();
+    keys.iter()
+        .enumerate()
+        .map(|(r, &x)| match r {
+            0 => (0, 0),
+            r if r == k - 1 => (n - 1, n - 1),
+            _ => (x.saturating_sub(radius).max(1), (x + radius).min(n - 2)),
+        })
+        .collect()
+}
+
+/// Full-resolution refinement until it stops improving; then the halving search again from
+/// `wide`, around the refined keys, while that leads somewhere better.
+fn improve(
+    eval: &Evaluator,
+    mut best: Reduction,
+    wide: usize,
+    max_len: usize,
+    cache: &SegmentCache,
+) -> Reduction {
+    for cycle in 0..=CYCLES {
+        let mut improved = false;
+        // Each round lowers the error, so this ends; in practice after a few rounds.
+        while let Some(r) = refine(eval, &best.keys, max_len, best.total_error, cache) {
+            best = r;
+            improved = true;
+        }
+        if cycle == CYCLES || (cycle > 0 && !improved) || wide <= FINE_RADIUS {
             break;
         }
-    }
-    eval.frame_errors(keys).iter().sum()
-}
-
-struct Dp {
-    n: usize,
-    k_max: usize,
-    /// `d[k * n + j]`: least error of frames `0..=j` with `k + 1` keys, the last at `j`.
-    d: Vec<f64>,
-    /// The previous key on that best path.
-    from: Vec<u32>,
-}
-
-impl Dp {
-    fn best(&self, keys: usize) -> Option<f64> {
-        let v = *self.d.get((keys - 1) * self.n + self.n - 1)?;
-        v.is_finite().then_some(v)
-    }
-
-    fn keys(&self, keys: usize) -> Option<Vec<usize>> {
-        if keys < 2 || keys > self.k_max {
-            return None;
-        }
-        self.best(keys)?;
-        let mut out = vec![self.n - 1];
-        let mut j = self.n - 1;
-        for k in (1..keys).rev() {
-            j = self.from[k * self.n + j] as usize;
-            out.push(j);
-        }
-        out.reverse();
-        (out.first() == Some(&0)).then_some(out)
-    }
-}
-
-fn solve(eval: &Evaluator, k_max: usize, max_len: usize, budget: f64) -> Dp {
-    let n = eval.frames();
-    let mut dp = Dp {
-        n,
-        k_max,
-        d: vec![f64::INFINITY; k_max * n],
-        from: vec![0; k_max * n],
-    };
-    dp.d[0] = 0.0;
-    let mut seeds = Vec::new();
-    let mut rest = Vec::new();
-    for j in 1..n {
-        let first = j.saturating_sub(max_len);
-        // Seeds: the best predecessors of j - 1, which are usually near-best for j too, so
-        // that the bounds below are tight before the bulk of the candidates is looked at.
-        seeds.clear();
-        seeds.push(j - 1);
-        if j >= 2 {
-            for k in 1..k_max {
-                let slot = k * n + j - 1;
-                let i = dp.from[slot] as usize;
-                if dp.d[slot].is_finite() && i >= first {
-                    seeds.push(i);
-                }
+        let keys = narrow(eval, best.keys.clone(), wide, max_len);
+        let total_error: f64 = eval.frame_errors(&keys).iter().sum();
+        if total_error < best.total_error {
+            best = Reduction { keys, total_error };
+        } else {
+            // Its neighbourhood may still hold something better than the current keys.
+            match refine(eval, &keys, max_len, best.total_error, cache) {
+                Some(r) => best = r,
+                None => break,
             }
         }
-        seeds.sort_unstable();
-        seeds.dedup();
-        relax(eval, &mut dp, (budget, max_len), j, &seeds);
-        rest.clear();
-        rest.extend((first..j).filter(|i| seeds.binary_search(i).is_err()));
-        relax(eval, &mut dp, (budget, max_len), j, &rest);
     }
-    dp
+    best
 }
 
-/// Try segments `(i, j)` for every `i` of `starts` (all before `j`). A segment is evaluated only
-/// as far as it can still matter: its cost must stay within the budget left after the cheapest
-/// way to reach `i`, and, for some key count, must improve on the best way into `j` found so
-/// far. Both bounds are exact: a segment abandoned past them is in no better solution.
-fn relax(
+/// The exact search over key sets whose `k`-th key lies within [`FINE_RADIUS`] frames of
+/// `keys[k]` (first and last fixed); `None` unless it finds an error below `budget`.
+fn refine(
     eval: &Evaluator,
-    dp: &mut Dp,
-    (budget, max_len): (f64, usize),
-    j: usize,
-    starts: &[usize],
-) {
-    let n = dp.n;
-    let work: Vec<(usize, f64)> = starts
-        .iter()
-        .filter_map(|&i| {
-            // Layer k (k + 1 keys up to i) can take one more key at j, if the keys left after
-            // j can still cover the remaining frames with gaps of at most `max_len`.
-            let mut room = f64::NEG_INFINITY;
-            for k in layers_into(dp, i, j, max_len) {
-                let at = dp.d[k * n + i];
-                let beat = dp.d[(k + 1) * n + j].min(budget);
-                room = room.max(beat - at);
-            }
-            (room >= 0.0).then_some((i, room))
-        })
-        .collect();
-    let costs: Vec<f64> = work
-        .par_iter()
-        .with_min_len(4)
-        .map_init(Scratch::default, |s, &(i, room)| {
-            eval.segment_cost(i, j, room, s)
-        })
-        .collect();
-    for (&(i, room), &c) in work.iter().zip(&costs) {
-        if c > room {
-            continue;
-        }
-        let layers: Vec<usize> = layers_into(dp, i, j, max_len).collect();
-        for k in layers {
-            let v = dp.d[k * n + i] + c;
-            let slot = (k + 1) * n + j;
-            // Ties go to the earliest start, whatever order the candidates came in.
-            if v < dp.d[slot] || (v == dp.d[slot] && i < dp.from[slot] as usize) {
-                dp.d[slot] = v;
-                dp.from[slot] = i as u32;
-            }
-        }
-    }
+    keys: &[usize],
+    max_len: usize,
+    budget: f64,
+    cache: &SegmentCache,
+) -> Option<Reduction> {
+    let n = eval.frames();
+    let k = keys.len();
+    let windows = windows(keys, FINE_RADIUS, n);
+    let mut candidates: Vec<usize> = windows.iter().flat_map(|&(lo, hi)| lo..=hi).collect();
+    candidates.sort_unstable();
+    candidates.dedup();
+    let table = dp::solve(
+        &Problem {
+            candidates: &candidates,
+            keys: k,
+            max_len,
+            short_len: max_len,
+            anchor: 1,
+            budget: budget * (1.0 - 1e-12),
+            windows: Some(&windows),
+        },
+        &|a, b, bound, s| cache.cost(eval, a, b, bound, s),
+    );
+    let keys = table.keys(k)?;
+    let total_error: f64 = eval.frame_errors(&keys).iter().sum();
+    (total_error < budget).then_some(Reduction { keys, total_error })
 }
 
-/// The layers `k` (`k + 1` keys up to `i`, the last at `i`) from which a segment `(i, j)` can
-/// lead to a solution: `D[k][i]` is known and within reach, and the `k_max - k - 2` keys left
-/// after `j` can cover the frames after it with gaps of at most `max_len`.
-fn layers_into(dp: &Dp, i: usize, j: usize, max_len: usize) -> impl Iterator<Item = usize> + '_ {
-    let n = dp.n;
-    let after = n - 1 - j;
-    (0..(dp.k_max - 1).min(i + 1)).filter(move |&k| {
-        let left = dp.k_max - k - 2;
-        dp.d[k * n + i].is_finite() && (after == 0 || left.saturating_mul(max_len) >= after)
-    })
+/// Segment costs already computed, shared by the rounds of refinement (whose windows overlap):
+/// the exact cost, or a lower bound (a partial sum) when the walk was abandoned.
+#[derive(Default)]
+struct SegmentCache {
+    known: Mutex<HashMap<(usize, usize), (f64, bool)>>,
+}
+
+impl SegmentCache {
+    fn cost(&self, eval: &Evaluator, a: usize, b: usize, bound: f64, s: &mut Scratch) -> f64 {
+        let seen = self.known.lock().ok().and_then(|m| m.get(&(a, b)).copied());
+        match seen {
+            Some((c, true)) => return c,
+            Some((c, false)) if c > bound => return c,
+            _ => {}
+        }
+        let c = eval.segment_cost(a, b, bound, s);
+        if let Ok(mut m) = self.known.lock() {
+            m.insert((a, b), (c, c <= bound));
+        }
+        c
+    }
 }

@@ -2,11 +2,10 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use bvh::error_metric::{Effectors, Evaluator};
 use bvh::interp::{Interp, Interpolator};
-use bvh::keyframes::optimal::Cap;
-use bvh::keyframes::{greedy, optimal, rms, Reduction, Target};
+use bvh::keyframes::{check_values, greedy, optimal, rms, Target};
 use serde::Serialize;
 
 use crate::output::write_atomic;
@@ -16,7 +15,8 @@ use crate::plot::{render_keyframe_curves, KeyframeCurves};
 pub enum Method {
     /// Drop the cheapest key repeatedly (fast).
     Greedy,
-    /// Dynamic programming over key sets (slower, least error).
+    /// Dynamic programming over key sets (slower, least error): exhaustive when that is quick
+    /// (or with --exact), otherwise coarse-to-fine and never worse than greedy.
     Optimal,
 }
 
@@ -42,20 +42,25 @@ impl From<InterpArg> for Interp {
 pub struct Args {
     /// The BVH file to reduce.
     pub input: PathBuf,
-    /// Keep exactly this many key frames (first and last included).
-    #[arg(long)]
+    /// Keep exactly this many key frames, first and last included (2 to the number of frames).
+    #[arg(long, value_name = "N")]
     pub keys: Option<usize>,
-    /// Keep as few keys as possible with an RMS End Site distance at most this (file units).
-    #[arg(long, value_name = "MM")]
+    /// Keep as few keys as possible with an RMS End Site distance at most this (file units,
+    /// 0 to 1e9).
+    #[arg(long, value_name = "MM", value_parser = crate::ranges::keyframe_error)]
     pub max_error: Option<f64>,
     #[arg(long, value_enum, default_value = "greedy")]
     pub method: Method,
     #[arg(long, value_enum, default_value = "quat")]
     pub interp: InterpArg,
-    /// Optimal method: longest gap between keys it considers (0: none, exact but slow;
-    /// default: twice the average spacing, at least greedy's longest gap).
-    #[arg(long, value_name = "FRAMES")]
+    /// Optimal method: longest gap allowed between keys (0 to 4294967295 frames; 0, the
+    /// default: no limit).
+    #[arg(long, value_name = "FRAMES", value_parser = crate::ranges::max_segment)]
     pub max_segment: Option<usize>,
+    /// Optimal method: search every key set exhaustively, however long it takes (by default
+    /// only when that is quick, else coarse-to-fine).
+    #[arg(long)]
+    pub exact: bool,
     /// Measure error on every joint, not only End Sites.
     #[arg(long)]
     pub all_joints: bool,
@@ -82,6 +87,11 @@ struct Report<'a> {
     frames: usize,
     /// Key frame indices, 0-based.
     keys: &'a [usize],
+    /// True when no key set meeting the same target has a smaller error (optimal method,
+    /// exhaustive search); false for greedy and for the coarse-to-fine search.
+    proven_optimal: bool,
+    /// Optimal method: grid step of its first search in frames (1: exhaustive).
+    search_step: Option<usize>,
     total_error: f64,
     mean_frame_error: f64,
     rms_distance: f64,
@@ -95,6 +105,7 @@ struct Report<'a> {
 
 pub fn run(a: Args) -> Result<i32> {
     let b = bvh::read(&a.input)?;
+    check_values(&b).with_context(|| a.input.display().to_string())?;
     let mode: Interp = a.interp.into();
     let effectors = if a.all_joints {
         Effectors::AllJoints
@@ -108,15 +119,19 @@ pub fn run(a: Args) -> Result<i32> {
     };
     let eval = Evaluator::new(Interpolator::new(&b, mode), effectors);
     let run = greedy::run(&eval);
-    let reduction: Reduction = match a.method {
-        Method::Greedy => greedy::reduce(&eval, target)?,
+    let (reduction, proven_optimal, search_step) = match a.method {
+        Method::Greedy => (greedy::reduce_run(&eval, &run, target)?, false, None),
         Method::Optimal => {
-            let cap = match a.max_segment {
-                None => Cap::Auto,
-                Some(0) => Cap::None,
-                Some(f) => Cap::Frames(f),
+            let options = optimal::Options {
+                // 0 is no limit.
+                max_segment: a.max_segment.filter(|&f| f > 0),
+                strategy: match a.exact {
+                    true => optimal::Strategy::Exhaustive,
+                    false => optimal::Strategy::Auto,
+                },
             };
-            optimal::reduce(&eval, target, cap)?
+            let s = optimal::search(&eval, &run, target, options)?;
+            (s.reduction, s.exact, Some(s.step))
         }
     };
     let frame_errors = eval.frame_errors(&reduction.keys);
@@ -132,7 +147,8 @@ pub fn run(a: Args) -> Result<i32> {
         write_atomic(out, bvh::write(&rebuilt).as_bytes(), a.force)?;
     }
     if let Some(path) = &a.plot {
-        let curves = KeyframeCurves::gather(&b, effectors, crate::output::file_name(&a.input));
+        let name = crate::output::file_name(&a.input);
+        let curves = KeyframeCurves::gather(&b, effectors, name, Some((mode, &run)));
         let svg = render_keyframe_curves(&curves)?;
         write_atomic(path, svg.as_bytes(), a.force)?;
     }
@@ -151,6 +167,8 @@ pub fn run(a: Args) -> Result<i32> {
         },
         frames,
         keys: &reduction.keys,
+        proven_optimal,
+        search_step,
         total_error: total,
         mean_frame_error: total / frames.max(1) as f64,
         rms_distance: rms(&eval, total),
@@ -179,6 +197,13 @@ fn print_text(r: &Report) {
     );
     let keys: Vec<String> = r.keys.iter().map(|k| k.to_string()).collect();
     println!("  keys (0-based frames): {}", keys.join(" "));
+    match r.search_step {
+        Some(1) => println!("  proven optimal (exhaustive search)"),
+        Some(step) => println!(
+            "  not proven optimal: coarse-to-fine search from a {step}-frame grid, never worse than greedy (--exact searches exhaustively, slowly)"
+        ),
+        None => {}
+    }
     println!(
         "  total error {:.6} (sum of squared distances), mean per frame {:.6}, max per frame {:.6}, RMS distance {:.6}",
         r.total_error, r.mean_frame_error, r.max_frame_error, r.rms_distance

@@ -323,6 +323,14 @@ fn draw_analog<DB: DrawingBackend>(a: &AnalogPlot, area: &DrawingArea<DB, Shift>
 
 /// Draw the greedy keyframe error curves side by side, one panel per interpolation, as SVG.
 pub fn render_keyframe_curves(k: &KeyframeCurves) -> Result<String> {
+    // A NaN or infinite error (from values keyframes refuses anyway) would send the axis
+    // labelling into an endless loop.
+    if k.curves
+        .iter()
+        .any(|(_, c)| c.iter().any(|p| !p.1.is_finite()))
+    {
+        bail!("cannot plot: the error curve is not finite");
+    }
     let family = font()?;
     let y_max = k
         .curves

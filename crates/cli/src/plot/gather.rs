@@ -219,13 +219,22 @@ pub struct KeyframeCurves {
 }
 
 impl KeyframeCurves {
-    /// Run greedy reduction to the end with each interpolation.
-    pub fn gather(b: &bvh::Bvh, effectors: Effectors, name: String) -> KeyframeCurves {
+    /// Run greedy reduction to the end with each interpolation; `done` is a run already made
+    /// with one of them (same effectors), which is reused rather than run again.
+    pub fn gather(
+        b: &bvh::Bvh,
+        effectors: Effectors,
+        name: String,
+        done: Option<(Interp, &greedy::GreedyRun)>,
+    ) -> KeyframeCurves {
         let curves = [Interp::Euler, Interp::Quat]
             .into_iter()
-            .map(|m| {
-                let eval = Evaluator::new(Interpolator::new(b, m), effectors);
-                (m, greedy::run(&eval).curve())
+            .map(|m| match done {
+                Some((dm, run)) if dm == m => (m, run.curve()),
+                _ => {
+                    let eval = Evaluator::new(Interpolator::new(b, m), effectors);
+                    (m, greedy::run(&eval).curve())
+                }
             })
             .collect();
         KeyframeCurves {
