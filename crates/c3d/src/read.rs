@@ -60,7 +60,7 @@ fn read_stream(mut r: impl std::io::Read) -> Result<Vec<u8>> {
         return Ok(buf);
     };
     // The most any reading of the announcements could need: the later data start, the most
-    // frames, and frames of the widest analog reading in 4-byte words.
+    // frames, and frames of the widest analog reading.
     let param_data = ps.get_u16("POINT", "DATA_START").unwrap_or(0) as usize;
     let data_offset = hdr_data.max(param_data.saturating_sub(1) * BLOCK);
     let first = header.first_frame as usize;
@@ -69,7 +69,10 @@ fn read_stream(mut r: impl std::io::Read) -> Result<Vec<u8>> {
     let spf = (header.analog_samples_per_frame as usize).max(1);
     let used = ps.get_u16("ANALOG", "USED").unwrap_or(0) as usize;
     let analog_words = (header.analog_per_frame as usize).max(used.saturating_mul(spf));
-    let frame_bytes = (4 * header.point_count as usize + analog_words) * 4;
+    // Float data (a negative scale in the header or in POINT:SCALE) takes 4 bytes a word.
+    let float = header.scale < 0.0 || ps.get_f32("POINT", "SCALE").is_some_and(|s| s < 0.0);
+    let word_bytes = if float { 4 } else { 2 };
+    let frame_bytes = (4 * header.point_count as usize + analog_words) * word_bytes;
     let need = data_offset
         .saturating_add(frames.saturating_mul(frame_bytes))
         .saturating_add(BLOCK - 1)

@@ -42,6 +42,11 @@ impl C3d {
         if processor == self.processor() && format == self.format() && scale.is_none() {
             return self.to_bytes();
         }
+        if let Some(s) = scale.filter(|s| s.is_finite() && *s != 0.0) {
+            if format == NumberFormat::Integer {
+                check_integer_scale(self.points(), s.abs())?;
+            }
+        }
         self.write_fresh(processor, format, scale)
     }
 
@@ -148,7 +153,11 @@ impl C3d {
                 .iter()
                 .any(|(r, before)| out[r.clone()] != before[..])
             {
-                return self.write_fresh(p, self.format(), None);
+                // Integer samples keep their scale, so the samples left alone keep their
+                // values exactly (edited ones were kept within its range by the editor).
+                let keep = Some(l.point_scale)
+                    .filter(|s| !l.float && *s > 0.0 && s.is_finite() && fits(self.points(), *s));
+                return self.write_fresh(p, self.format(), keep);
             }
         }
         Ok(out)
@@ -164,12 +173,7 @@ impl C3d {
         let float = format == NumberFormat::Float;
         let old = self.layout();
         let abs_scale = match scale {
-            Some(s) if s.is_finite() && s != 0.0 => {
-                if !float {
-                    check_integer_scale(pts, s.abs())?;
-                }
-                s.abs()
-            }
+            Some(s) if s.is_finite() && s != 0.0 => s.abs(),
             Some(s) => return Err(Error::Misuse(format!("scale {s} must be finite and not 0"))),
             None if float => match old.point_scale {
                 s if s > 0.0 && s.is_finite() => s,
@@ -284,6 +288,11 @@ fn next_structure(src: &Source, h: &Header) -> usize {
         limit = src.param_end.div_ceil(BLOCK) * BLOCK;
     }
     limit.min(src.bytes.len()).max(src.param_start)
+}
+
+/// Whether every valid coordinate fits in 16 bits at `scale`.
+fn fits(pts: &crate::points::Points, scale: f32) -> bool {
+    (max_valid_abs(pts) / scale).round() <= 32767.0
 }
 
 /// Largest |coordinate| of the valid samples.

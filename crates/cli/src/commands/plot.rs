@@ -30,6 +30,11 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<i32> {
     let format = Format::from_path(&a.output)?;
+    let inputs: Vec<&std::path::Path> = [Some(a.file.as_path()), a.against.as_deref()]
+        .into_iter()
+        .flatten()
+        .collect();
+    crate::output::refuse_input(&a.output, &inputs, "output")?;
     let c = read_c3d(&a.file)?;
     let orig = a.against.as_deref().map(read_c3d).transpose()?;
     let (fname, oname) = (

@@ -35,6 +35,15 @@ fn is_bvh(p: &Path) -> bool {
 }
 
 pub fn run(a: Args) -> Result<i32> {
+    let inputs: Vec<&Path> = [
+        Some(a.file.as_path()),
+        a.against.as_deref(),
+        a.sticks.as_deref(),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    crate::output::refuse_input(&a.output, &inputs, "output")?;
     if is_bvh(&a.file) {
         return run_bvh(&a);
     }
