@@ -239,7 +239,8 @@ fn a_full_standard_output_is_a_clean_error_not_a_panic() {
     let input = sample("walk_int.c3d");
     let out_c3d = d.path().join("r.c3d");
     let out_dir = d.path().join("batch");
-    let runs: Vec<Vec<&str>> = vec![
+    let bvh = testkit::bvh_samples().map(|d| d.join("bvhtoolbox_walk01.bvh"));
+    let mut runs: Vec<Vec<&str>> = vec![
         vec!["info", s(&input)],
         vec!["info", "--json", s(&input)],
         vec!["gaps", s(&input)],
@@ -260,6 +261,10 @@ fn a_full_standard_output_is_a_clean_error_not_a_panic() {
         ],
         vec!["--help"],
     ];
+    if let Some(f) = &bvh {
+        runs.push(vec!["keyframes", s(f), "--keys", "10"]);
+        runs.push(vec!["keyframes", s(f), "--keys", "10", "--json"]);
+    }
     for args in runs {
         let out = to_dev_full(&args);
         let e = stderr(&out);

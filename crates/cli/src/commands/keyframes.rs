@@ -8,6 +8,7 @@ use bvh::interp::{Interp, Interpolator};
 use bvh::keyframes::{check_values, greedy, optimal, rms, Target};
 use serde::Serialize;
 
+use crate::console::outln;
 use crate::output::write_atomic;
 use crate::plot::{render_keyframe_curves, KeyframeCurves};
 
@@ -179,35 +180,35 @@ pub fn run(a: Args) -> Result<i32> {
         plot: a.plot.as_ref().map(|p| p.display().to_string()),
     };
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        outln!("{}", serde_json::to_string_pretty(&report)?)?;
     } else {
-        print_text(&report);
+        print_text(&report)?;
     }
     Ok(0)
 }
 
-fn print_text(r: &Report) {
-    println!("{}: {} frames", r.file, r.frames);
-    println!(
+fn print_text(r: &Report) -> Result<()> {
+    outln!("{}: {} frames", r.file, r.frames)?;
+    outln!(
         "{} keys ({}, {} interpolation, error on {}):",
         r.keys.len(),
         r.method,
         r.interp,
         r.effectors
-    );
+    )?;
     let keys: Vec<String> = r.keys.iter().map(|k| k.to_string()).collect();
-    println!("  keys (0-based frames): {}", keys.join(" "));
+    outln!("  keys (0-based frames): {}", keys.join(" "))?;
     match r.search_step {
-        Some(1) => println!("  proven optimal (exhaustive search)"),
-        Some(step) => println!(
+        Some(1) => outln!("  proven optimal (exhaustive search)")?,
+        Some(step) => outln!(
             "  not proven optimal: coarse-to-fine search from a {step}-frame grid, never worse than greedy (--exact searches exhaustively, slowly)"
-        ),
+        )?,
         None => {}
     }
-    println!(
+    outln!(
         "  total error {:.6} (sum of squared distances), mean per frame {:.6}, max per frame {:.6}, RMS distance {:.6}",
         r.total_error, r.mean_frame_error, r.max_frame_error, r.rms_distance
-    );
+    )?;
     // About ten points of the curve, enough to see where the error takes off.
     let step = (r.greedy_curve.len() / 10).max(1);
     let points: Vec<String> = r
@@ -217,16 +218,17 @@ fn print_text(r: &Report) {
         .chain(r.greedy_curve.last())
         .map(|(removed, e)| format!("{removed}:{e:.3}"))
         .collect();
-    println!(
+    outln!(
         "  greedy curve (removed frames:total error): {}",
         points.join(" ")
-    );
+    )?;
     let errors: Vec<String> = r.frame_errors.iter().map(|e| format!("{e:.4}")).collect();
-    println!("  error per frame: {}", errors.join(" "));
+    outln!("  error per frame: {}", errors.join(" "))?;
     if let Some(o) = &r.output {
-        println!("  wrote {o}");
+        outln!("  wrote {o}")?;
     }
     if let Some(p) = &r.plot {
-        println!("  plotted {p}");
+        outln!("  plotted {p}")?;
     }
+    Ok(())
 }
