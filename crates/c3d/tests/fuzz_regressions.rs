@@ -7,25 +7,9 @@ mod common {
 
 #[test]
 fn fuzz_regressions_replay() {
-    let dir = testkit::workspace_root().join("crates/c3d/tests/fuzz-regressions");
-    let mut n = 0;
-    for e in std::fs::read_dir(&dir)
-        .expect("regression folder")
-        .flatten()
-    {
-        if e.path().extension().is_some_and(|x| x == "md") {
-            continue;
-        }
-        let data = std::fs::read(e.path()).expect("read regression file");
-        common::fuzz_check::check(&data);
-        n += 1;
-    }
-    eprintln!("{n} regression inputs replayed");
-    assert!(
-        n >= 3,
-        "only {n} regression inputs found in {}",
-        dir.display()
-    );
+    let dir = "crates/c3d/tests/fuzz-regressions";
+    let n = testkit::replay_regressions(dir, common::fuzz_check::check);
+    assert!(n >= 3, "only {n} regression inputs found in {dir}");
 }
 
 #[test]

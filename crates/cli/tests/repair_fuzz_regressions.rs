@@ -7,20 +7,10 @@ mod common {
 
 #[test]
 fn repair_fuzz_regressions_replay() {
-    let dir = testkit::workspace_root().join("crates/cli/tests/fuzz-regressions");
-    let mut n = 0;
-    for e in std::fs::read_dir(&dir)
-        .expect("regression folder")
-        .flatten()
-    {
-        if e.path().extension().is_some_and(|x| x == "md") {
-            continue;
-        }
-        let data = std::fs::read(e.path()).expect("read regression file");
-        common::repair_check::check(&data);
-        n += 1;
-    }
-    eprintln!("{n} regression inputs replayed");
+    testkit::replay_regressions(
+        "crates/cli/tests/fuzz-regressions",
+        common::repair_check::check,
+    );
 }
 
 #[test]

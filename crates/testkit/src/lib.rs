@@ -120,3 +120,23 @@ pub fn short(p: &Path) -> String {
         None => s.into_owned(),
     }
 }
+
+/// Run `check` on every input kept in a fuzz-regression folder (the workspace-relative
+/// `dir`; its README is skipped); the number of inputs replayed.
+pub fn replay_regressions(dir: &str, mut check: impl FnMut(&[u8])) -> usize {
+    let dir = workspace_root().join(dir);
+    let mut n = 0;
+    for e in std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("regression folder {}: {e}", dir.display()))
+        .flatten()
+    {
+        if e.path().extension().is_some_and(|x| x == "md") {
+            continue;
+        }
+        let data = std::fs::read(e.path()).expect("read regression file");
+        check(&data);
+        n += 1;
+    }
+    eprintln!("{n} regression inputs replayed from {}", dir.display());
+    n
+}
