@@ -1,29 +1,19 @@
 //! Read+decode and rewrite throughput: c3dfix against c3dio in the same run, on the corpus
-//! files over 300 KB and on a generated 100 000-frame, 100-marker trial.
+//! files over 300 KB and on the generated 100 000-frame, 100-marker trial
+//! (`examples/common/big_trial.rs`). Reading here includes decoding every point sample,
+//! as c3dio's load does.
 //!
 //! `cargo bench -p c3d --bench read_write` (C3D_SAMPLES as for the tests).
 
-use c3d::{Analog, C3d, NumberFormat, Parameters, Points, Processor};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use std::hint::black_box;
 use std::time::Duration;
 
+#[path = "../examples/common/big_trial.rs"]
+mod big_trial;
+
 fn generated() -> Vec<u8> {
-    let (frames, n) = (100_000, 100);
-    let mut pts = Points::new(frames, n);
-    for f in 0..frames {
-        for i in 0..n {
-            let k = pts.index(f, i);
-            let t = f as f32 * 0.01;
-            pts.xyz[k] = [i as f32 * 10.0 + t.sin(), t.cos() * 100.0, 900.0 + i as f32];
-            pts.residual[k] = 0.5;
-        }
-    }
-    let mut ps = Parameters::new();
-    ps.set_f32("POINT", "RATE", 100.0).ok();
-    let c = C3d::new(pts, Analog::new(frames, 0, 1), ps, Processor::Intel, -0.1);
-    c.convert(Processor::Intel, NumberFormat::Float, None)
-        .expect("generate the 100k-frame trial")
+    big_trial::big_trial().expect("generate the 100k-frame trial")
 }
 
 /// (name, path, bytes) of every input; both libraries read from the file, as users do.

@@ -2,26 +2,18 @@
 //! and against its data. Each broken rule is a [`Warning`] (the file is still read), so that
 //! `info` can tell a user why another program may refuse the file.
 
-use crate::analog::Analog;
 use crate::data::Layout;
 use crate::error::{Section, Warning};
 use crate::header::Header;
 use crate::parameters::{Parameters, Value};
-use crate::points::Points;
 
 fn warn(message: String) -> Warning {
     Warning::new(Section::Parameters, None, message)
 }
 
 /// Check what was read and append a warning per broken rule.
-pub(crate) fn check(
-    h: &Header,
-    ps: &Parameters,
-    layout: &Layout,
-    points: &Points,
-    analog: &Analog,
-    out: &mut Vec<Warning>,
-) {
+pub(crate) fn check(h: &Header, ps: &Parameters, layout: &Layout, out: &mut Vec<Warning>) {
+    let (count, frames, channels) = (layout.points, layout.frames, layout.analog_channels);
     // Text parameters whose strings have length 0 (the first dimension).
     for (g, p) in [
         ("POINT", "LABELS"),
@@ -56,7 +48,7 @@ pub(crate) fn check(
         }
     }
     // Point parameters the data needs.
-    if points.count() > 0 {
+    if count > 0 {
         for p in ["USED", "SCALE", "RATE", "DATA_START", "FRAMES"] {
             if ps.get("POINT", p).is_none() {
                 out.push(warn(format!("POINT:{p} is missing")));
@@ -68,17 +60,17 @@ pub(crate) fn check(
             }
         }
         if let Some(n) = ps.get_u16("POINT", "FRAMES") {
-            if (n as usize) != points.frames() && points.frames() <= 65535 {
+            if (n as usize) != frames && frames <= 65535 {
                 out.push(warn(format!(
                     "POINT:FRAMES is {n} but the header's frame range holds {}",
-                    points.frames()
+                    frames
                 )));
             }
         }
         let labels = ps.get_strings_continued("POINT", "LABELS");
         let blank = labels
             .iter()
-            .take(points.count())
+            .take(count)
             .filter(|l| l.trim().is_empty())
             .count();
         if blank > 0 {
@@ -88,7 +80,7 @@ pub(crate) fn check(
         let mut repeated: Vec<&str> = Vec::new();
         for l in labels
             .iter()
-            .take(points.count())
+            .take(count)
             .map(|l| l.trim())
             .filter(|l| !l.is_empty())
         {
@@ -109,11 +101,11 @@ pub(crate) fn check(
                 if repeated.len() > 8 { ", …" } else { "" }
             )));
         }
-        if labels.len() < points.count() {
+        if labels.len() < count {
             out.push(warn(format!(
                 "POINT:LABELS names {} of {} points",
                 labels.len(),
-                points.count()
+                count
             )));
         }
     }
@@ -127,7 +119,7 @@ pub(crate) fn check(
         }
     }
     // Analog parameters the data needs.
-    if analog.channels() > 0 {
+    if channels > 0 {
         if ps.group("ANALOG").is_none() {
             out.push(warn(
                 "analog data is stored but there is no ANALOG group (no labels, rate or calibration)".into(),
@@ -150,11 +142,11 @@ pub(crate) fn check(
             }
             for p in ["SCALE", "OFFSET"] {
                 if let Some(prm) = ps.get("ANALOG", p) {
-                    if prm.value.len() < analog.channels() {
+                    if prm.value.len() < channels {
                         out.push(warn(format!(
                             "ANALOG:{p} has {} values for {} channels (the rest default)",
                             prm.value.len(),
-                            analog.channels()
+                            channels
                         )));
                     }
                 }

@@ -2,14 +2,17 @@
 //! bytes it was read from, so that writing it back changes only what was changed.
 
 use crate::analog::{Analog, Calibration};
-use crate::data::Layout;
+use crate::data::{DecodeAnalog, DecodeNotes, DecodePoints, Layout, MapChunks, Patch, PointsView};
 use crate::error::Warning;
+use crate::error::{Error, Result};
 use crate::events::{self, Event};
 use crate::header::{Header, HeaderEvent};
 use crate::parameters::Parameters;
 use crate::points::Points;
 use crate::processor::Processor;
 use serde::Serialize;
+use std::borrow::Cow;
+use std::sync::OnceLock;
 
 /// Integer or floating-point data.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -31,6 +34,7 @@ impl NumberFormat {
 /// What was read, kept for lossless rewriting.
 #[derive(Debug, Clone)]
 pub(crate) struct Source {
+    /// The file's bytes as read, with any samples patched in by [`C3d::patch_points`].
     pub bytes: Vec<u8>,
     pub header: Header,
     pub processor: Processor,
@@ -47,12 +51,17 @@ pub(crate) struct Source {
 /// was read and re-encodes only what differs. Point and analog data are reached through
 /// [`C3d::points_mut`] / [`C3d::analog_mut`], which mark them for re-encoding; even then only
 /// samples whose values changed get new bytes.
+///
+/// A file that was read keeps one copy of its data: its bytes. Point and analog arrays are
+/// decoded from them the first time they are asked for, so that commands which only scan
+/// the data ([`C3d::map_point_chunks`]), patch a few markers ([`C3d::patch_points`]) or
+/// rewrite the file unchanged ([`C3d::encoded`]) never hold a second copy of a long trial.
 #[derive(Debug, Clone)]
 pub struct C3d {
     pub header: Header,
     pub parameters: Parameters,
-    points: Points,
-    analog: Analog,
+    points: OnceLock<Points>,
+    analog: OnceLock<Analog>,
     layout: Layout,
     processor: Processor,
     warnings: Vec<Warning>,
@@ -66,8 +75,6 @@ impl C3d {
     pub(crate) fn from_parts(
         header: Header,
         parameters: Parameters,
-        points: Points,
-        analog: Analog,
         layout: Layout,
         processor: Processor,
         warnings: Vec<Warning>,
@@ -76,8 +83,8 @@ impl C3d {
         C3d {
             header,
             parameters,
-            points,
-            analog,
+            points: OnceLock::new(),
+            analog: OnceLock::new(),
             layout,
             processor,
             warnings,
@@ -111,8 +118,8 @@ impl C3d {
         C3d {
             header,
             parameters,
-            points,
-            analog,
+            points: OnceLock::from(points),
+            analog: OnceLock::from(analog),
             layout,
             processor,
             warnings: Vec::new(),
@@ -122,24 +129,213 @@ impl C3d {
         }
     }
 
+    /// The point data, decoded from the file's bytes on first use.
     pub fn points(&self) -> &Points {
-        &self.points
+        self.points.get_or_init(|| match self.data_bytes() {
+            Some(bytes) => self.processor.dispatch(DecodePoints {
+                bytes,
+                layout: self.layout,
+            }),
+            None => Points::new(self.layout.frames, self.layout.points),
+        })
     }
 
     /// Mutable point data; samples changed through it are re-encoded when writing.
     pub fn points_mut(&mut self) -> &mut Points {
+        self.points();
         self.points_dirty = true;
-        &mut self.points
+        self.points
+            .get_mut()
+            .expect("the points were decoded just above")
     }
 
+    /// The analog data, decoded from the file's bytes on first use.
     pub fn analog(&self) -> &Analog {
-        &self.analog
+        self.analog.get_or_init(|| match self.data_bytes() {
+            Some(bytes) => self.processor.dispatch(DecodeAnalog {
+                bytes,
+                layout: self.layout,
+            }),
+            None => Analog::new(
+                self.layout.frames,
+                self.layout.analog_channels,
+                self.layout.analog_samples_per_frame,
+            ),
+        })
     }
 
     /// Mutable analog data (raw values); changed samples are re-encoded when writing.
     pub fn analog_mut(&mut self) -> &mut Analog {
+        self.analog();
         self.analog_dirty = true;
-        &mut self.analog
+        self.analog
+            .get_mut()
+            .expect("the analog data were decoded just above")
+    }
+
+    /// The stored data section of a file that was read (`layout.data_bytes()` long).
+    fn data_bytes(&self) -> Option<&[u8]> {
+        let src = self.source.as_ref()?;
+        let need = src.layout.data_bytes();
+        Some(
+            src.bytes
+                .get(src.data_offset..src.data_offset + need)
+                .unwrap_or(&[]),
+        )
+    }
+
+    /// Number of frames, without decoding anything.
+    pub fn frames(&self) -> usize {
+        self.points.get().map_or(self.layout.frames, |p| p.frames)
+    }
+
+    /// Number of points per frame, without decoding anything.
+    pub fn point_count(&self) -> usize {
+        self.points.get().map_or(self.layout.points, |p| p.count)
+    }
+
+    /// Number of analog channels, without decoding anything.
+    pub fn analog_channels(&self) -> usize {
+        self.analog
+            .get()
+            .map_or(self.layout.analog_channels, |a| a.channels)
+    }
+
+    /// Frames per chunk of [`C3d::map_point_chunks`]: chunk `i` starts at frame
+    /// `i * point_chunk_frames()`.
+    pub fn point_chunk_frames(&self) -> usize {
+        crate::data::chunk_frames(&self.layout)
+    }
+
+    /// Number of chunks [`C3d::map_point_chunks`] visits.
+    pub fn point_chunks(&self) -> usize {
+        self.frames().div_ceil(self.point_chunk_frames())
+    }
+
+    /// Run `f` on the point data chunk by chunk (runs of [`C3d::point_chunk_frames`] whole
+    /// frames), in parallel, each call with its own `state` (`states[i]` goes with chunk `i`;
+    /// chunks without a state are not visited). The results come back in frame order.
+    ///
+    /// When the points have not been decoded, each chunk is decoded from the file's bytes into
+    /// a per-thread buffer, so scanning a long trial needs memory for a chunk, not a second
+    /// copy of the trial; the samples are the ones [`C3d::points`] would give.
+    pub fn map_point_chunks<S, R, F>(&self, states: Vec<S>, f: F) -> Vec<R>
+    where
+        S: Send,
+        R: Send,
+        F: Fn(S, PointsView<'_>) -> R + Sync,
+    {
+        self.map_chunks_noting(states, |s, v, _| f(s, v))
+    }
+
+    /// [`C3d::map_point_chunks`] with what decoding each chunk noticed (nothing when the
+    /// points were already decoded).
+    pub(crate) fn map_chunks_noting<S, R, F>(&self, states: Vec<S>, f: F) -> Vec<R>
+    where
+        S: Send,
+        R: Send,
+        F: Fn(S, PointsView<'_>, DecodeNotes) -> R + Sync,
+    {
+        use rayon::prelude::*;
+        let chunk = self.point_chunk_frames();
+        match (self.points.get(), self.data_bytes()) {
+            (None, Some(bytes)) => self.processor.dispatch(MapChunks {
+                bytes,
+                layout: self.layout,
+                states,
+                f,
+            }),
+            (p, _) => {
+                let p = p.unwrap_or_else(|| self.points());
+                let per = chunk * p.count;
+                if per == 0 {
+                    return Vec::new();
+                }
+                p.xyz
+                    .par_chunks(per)
+                    .zip(p.residual.par_chunks(per))
+                    .zip(p.camera_mask.par_chunks(per))
+                    .zip(states)
+                    .enumerate()
+                    .map(|(i, (((x, r), m), s))| {
+                        let view = PointsView {
+                            first_frame: i * chunk,
+                            frames: x.len() / p.count,
+                            count: p.count,
+                            xyz: x,
+                            residual: r,
+                            camera_mask: m,
+                        };
+                        f(s, view, DecodeNotes::default())
+                    })
+                    .collect()
+            }
+        }
+    }
+
+    /// Set point samples: each `(frame, point, xyz, residual, camera_mask)` (0-based frame
+    /// and point). Returns how many were given.
+    ///
+    /// Until the points are decoded, the samples are encoded straight into the file's bytes
+    /// (as [`C3d::points_mut`] would when writing: only samples whose values change get new
+    /// bytes), so a repair of a long trial holds no decoded copy of it. Afterwards, or when the
+    /// file's data section overlaps its header or parameters (a damaged file, written afresh),
+    /// they go into the decoded points.
+    pub fn patch_points(
+        &mut self,
+        samples: impl IntoIterator<Item = (usize, usize, [f32; 3], f32, u8)>,
+    ) -> Result<usize> {
+        let patchable = self.points.get().is_none()
+            && self.source.as_ref().is_some_and(|src| {
+                let data = src.data_offset..src.data_offset + src.layout.data_bytes();
+                let clear = |r: std::ops::Range<usize>| r.end <= data.start || data.end <= r.start;
+                data.end <= src.bytes.len()
+                    && clear(0..crate::header::BLOCK)
+                    && clear(src.param_start..src.param_end)
+            });
+        if patchable {
+            if let Some(src) = self.source.as_mut() {
+                let range = src.data_offset..src.data_offset + src.layout.data_bytes();
+                return src.processor.dispatch(Patch {
+                    out: &mut src.bytes[range],
+                    layout: src.layout,
+                    samples: samples.into_iter(),
+                });
+            }
+        }
+        let p = self.points_mut();
+        let (frames, count) = (p.frames, p.count);
+        let mut n = 0;
+        for (f, i, xyz, r, m) in samples {
+            if f >= frames || i >= count {
+                return Err(Error::Misuse(format!(
+                    "sample (frame {f}, point {i}) outside {frames} frames × {count} points"
+                )));
+            }
+            let k = f * count + i;
+            p.xyz[k] = xyz;
+            p.residual[k] = r;
+            p.camera_mask[k] = m;
+            n += 1;
+        }
+        Ok(n)
+    }
+
+    /// Whether nothing was changed since reading: the bytes would be written back as read.
+    fn unchanged(&self, src: &Source) -> bool {
+        !self.points_dirty
+            && !self.analog_dirty
+            && self.header == src.header
+            && self.parameters.unchanged(src.processor)
+    }
+
+    /// The file's bytes, borrowed from what was read when nothing changed (so saving an
+    /// unchanged long trial copies nothing), else encoded as [`C3d::to_bytes`] does.
+    pub fn encoded(&self) -> Result<Cow<'_, [u8]>> {
+        match &self.source {
+            Some(src) if self.unchanged(src) => Ok(Cow::Borrowed(&src.bytes)),
+            _ => self.to_bytes().map(Cow::Owned),
+        }
     }
 
     pub fn layout(&self) -> &Layout {
@@ -156,6 +352,10 @@ impl C3d {
         } else {
             NumberFormat::Integer
         }
+    }
+
+    pub(crate) fn set_warnings(&mut self, warnings: Vec<Warning>) {
+        self.warnings = warnings;
     }
 
     /// What in the file broke the rules but could be read around.
@@ -184,7 +384,7 @@ impl C3d {
     /// Point labels (POINT:LABELS, LABELS2, …), one per stored point; missing ones are
     /// named by their number so every point has a label.
     pub fn point_labels(&self) -> Vec<String> {
-        self.labels("POINT", self.points.count, "POINT")
+        self.labels("POINT", self.point_count(), "POINT")
     }
 
     /// `group:LABELS` (and continuations) cut or extended to `n`, unlabelled entries named
@@ -203,7 +403,7 @@ impl C3d {
         let mut d = self
             .parameters
             .get_strings_continued("POINT", "DESCRIPTIONS");
-        d.resize(self.points.count, String::new());
+        d.resize(self.point_count(), String::new());
         d
     }
 
@@ -256,7 +456,7 @@ impl C3d {
             .get("TRIAL", "ACTUAL_START_FIELD")
             .map(|p| p.as_u16s());
         match p.as_deref() {
-            Some([lo, hi, ..]) if self.header.last_frame == 65535 || self.points.frames > 65535 => {
+            Some([lo, hi, ..]) if self.header.last_frame == 65535 || self.frames() > 65535 => {
                 *lo as usize + ((*hi as usize) << 16)
             }
             _ => self.header.first_frame as usize,
@@ -265,13 +465,13 @@ impl C3d {
 
     /// Analog channel labels (ANALOG:LABELS, LABELS2, …), one per channel.
     pub fn analog_labels(&self) -> Vec<String> {
-        self.labels("ANALOG", self.analog.channels, "CHANNEL")
+        self.labels("ANALOG", self.analog_channels(), "CHANNEL")
     }
 
     /// Analog units per channel (ANALOG:UNITS).
     pub fn analog_units(&self) -> Vec<String> {
         let mut u = self.parameters.get_strings_continued("ANALOG", "UNITS");
-        u.resize(self.analog.channels, String::new());
+        u.resize(self.analog_channels(), String::new());
         u
     }
 
@@ -279,7 +479,7 @@ impl C3d {
     /// default to scale 1, offset 0; offsets of unsigned data are read as unsigned.
     pub fn analog_calibration(&self) -> Calibration {
         let ps = &self.parameters;
-        let n = self.analog.channels;
+        let n = self.analog_channels();
         let unsigned = self.layout.unsigned_analog;
         let mut scale = ps
             .get("ANALOG", "SCALE")
@@ -302,7 +502,7 @@ impl C3d {
 
     /// Analog data in physical units, laid out like [`Analog::raw`].
     pub fn analog_physical(&self) -> Vec<f32> {
-        self.analog_calibration().apply(&self.analog)
+        self.analog_calibration().apply(self.analog())
     }
 
     /// Events from the header and from the EVENT group.

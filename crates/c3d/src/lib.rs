@@ -22,7 +22,7 @@ mod text;
 mod write;
 
 pub use analog::{Analog, Calibration};
-pub use data::Layout;
+pub use data::{Layout, PointsView};
 pub use error::{Error, Result, Section, Warning};
 pub use events::Event;
 pub use file::{C3d, NumberFormat};

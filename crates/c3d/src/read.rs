@@ -1,7 +1,7 @@
 //! Reading: bytes → [`C3d`]. Every count taken from the file is checked against the bytes
 //! actually present before anything is allocated from it.
 
-use crate::data::{Decode, Layout};
+use crate::data::{DecodeNotes, Layout};
 use crate::error::{Error, Result, Section, Warning};
 use crate::file::{C3d, Source};
 use crate::header::{Header, BLOCK};
@@ -227,24 +227,37 @@ pub fn read(bytes: Vec<u8>) -> Result<C3d> {
     }
     // `need` fits in what remains (checked above); a data start beyond the end of the file is
     // only possible when nothing is stored, and is then worth a warning.
-    let data = match bytes.get(data_offset..data_offset + need) {
-        Some(d) => d,
-        None => {
-            warnings.push(Warning::new(
-                Section::Header,
-                Some(16),
-                format!(
-                    "data section starts at byte {data_offset}, beyond the end of the {}-byte file",
-                    bytes.len()
-                ),
-            ));
-            &[]
-        }
-    };
-    let (points, analog, notes) = processor.dispatch(Decode {
-        bytes: data,
+    if bytes.get(data_offset..data_offset + need).is_none() {
+        warnings.push(Warning::new(
+            Section::Header,
+            Some(16),
+            format!(
+                "data section starts at byte {data_offset}, beyond the end of the {}-byte file",
+                bytes.len()
+            ),
+        ));
+    }
+    let source = Source {
+        header: header.clone(),
+        processor,
+        param_start,
+        param_end,
+        data_offset,
         layout,
+        bytes,
+    };
+    let mut c = C3d::from_parts(header, parameters, layout, processor, Vec::new(), source);
+    // One pass over the samples, chunk by chunk, for what the file says about itself; the
+    // arrays are decoded later, and only if someone asks for them.
+    let scan = c.map_chunks_noting(vec![(); c.point_chunks()], |(), v, notes| {
+        let valid =
+            (0..v.frames * v.count).any(|k| !crate::points::is_missing(v.xyz[k], v.residual[k]));
+        let stored = v.xyz.iter().any(|p| p.iter().any(|&x| x != 0.0));
+        (notes, valid, stored)
     });
+    let notes = scan
+        .iter()
+        .fold(DecodeNotes::default(), |a, s| a.merge(s.0));
     if let Some(k) = notes.first_odd {
         let at = data_offset
             + (k / layout.points) * layout.frame_bytes()
@@ -260,36 +273,20 @@ pub fn read(bytes: Vec<u8>) -> Result<C3d> {
             ),
         ));
     }
-    if points.count() > 0 && points.frames() > 0 && points.residual.iter().all(|&r| r < 0.0) {
-        let nonzero = points.xyz.iter().any(|p| p.iter().any(|&v| v != 0.0));
-        if nonzero {
-            warnings.push(Warning::new(
-                Section::Data,
-                Some(data_offset),
-                "every point sample is flagged invalid (negative residual) although coordinates are stored",
-            ));
-        }
+    if layout.points > 0
+        && layout.frames > 0
+        && !scan.iter().any(|s| s.1)
+        && scan.iter().any(|s| s.2)
+    {
+        warnings.push(Warning::new(
+            Section::Data,
+            Some(data_offset),
+            "every point sample is flagged invalid (negative residual) although coordinates are stored",
+        ));
     }
-    crate::checks::check(
-        &header,
-        &parameters,
-        &layout,
-        &points,
-        &analog,
-        &mut warnings,
-    );
-    let source = Source {
-        header: header.clone(),
-        processor,
-        param_start,
-        param_end,
-        data_offset,
-        layout,
-        bytes,
-    };
-    Ok(C3d::from_parts(
-        header, parameters, points, analog, layout, processor, warnings, source,
-    ))
+    crate::checks::check(&c.header, &c.parameters, &layout, &mut warnings);
+    c.set_warnings(warnings);
+    Ok(c)
 }
 
 /// The data section's first block: the header's word 9, checked against POINT:DATA_START.

@@ -11,6 +11,7 @@ use crate::file::{C3d, NumberFormat, Source};
 use crate::header::{Header, BLOCK, KEY_12345};
 use crate::parameters::{Parameters, Value};
 use crate::processor::Processor;
+use std::borrow::Cow;
 use std::path::Path;
 
 impl C3d {
@@ -25,7 +26,7 @@ impl C3d {
 
     /// Write to `path` (plainly; the command-line tool adds atomic replacement).
     pub fn write_file(&self, path: impl AsRef<Path>) -> Result<()> {
-        std::fs::write(path, self.to_bytes()?)?;
+        std::fs::write(path, self.encoded()?)?;
         Ok(())
     }
 
@@ -38,19 +39,35 @@ impl C3d {
         format: NumberFormat,
         scale: Option<f32>,
     ) -> Result<Vec<u8>> {
+        self.converted(processor, format, scale)
+            .map(Cow::into_owned)
+    }
+
+    /// [`C3d::convert`], borrowing the bytes that were read when the conversion changes
+    /// nothing (see [`C3d::encoded`]).
+    pub fn converted(
+        &self,
+        processor: Processor,
+        format: NumberFormat,
+        scale: Option<f32>,
+    ) -> Result<Cow<'_, [u8]>> {
         self.check_shapes()?;
         if processor == self.processor() && format == self.format() && scale.is_none() {
-            return self.to_bytes();
+            return self.encoded();
         }
         if let Some(s) = scale.filter(|s| s.is_finite() && *s != 0.0) {
             if format == NumberFormat::Integer {
                 check_integer_scale(self.points(), s.abs())?;
             }
         }
-        self.write_fresh(processor, format, scale)
+        self.write_fresh(processor, format, scale).map(Cow::Owned)
     }
 
     fn check_shapes(&self) -> Result<()> {
+        // Arrays not decoded yet are the file's own, of its shape.
+        if !self.points_dirty && !self.analog_dirty {
+            return Ok(());
+        }
         let p = self.points();
         let n = p.frames() * p.count();
         if p.xyz.len() != n || p.residual.len() != n || p.camera_mask.len() != n {
@@ -80,10 +97,11 @@ impl C3d {
     fn write_patched(&self, src: &Source) -> Result<Vec<u8>> {
         let p = src.processor;
         let l = src.layout;
-        if self.points().frames() != l.frames
-            || self.points().count() != l.points
-            || self.analog().channels() != l.analog_channels
-            || self.analog().samples_per_frame() != l.analog_samples_per_frame
+        if (self.points_dirty
+            && (self.points().frames() != l.frames || self.points().count() != l.points))
+            || (self.analog_dirty
+                && (self.analog().channels() != l.analog_channels
+                    || self.analog().samples_per_frame() != l.analog_samples_per_frame))
         {
             // A different shape cannot be patched in: write the file afresh.
             return self.write_fresh(p, self.format(), None);

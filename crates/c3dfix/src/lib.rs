@@ -56,7 +56,7 @@ pub struct SaveOptions {
 pub fn save(c: &c3d::C3d, path: &Path, opts: &SaveOptions) -> Result<Option<PathBuf>> {
     let replace = opts.force || opts.backup;
     save::check_destination(path, replace)?;
-    let bytes = c.to_bytes().map_err(|source| Error::C3d {
+    let bytes = c.encoded().map_err(|source| Error::C3d {
         path: path.to_path_buf(),
         source,
     })?;
@@ -65,26 +65,18 @@ pub fn save(c: &c3d::C3d, path: &Path, opts: &SaveOptions) -> Result<Option<Path
     } else {
         None
     };
-    let old = match &backup {
-        Some(_) => std::fs::read(path).map_err(|e| {
-            Error::Output(format!(
-                "cannot read {} for its backup: {e}",
-                path.display()
-            ))
-        })?,
-        None => Vec::new(),
-    };
     let mut outs = Vec::with_capacity(2);
     if let Some(b) = &backup {
+        // The file being replaced, copied from disk as the run writes.
         outs.push(save::Output {
             path: b,
-            bytes: &old,
+            bytes: save::Content::CopyOf(path),
             replace: false,
         });
     }
     outs.push(save::Output {
         path,
-        bytes: &bytes,
+        bytes: save::Content::Bytes(&bytes),
         replace,
     });
     save::write_all(&outs)?;

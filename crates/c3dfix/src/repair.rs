@@ -106,7 +106,7 @@ fn labelled<T: Serialize>(x: &T, label: String) -> serde_json::Value {
 /// messages and the summary. Model outputs are never repaired nor used as donors; samples
 /// outside the chosen markers keep their bits; the parameters and analog data are untouched.
 pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Repaired> {
-    if c.points().count() == 0 {
+    if c.point_count() == 0 {
         return Err(Error::Trial {
             path: name.to_path_buf(),
             what: "the file has no points to repair".into(),
@@ -127,7 +127,7 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
     let mut s = Summary {
         file: name.display().to_string(),
         markers: points.len(),
-        model_outputs_left: c.points().count() - points.len(),
+        model_outputs_left: c.point_count() - points.len(),
         ..Summary::default()
     };
     let mut gaps = Vec::new();
@@ -195,7 +195,13 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
             labelled(x, row_label(x.marker))
         })
         .collect();
-    let wb = write_back(c, &trial, &points, &report.changes, only.as_deref());
+    let wb =
+        write_back(c, &trial, &points, &report.changes, only.as_deref()).map_err(|source| {
+            Error::C3d {
+                path: name.to_path_buf(),
+                source,
+            }
+        })?;
     s.samples_changed = wb.changed;
     s.samples_clamped = wb.clamped;
     s.markers_changed = (0..points.len())

@@ -46,10 +46,32 @@ const TMP_STEM_MAX: usize = 64;
 /// (another thread of `batch`, or another c3dfix) uses at the same time.
 static TMP_COUNT: AtomicU64 = AtomicU64::new(0);
 
+/// What an [`Output`] holds.
+#[derive(Debug, Clone, Copy)]
+pub enum Content<'a> {
+    /// These bytes.
+    Bytes(&'a [u8]),
+    /// A copy of this file as it is on disk when the run writes, streamed (a backup of a
+    /// long trial costs no memory).
+    CopyOf(&'a Path),
+}
+
+impl<'a> From<&'a [u8]> for Content<'a> {
+    fn from(b: &'a [u8]) -> Self {
+        Content::Bytes(b)
+    }
+}
+
+impl<'a> From<&'a Vec<u8>> for Content<'a> {
+    fn from(b: &'a Vec<u8>) -> Self {
+        Content::Bytes(b)
+    }
+}
+
 /// One file a command writes.
 pub struct Output<'a> {
     pub path: &'a Path,
-    pub bytes: &'a [u8],
+    pub bytes: Content<'a>,
     /// Whether an existing file there may be replaced (`--force`, `--in-place`).
     pub replace: bool,
 }
@@ -58,7 +80,7 @@ pub struct Output<'a> {
 pub fn write_atomic(path: &Path, bytes: &[u8], force: bool) -> Result<()> {
     write_all(&[Output {
         path,
-        bytes,
+        bytes: bytes.into(),
         replace: force,
     }])
 }
@@ -234,15 +256,24 @@ fn temp_path(path: &Path) -> Result<PathBuf> {
     )))
 }
 
-/// Create `tmp` (it must not exist), write `bytes` and sync them to disk.
-fn write_synced(tmp: &Path, bytes: &[u8]) -> Result<()> {
+/// Create `tmp` (it must not exist), write the content and sync it to disk.
+fn write_synced(tmp: &Path, content: Content) -> Result<()> {
     let mut f = std::fs::OpenOptions::new()
         .write(true)
         .create_new(true)
         .open(tmp)
         .with_context(|| format!("cannot create {}", tmp.display()))?;
-    f.write_all(bytes)
-        .with_context(|| format!("cannot write {}", tmp.display()))?;
+    match content {
+        Content::Bytes(bytes) => f
+            .write_all(bytes)
+            .with_context(|| format!("cannot write {}", tmp.display()))?,
+        Content::CopyOf(src) => {
+            let mut from = std::fs::File::open(src)
+                .with_context(|| format!("cannot read {}", src.display()))?;
+            std::io::copy(&mut from, &mut f)
+                .with_context(|| format!("cannot copy {} to {}", src.display(), tmp.display()))?;
+        }
+    }
     f.sync_all()
         .with_context(|| format!("cannot sync {}", tmp.display()))
 }
@@ -315,12 +346,12 @@ mod tests {
         let outs = [
             Output {
                 path: &a,
-                bytes: b"a",
+                bytes: Content::Bytes(b"a"),
                 replace: false,
             },
             Output {
                 path: &b,
-                bytes: b"b",
+                bytes: Content::Bytes(b"b"),
                 replace: false,
             },
         ];
@@ -330,12 +361,12 @@ mod tests {
         let same = [
             Output {
                 path: &a,
-                bytes: b"a",
+                bytes: Content::Bytes(b"a"),
                 replace: true,
             },
             Output {
                 path: &d.path().join(".").join("a.txt"),
-                bytes: b"b",
+                bytes: Content::Bytes(b"b"),
                 replace: true,
             },
         ];

@@ -18,24 +18,89 @@ pub fn open(path: impl AsRef<Path>) -> Result<c3d::C3d> {
 /// The given points of `c` as a repair trial. A sample is valid unless [`c3d::is_missing`]
 /// says otherwise; `zero_invalid` also treats samples at exactly (0, 0, 0) as missing, for
 /// writers that store missing points that way with a valid fourth word.
+///
+/// The trajectories are gathered chunk by chunk from the file's bytes
+/// ([`c3d::C3d::map_point_chunks`]), so the trial is the only decoded copy of them.
 pub fn to_trial(c: &c3d::C3d, points: &[usize], zero_invalid: bool) -> Result<repair::Trial> {
-    let p = c.points();
-    let mut xyz = Vec::with_capacity(points.len());
-    let mut valid = Vec::with_capacity(points.len());
-    for &i in points {
-        let t: Vec<[f64; 3]> = p
-            .trajectory(i)
-            .into_iter()
-            .map(|v| [v[0] as f64, v[1] as f64, v[2] as f64])
-            .collect();
-        let v: Vec<bool> = (0..p.frames())
-            .map(|f| p.is_valid(f, i) && !(zero_invalid && t[f] == [0.0; 3]))
-            .collect();
-        valid.push(v);
-        xyz.push(t);
-    }
-    repair::Trial::new(c.point_rate() as f64, xyz, valid)
+    let g = gather(c, points, zero_invalid, true);
+    repair::Trial::new(c.point_rate() as f64, g.xyz, g.valid)
         .map_err(|e| Error::options(format!("cannot build the trial: {e}")))
+}
+
+/// Which samples of some points are valid, without decoding the trial into memory.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Validity {
+    /// `valid[row][frame]` for the row's point (as given).
+    pub valid: Vec<Vec<bool>>,
+    /// Samples valid by [`c3d::is_missing`] that sit at exactly (0, 0, 0) (counted whatever
+    /// `zero_invalid` says): the sign of a writer that stores missing points that way.
+    pub at_origin: usize,
+}
+
+/// The validity of the given points of `c` over all frames, by the same rule as
+/// [`to_trial`], in one pass over the data that holds one chunk of it at a time.
+pub fn validity(c: &c3d::C3d, points: &[usize], zero_invalid: bool) -> Validity {
+    let g = gather(c, points, zero_invalid, false);
+    Validity {
+        valid: g.valid,
+        at_origin: g.at_origin,
+    }
+}
+
+struct Gathered {
+    xyz: Vec<Vec<[f64; 3]>>,
+    valid: Vec<Vec<bool>>,
+    at_origin: usize,
+}
+
+/// Per-marker rows of coordinates (when `with_xyz`) and validity, filled in parallel: each
+/// chunk of frames writes its own slice of every row.
+fn gather(c: &c3d::C3d, points: &[usize], zero_invalid: bool, with_xyz: bool) -> Gathered {
+    let frames = c.frames();
+    let rows = points.len();
+    let mut xyz: Vec<Vec<[f64; 3]>> = (0..rows)
+        .map(|_| vec![[0.0; 3]; if with_xyz { frames } else { 0 }])
+        .collect();
+    let mut valid: Vec<Vec<bool>> = (0..rows).map(|_| vec![false; frames]).collect();
+    let per = c.point_chunk_frames();
+    type Slices<'a> = (Vec<&'a mut [[f64; 3]]>, Vec<&'a mut [bool]>);
+    let mut states: Vec<Slices> = (0..c.point_chunks())
+        .map(|_| (Vec::with_capacity(rows), Vec::with_capacity(rows)))
+        .collect();
+    for (x, v) in xyz.iter_mut().zip(valid.iter_mut()) {
+        for (s, vc) in states.iter_mut().zip(v.chunks_mut(per)) {
+            s.1.push(vc);
+        }
+        for (s, xc) in states.iter_mut().zip(x.chunks_mut(per)) {
+            s.0.push(xc);
+        }
+    }
+    let origins = c.map_point_chunks(states, |(mut xs, mut vs), view| {
+        let mut origin = 0;
+        for (row, &i) in points.iter().enumerate() {
+            let (Some(v), x) = (vs.get_mut(row), xs.get_mut(row)) else {
+                continue;
+            };
+            let mut x = x;
+            for f in 0..view.frames {
+                let k = f * view.count + i;
+                let p = view.xyz[k];
+                let ok = !c3d::is_missing(p, view.residual[k]);
+                let zero = p == [0.0; 3];
+                origin += usize::from(ok && zero);
+                v[f] = ok && !(zero_invalid && zero);
+                if let Some(x) = x.as_deref_mut() {
+                    x[f] = [p[0] as f64, p[1] as f64, p[2] as f64];
+                }
+            }
+        }
+        origin
+    });
+    Gathered {
+        xyz,
+        valid,
+        at_origin: origins.into_iter().sum(),
+    }
 }
 
 /// What [`write_back`] did.
@@ -59,46 +124,47 @@ pub fn write_back(
     points: &[usize],
     changes: &[Vec<u8>],
     only: Option<&[usize]>,
-) -> WriteBack {
-    let mut w = WriteBack::default();
-    let frames = c.points().frames();
+) -> c3d::Result<WriteBack> {
+    let frames = c.frames();
     // Integer files hold ±32767 × POINT:SCALE at most; a filter's overshoot or a fill near
     // that edge is clamped to it (and counted) rather than making the file unwritable.
     let limit = match c.format() {
         c3d::NumberFormat::Integer => Some(c.layout().point_scale as f64 * 32767.0),
         c3d::NumberFormat::Float => None,
     };
-    let pts = c.points_mut();
-    for (row, &i) in points.iter().enumerate() {
-        if only.is_some_and(|o| !o.contains(&i)) {
-            continue;
-        }
-        for (f, &ch) in changes[row].iter().enumerate().take(frames) {
-            if ch == 0 {
-                continue;
-            }
-            let k = pts.index(f, i);
-            if ch & (change::FILLED | change::DESPIKED | change::FILTERED) != 0
-                && trial.valid[row][f]
-            {
-                let mut v = trial.xyz[row][f];
-                if let Some(l) = limit {
-                    if v.iter().any(|x| x.abs() > l) {
-                        w.clamped += 1;
-                        v = v.map(|x| x.clamp(-l, l));
+    let clamped = std::cell::Cell::new(0usize);
+    let samples = points
+        .iter()
+        .enumerate()
+        .filter(|(_, i)| only.is_none_or(|o| o.contains(i)))
+        .flat_map(|(row, &i)| {
+            let clamped = &clamped;
+            changes[row]
+                .iter()
+                .enumerate()
+                .take(frames)
+                .filter_map(move |(f, &ch)| {
+                    if ch & (change::FILLED | change::DESPIKED | change::FILTERED) != 0
+                        && trial.valid[row][f]
+                    {
+                        let mut v = trial.xyz[row][f];
+                        if let Some(l) = limit {
+                            if v.iter().any(|x| x.abs() > l) {
+                                clamped.set(clamped.get() + 1);
+                                v = v.map(|x| x.clamp(-l, l));
+                            }
+                        }
+                        Some((f, i, [v[0] as f32, v[1] as f32, v[2] as f32], 0.0, 0))
+                    } else if ch & change::INVALIDATED != 0 {
+                        Some((f, i, [0.0; 3], -1.0, 0))
+                    } else {
+                        None
                     }
-                }
-                pts.xyz[k] = [v[0] as f32, v[1] as f32, v[2] as f32];
-                pts.residual[k] = 0.0;
-                pts.camera_mask[k] = 0;
-                w.changed += 1;
-            } else if ch & change::INVALIDATED != 0 {
-                pts.xyz[k] = [0.0; 3];
-                pts.residual[k] = -1.0;
-                pts.camera_mask[k] = 0;
-                w.changed += 1;
-            }
-        }
-    }
-    w
+                })
+        });
+    let changed = c.patch_points(samples)?;
+    Ok(WriteBack {
+        changed,
+        clamped: clamped.get(),
+    })
 }

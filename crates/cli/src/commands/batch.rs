@@ -48,7 +48,7 @@ pub fn run(a: Args) -> Result<i32> {
             // Read once: a trial without points (EMG only) has nothing to repair; it is
             // skipped, and copied unchanged so the output folder holds every trial.
             let mut c = c3dfix::open(input)?;
-            if c.points().count() == 0 {
+            if c.point_count() == 0 {
                 if !t.in_place {
                     write_atomic(output, c.source_bytes().unwrap_or_default(), overwrite)?;
                 }

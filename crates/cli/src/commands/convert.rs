@@ -10,7 +10,7 @@ use crate::commands::parallel::run_each;
 use crate::commands::targets::{plan, TargetArgs};
 use crate::console::{errln, outln};
 use anyhow::{bail, Context, Result};
-use c3dfix::save::{check_destination, new_backup, write_all, Output};
+use c3dfix::save::{check_destination, new_backup, write_all, Content, Output};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -84,7 +84,7 @@ fn convert_one(
     let processor = want.processor.unwrap_or(c.processor());
     let format = want.format.unwrap_or(c.format());
     let bytes = c
-        .convert(processor, format, want.scale)
+        .converted(processor, format, want.scale)
         .with_context(|| format!("converting {}", input.display()))?;
     let mut done = Converted {
         output: output.display().to_string(),
@@ -95,7 +95,7 @@ fn convert_one(
         warnings: c.warnings().iter().map(|w| w.to_string()).collect(),
         backup: None,
     };
-    if in_place && c.source_bytes() == Some(bytes.as_slice()) {
+    if in_place && c.source_bytes() == Some(&bytes[..]) {
         done.unchanged = true;
         return Ok(done);
     }
@@ -107,23 +107,18 @@ fn convert_one(
     } else {
         None
     };
-    let old = match &backup_to {
-        Some(_) => std::fs::read(output)
-            .with_context(|| format!("cannot read {} for its backup", output.display()))?,
-        None => Vec::new(),
-    };
     let mut outs = Vec::with_capacity(2);
     if let Some(b) = &backup_to {
         outs.push(Output {
             path: b,
-            bytes: &old,
+            bytes: Content::CopyOf(output),
             replace: false,
         });
         done.backup = Some(b.display().to_string());
     }
     outs.push(Output {
         path: output,
-        bytes: &bytes,
+        bytes: Content::Bytes(&bytes),
         replace: overwrite,
     });
     // The backup and the converted file land together, or neither does.

@@ -2,7 +2,7 @@
 
 use crate::commands::info::read_c3d;
 use crate::console::{errln, out, outln};
-use crate::output::{refuse_input, write_all, write_atomic, Output};
+use crate::output::{refuse_input, write_all, write_atomic, Content, Output};
 use anyhow::Result;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -42,14 +42,14 @@ pub fn run(a: Args) -> Result<i32> {
                     let ana_path = out.with_extension("analog.csv");
                     let mut outs = vec![Output {
                         path: out,
-                        bytes: pts.as_bytes(),
+                        bytes: Content::Bytes(pts.as_bytes()),
                         replace: a.force,
                     }];
                     if let Some(text) = &ana {
                         refuse_input(&ana_path, &[&a.file], "analog output")?;
                         outs.push(Output {
                             path: &ana_path,
-                            bytes: text.as_bytes(),
+                            bytes: Content::Bytes(text.as_bytes()),
                             replace: a.force,
                         });
                     }

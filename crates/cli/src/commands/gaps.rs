@@ -4,7 +4,7 @@ use crate::commands::info::read_c3d;
 use crate::console::outln;
 use anyhow::Result;
 use c3dfix::markers::marker_indices;
-use c3dfix::trial::to_trial;
+use c3dfix::trial::validity;
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -32,16 +32,16 @@ struct GapOut {
 
 pub fn run(a: Args) -> Result<i32> {
     let c = read_c3d(&a.file)?;
-    if c.points().count() == 0 {
+    if c.point_count() == 0 {
         anyhow::bail!("{}: the file has no points", a.file.display());
     }
     let points = marker_indices(&c);
-    let t = to_trial(&c, &points, a.zero_invalid)?;
+    let v = validity(&c, &points, a.zero_invalid);
     let labels = c.point_labels();
     let first = c.first_frame();
     let mut out = Vec::new();
     for (row, &i) in points.iter().enumerate() {
-        for g in repair::find_gaps(&t.valid[row], row) {
+        for g in repair::find_gaps(&v.valid[row], row) {
             out.push(GapOut {
                 label: labels[i].clone(),
                 first_frame: first + g.first,
@@ -55,7 +55,7 @@ pub fn run(a: Args) -> Result<i32> {
     if a.json {
         let v = serde_json::json!({
             "file": a.file.display().to_string(),
-            "frames": c.points().frames(),
+            "frames": c.frames(),
             "markers": points.len(),
             "gaps": out,
         });
@@ -66,7 +66,7 @@ pub fn run(a: Args) -> Result<i32> {
             a.file.display(),
             out.len(),
             points.len(),
-            c.points().frames()
+            c.frames()
         )?;
         for g in &out {
             let edge = match (g.at_start, g.at_end) {

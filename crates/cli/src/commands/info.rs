@@ -85,16 +85,21 @@ pub fn run(a: Args) -> Result<i32> {
 
 /// Everything `info` reports about `c`, read from `file`.
 pub fn describe<'a>(c: &'a c3d::C3d, file: &Path) -> Report<'a> {
-    let pts = c.points();
     let labels = c.point_labels();
-    let markers = (0..pts.count())
-        .map(|i| {
-            let gaps = pts.gaps(i);
+    let all: Vec<usize> = (0..c.point_count()).collect();
+    // One pass over the samples, one chunk in memory at a time.
+    let v = c3dfix::trial::validity(c, &all, false);
+    let markers = v
+        .valid
+        .iter()
+        .zip(&labels)
+        .map(|(valid, label)| {
+            let gaps = repair::find_gaps(valid, 0);
             MarkerInfo {
-                label: labels[i].clone(),
-                valid_frames: (0..pts.frames()).filter(|&f| pts.is_valid(f, i)).count(),
+                label: label.clone(),
+                valid_frames: valid.iter().filter(|&&ok| ok).count(),
                 gaps: gaps.len(),
-                longest_gap: gaps.iter().map(|(s, e)| e - s + 1).max().unwrap_or(0),
+                longest_gap: gaps.iter().map(|g| g.len).max().unwrap_or(0),
             }
         })
         .collect();
@@ -113,9 +118,8 @@ pub fn describe<'a>(c: &'a c3d::C3d, file: &Path) -> Report<'a> {
                 .collect(),
         })
         .collect();
-    let origin_samples = (0..pts.frames() * pts.count())
-        .filter(|&k| pts.is_valid_at(k) && pts.xyz[k] == [0.0; 3])
-        .count();
+    let origin_samples = v.at_origin;
+    let frames = c.frames();
     let rate = c.point_rate();
     Report {
         file: file.display().to_string(),
@@ -123,27 +127,27 @@ pub fn describe<'a>(c: &'a c3d::C3d, file: &Path) -> Report<'a> {
         processor: c.processor().name(),
         format: c.format().name(),
         header: &c.header,
-        frames: pts.frames(),
+        frames,
         first_frame: c.first_frame(),
         point_rate: rate,
         duration_s: if rate > 0.0 {
-            pts.frames() as f64 / rate as f64
+            frames as f64 / rate as f64
         } else {
             0.0
         },
-        points: pts.count(),
+        points: c.point_count(),
         point_units: c.point_units(),
         point_scale: c
             .parameters
             .get_f32("POINT", "SCALE")
             .unwrap_or(c.header.scale),
-        analog_channels: c.analog().channels(),
-        analog_rate: if c.analog().channels() > 0 {
+        analog_channels: c.analog_channels(),
+        analog_rate: if c.analog_channels() > 0 {
             c.analog_rate()
         } else {
             0.0
         },
-        analog_samples_per_frame: c.analog().samples_per_frame(),
+        analog_samples_per_frame: c.layout().analog_samples_per_frame,
         analog_labels: c.analog_labels(),
         markers,
         origin_samples,

@@ -4,7 +4,7 @@
 use crate::commands::info::read_c3d;
 use crate::commands::repair_io::{self, RepairArgs};
 use crate::console::outln;
-use crate::output::{check_destination, new_backup, refuse_input, write_all, Output};
+use crate::output::{check_destination, new_backup, refuse_input, write_all, Content, Output};
 use anyhow::{Context, Result};
 use c3dfix::Summary;
 use std::path::{Path, PathBuf};
@@ -35,9 +35,9 @@ pub struct Args {
     pub repair: RepairArgs,
 }
 
-/// A repair done in memory: the repaired file's bytes, the full report, the summary.
+/// A repair done in memory: the full report and the summary (the repaired samples are in
+/// the trial, whose bytes [`c3d::C3d::encoded`] gives).
 pub struct Repaired {
-    pub bytes: Vec<u8>,
     pub report: serde_json::Value,
     pub summary: Summary,
 }
@@ -55,11 +55,7 @@ pub fn repair_c3d(
     let mut done = c3dfix::repair(c, &a.options(), input)?;
     done.summary.output = output.display().to_string();
     done.summary.backup = backup.map(|b| b.display().to_string());
-    let bytes = c
-        .to_bytes()
-        .with_context(|| format!("writing the repaired {}", input.display()))?;
     Ok(Repaired {
-        bytes,
         report: done.report(),
         summary: done.summary,
     })
@@ -85,23 +81,27 @@ pub fn run(a: Args) -> Result<i32> {
         Some(_) => serde_json::to_string_pretty(&r.report)?,
         None => String::new(),
     };
+    let bytes = c
+        .encoded()
+        .with_context(|| format!("writing the repaired {}", a.input.display()))?;
     let mut outs = Vec::with_capacity(3);
     if let Some(b) = &backup {
+        // The input as it is on disk (the trial in memory holds the repaired samples).
         outs.push(Output {
             path: b,
-            bytes: c.source_bytes().unwrap_or_default(),
+            bytes: Content::CopyOf(&a.input),
             replace: false,
         });
     }
     outs.push(Output {
         path: &out,
-        bytes: &r.bytes,
+        bytes: Content::Bytes(&bytes),
         replace: overwrite,
     });
     if let Some(path) = &a.report {
         outs.push(Output {
             path,
-            bytes: report.as_bytes(),
+            bytes: Content::Bytes(report.as_bytes()),
             replace: a.force,
         });
     }

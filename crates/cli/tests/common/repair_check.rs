@@ -53,16 +53,21 @@ pub fn check(data: &[u8]) {
         return;
     }
     let original = c.clone();
-    let Ok(r) = repair_c3d(
+    if repair_c3d(
         &mut c,
         input,
         Path::new("fuzz-output.c3d"),
         &options(data),
         None,
-    ) else {
+    )
+    .is_err()
+    {
+        return;
+    }
+    let Ok(bytes) = c.encoded() else {
         return;
     };
-    let out = match c3d::read(r.bytes) {
+    let out = match c3d::read(bytes.into_owned()) {
         Ok(out) => out,
         Err(e) => panic!("the repaired file does not read: {e}"),
     };
