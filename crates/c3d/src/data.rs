@@ -4,9 +4,9 @@
 use crate::analog::Analog;
 use crate::error::{Error, Result};
 use crate::points::{
-    decode_float_word, decode_word, encode_fourth, float_word, model_sample, Points,
+    decode_float_word, decode_word, encode_fourth, float_word, is_missing, model_sample, Points,
 };
-use crate::processor::{Codec, CodecFn};
+use crate::processor::{Codec, CodecFn, Dec, Intel, Processor, Sgi};
 use serde::Serialize;
 
 /// How the data section is laid out.
@@ -57,12 +57,14 @@ impl Layout {
     }
 }
 
-/// Files above this many data bytes are decoded in parallel chunks of frames.
-const PARALLEL_BYTES: usize = 1 << 20;
+/// Files above this many data bytes are decoded in parallel chunks of frames. Below it, one
+/// thread decodes the whole section in less time than starting the others takes (a
+/// typical 2 MB trial: about 0.5 ms of decoding against 0.3–0.5 ms of thread start-up).
+pub(crate) const PARALLEL_BYTES: usize = 4 << 20;
 
 /// Data bytes per chunk when the data section is decoded in pieces: small enough that each
 /// thread's chunk stays in cache, large enough that scheduling costs nothing.
-const CHUNK_BYTES: usize = PARALLEL_BYTES / 4;
+const CHUNK_BYTES: usize = 256 << 10;
 
 /// Frames per chunk for a layout (at least one).
 pub(crate) fn chunk_frames(l: &Layout) -> usize {
@@ -162,8 +164,10 @@ impl CodecFn<Analog> for DecodeAnalog<'_> {
     }
 }
 
-/// Decoded point samples of a run of whole frames: a chunk of a trial's point data (see
-/// [`C3d::map_point_chunks`](crate::C3d::map_point_chunks)), laid out like [`Points`].
+/// The point samples of a run of whole frames: a chunk of a trial's point data (see
+/// [`C3d::map_point_chunks`](crate::C3d::map_point_chunks)). Samples are decoded as they are
+/// asked for, straight from the stored bytes when the trial's arrays have not been decoded,
+/// with the same decoding as [`C3d::points`](crate::C3d::points).
 #[derive(Debug, Clone, Copy)]
 pub struct PointsView<'a> {
     /// Index (0-based) of the chunk's first frame in the trial.
@@ -172,70 +176,118 @@ pub struct PointsView<'a> {
     pub frames: usize,
     /// Points per frame.
     pub count: usize,
-    pub xyz: &'a [[f32; 3]],
-    pub residual: &'a [f32],
-    pub camera_mask: &'a [u8],
+    data: ViewData<'a>,
 }
 
-impl PointsView<'_> {
-    /// Whether sample `(frame, point)` of the chunk (`frame` counted from the chunk's first)
-    /// is valid, by [`is_missing`](crate::is_missing).
+#[derive(Debug, Clone, Copy)]
+enum ViewData<'a> {
+    /// Slices of decoded arrays.
+    Decoded {
+        xyz: &'a [[f32; 3]],
+        residual: &'a [f32],
+        camera_mask: &'a [u8],
+    },
+    /// Whole frames of the stored data section.
+    Stored {
+        bytes: &'a [u8],
+        layout: Layout,
+        processor: Processor,
+    },
+}
+
+impl<'a> PointsView<'a> {
+    /// Frames `first_frame..` of decoded points: samples `range` of the arrays.
+    pub(crate) fn decoded(
+        first_frame: usize,
+        p: &'a Points,
+        range: std::ops::Range<usize>,
+    ) -> Self {
+        PointsView {
+            first_frame,
+            frames: range.len() / p.count.max(1),
+            count: p.count,
+            data: ViewData::Decoded {
+                xyz: &p.xyz[range.clone()],
+                residual: &p.residual[range.clone()],
+                camera_mask: &p.camera_mask[range],
+            },
+        }
+    }
+
+    /// Frames `first_frame..` as stored: `bytes` holds whole frames of the data section.
+    pub(crate) fn stored(
+        first_frame: usize,
+        bytes: &'a [u8],
+        layout: Layout,
+        processor: Processor,
+    ) -> Self {
+        PointsView {
+            first_frame,
+            frames: bytes.len() / layout.frame_bytes().max(1),
+            count: layout.points,
+            data: ViewData::Stored {
+                bytes,
+                layout,
+                processor,
+            },
+        }
+    }
+
+    /// Sample `(frame, point)` of the chunk (`frame` counted from the chunk's first):
+    /// coordinates, residual (−1 when missing) and camera mask, as in [`Points`].
+    #[inline]
+    pub fn sample(&self, frame: usize, point: usize) -> ([f32; 3], f32, u8) {
+        match self.data {
+            ViewData::Decoded {
+                xyz,
+                residual,
+                camera_mask,
+            } => {
+                let k = frame * self.count + point;
+                (xyz[k], residual[k], camera_mask[k])
+            }
+            ViewData::Stored {
+                bytes,
+                layout,
+                processor,
+            } => {
+                let sb = 4 * layout.word_bytes();
+                let at = frame * layout.frame_bytes() + point * sb;
+                let c = &bytes[at..at + sb];
+                match processor {
+                    Processor::Intel => decode_sample::<Intel>(c, &layout),
+                    Processor::Dec => decode_sample::<Dec>(c, &layout),
+                    Processor::Sgi => decode_sample::<Sgi>(c, &layout),
+                }
+            }
+        }
+    }
+
+    /// Whether sample `(frame, point)` of the chunk is valid, by
+    /// [`is_missing`](crate::is_missing).
     #[inline]
     pub fn is_valid(&self, frame: usize, point: usize) -> bool {
-        let k = frame * self.count + point;
-        !crate::points::is_missing(self.xyz[k], self.residual[k])
+        let (p, r, _) = self.sample(frame, point);
+        !is_missing(p, r)
     }
 }
 
-/// Decode the point data chunk by chunk into per-thread buffers and give each decoded chunk
-/// (with what its decoding noticed) to `f`, in parallel; the results come back in frame
-/// order. Memory stays at one chunk per thread however long the trial is.
-pub(crate) struct MapChunks<'a, S, F> {
-    pub bytes: &'a [u8],
-    pub layout: Layout,
-    pub states: Vec<S>,
-    pub f: F,
-}
-
-impl<S, R, F> CodecFn<Vec<R>> for MapChunks<'_, S, F>
-where
-    S: Send,
-    R: Send,
-    F: Fn(S, PointsView<'_>, DecodeNotes) -> R + Sync,
-{
-    fn call<C: Codec>(self) -> Vec<R> {
-        use rayon::prelude::*;
-        let l = self.layout;
-        let fb = l.frame_bytes();
-        let chunk = chunk_frames(&l);
-        let f = &self.f;
-        if fb == 0 || l.frames == 0 {
-            return Vec::new();
-        }
-        let data = &self.bytes[..l.frames * fb];
-        let buffers = || {
-            let n = chunk * l.points;
-            (vec![[0f32; 3]; n], vec![0f32; n], vec![0u8; n])
-        };
-        data.par_chunks(chunk * fb)
-            .zip(self.states)
-            .enumerate()
-            .map_init(buffers, |(x, r, m), (i, (b, state))| {
-                let frames = b.len() / fb;
-                let n = frames * l.points;
-                let mut notes = decode_points::<C>(l, b, &mut x[..n], &mut r[..n], &mut m[..n]);
-                notes.first_odd = notes.first_odd.map(|s| s + i * chunk * l.points);
-                let view = PointsView {
-                    first_frame: i * chunk,
-                    frames,
-                    count: l.points,
-                    xyz: &x[..n],
-                    residual: &r[..n],
-                    camera_mask: &m[..n],
-                };
-                f(state, view, notes)
-            })
-            .collect()
+/// One stored point sample (`c`: 16 bytes of float data or 8 of integers) as the model holds
+/// it: coordinates, residual (−1 when missing by [`is_missing`]) and camera mask. Every
+/// reading of samples goes through here, so they all agree on which are missing.
+#[inline(always)]
+fn decode_sample<C: Codec>(c: &[u8], l: &Layout) -> ([f32; 3], f32, u8) {
+    let s = l.point_scale;
+    if l.float {
+        let v = |k: usize| C::read_f32([c[k], c[k + 1], c[k + 2], c[k + 3]]);
+        let p = [v(0), v(4), v(8)];
+        let (r, m) = model_sample(p, decode_float_word(v(12), s));
+        (p, r, m)
+    } else {
+        let v = |k: usize| C::read_i16([c[k], c[k + 1]]);
+        // Integer coordinates are always finite: the word alone decides.
+        let (r, m) = decode_word(v(6), s);
+        ([v(0) as f32 * s, v(2) as f32 * s, v(4) as f32 * s], r, m)
     }
 }
 
@@ -247,13 +299,11 @@ fn decode_points<C: Codec>(
     xyz: &mut [[f32; 3]],
     residual: &mut [f32],
     camera_mask: &mut [u8],
-) -> DecodeNotes {
-    let mut notes = DecodeNotes::default();
+) {
     let fb = l.frame_bytes();
-    let s = l.point_scale;
-    let pb = 4 * l.word_bytes() * l.points;
+    let sb = 4 * l.word_bytes();
+    let pb = sb * l.points;
     for (f, frame) in bytes.chunks_exact(fb).enumerate() {
-        let pbytes = &frame[..pb];
         let base = f * l.points;
         let out = base..base + l.points;
         let (xo, ro, mo) = (
@@ -261,28 +311,84 @@ fn decode_points<C: Codec>(
             &mut residual[out.clone()],
             &mut camera_mask[out],
         );
-        if l.float {
-            for (i, c) in pbytes.chunks_exact(16).enumerate() {
-                let v = |k: usize| C::read_f32([c[k], c[k + 1], c[k + 2], c[k + 3]]);
-                let p = [v(0), v(4), v(8)];
-                let w = v(12);
-                if float_word(w).is_none() {
-                    notes.odd_fourth_words += 1;
-                    notes.first_odd.get_or_insert(base + i);
-                }
-                xo[i] = p;
-                (ro[i], mo[i]) = model_sample(p, decode_float_word(w, s));
-            }
-        } else {
-            for (i, c) in pbytes.chunks_exact(8).enumerate() {
-                let v = |k: usize| C::read_i16([c[k], c[k + 1]]);
-                // Integer coordinates are always finite: the word alone decides.
-                xo[i] = [v(0) as f32 * s, v(2) as f32 * s, v(4) as f32 * s];
-                (ro[i], mo[i]) = decode_word(v(6), s);
-            }
+        for (i, c) in frame[..pb].chunks_exact(sb).enumerate() {
+            (xo[i], ro[i], mo[i]) = decode_sample::<C>(c, &l);
         }
     }
-    notes
+}
+
+/// What the reader notes about a file's samples without decoding them into memory.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct ScanNotes {
+    pub notes: DecodeNotes,
+    /// Some sample is valid.
+    pub any_valid: bool,
+    /// Some missing sample stores coordinates other than (0, 0, 0) (looked for only until a
+    /// valid sample turns up).
+    pub any_stored: bool,
+}
+
+/// One pass over the stored samples for [`ScanNotes`]: float fourth words that are not
+/// 16-bit words (every sample), and whether any sample is valid (until one is).
+pub(crate) struct Scan<'a> {
+    pub bytes: &'a [u8],
+    pub layout: Layout,
+}
+
+impl CodecFn<ScanNotes> for Scan<'_> {
+    fn call<C: Codec>(self) -> ScanNotes {
+        use rayon::prelude::*;
+        let l = self.layout;
+        let fb = l.frame_bytes();
+        let sb = 4 * l.word_bytes();
+        let pb = sb * l.points;
+        if fb == 0 || l.points == 0 {
+            return ScanNotes::default();
+        }
+        let chunk = chunk_frames(&l);
+        let scan = |(i, b): (usize, &[u8])| {
+            let mut n = ScanNotes::default();
+            for (f, frame) in b.chunks_exact(fb).enumerate() {
+                for (j, c) in frame[..pb].chunks_exact(sb).enumerate() {
+                    if l.float {
+                        let w = C::read_f32([c[12], c[13], c[14], c[15]]);
+                        if float_word(w).is_none() {
+                            n.notes.odd_fourth_words += 1;
+                            n.notes
+                                .first_odd
+                                .get_or_insert((i * chunk + f) * l.points + j);
+                        }
+                    } else if n.any_valid {
+                        // Integer files have nothing more to note.
+                        return n;
+                    }
+                    if !n.any_valid {
+                        let (p, r, _) = decode_sample::<C>(c, &l);
+                        n.any_valid = !is_missing(p, r);
+                        n.any_stored |= p != [0.0; 3];
+                    }
+                }
+            }
+            n
+        };
+        let merge = |a: ScanNotes, b: ScanNotes| ScanNotes {
+            notes: a.notes.merge(b.notes),
+            any_valid: a.any_valid || b.any_valid,
+            any_stored: a.any_stored || b.any_stored,
+        };
+        let data = &self.bytes[..l.frames * fb];
+        if data.len() > PARALLEL_BYTES {
+            data.par_chunks(chunk * fb)
+                .enumerate()
+                .map(scan)
+                .reduce(ScanNotes::default, merge)
+        } else {
+            data.chunks(chunk * fb)
+                .enumerate()
+                .map(scan)
+                .fold(ScanNotes::default(), merge)
+        }
+    }
 }
 
 /// Decode one frame's analog words (`abytes`, after its points) into `out`.

@@ -2,7 +2,7 @@
 //! bytes it was read from, so that writing it back changes only what was changed.
 
 use crate::analog::{Analog, Calibration};
-use crate::data::{DecodeAnalog, DecodeNotes, DecodePoints, Layout, MapChunks, Patch, PointsView};
+use crate::data::{DecodeAnalog, DecodePoints, Layout, Patch, PointsView, Scan, ScanNotes};
 use crate::error::Warning;
 use crate::error::{Error, Result};
 use crate::events::{self, Event};
@@ -35,7 +35,7 @@ impl NumberFormat {
 #[derive(Debug, Clone)]
 pub(crate) struct Source {
     /// The file's bytes as read, with any samples patched in by [`C3d::patch_points`].
-    pub bytes: Vec<u8>,
+    pub bytes: crate::memory::Bytes,
     pub header: Header,
     pub processor: Processor,
     pub param_start: usize,
@@ -216,60 +216,54 @@ impl C3d {
     /// frames), in parallel, each call with its own `state` (`states[i]` goes with chunk `i`;
     /// chunks without a state are not visited). The results come back in frame order.
     ///
-    /// When the points have not been decoded, each chunk is decoded from the file's bytes into
-    /// a per-thread buffer, so scanning a long trial needs memory for a chunk, not a second
-    /// copy of the trial; the samples are the ones [`C3d::points`] would give.
+    /// When the points have not been decoded, each chunk's samples are decoded from the file's
+    /// bytes as they are asked for, so scanning a long trial needs no second copy of it; the
+    /// samples are the ones [`C3d::points`] would give.
     pub fn map_point_chunks<S, R, F>(&self, states: Vec<S>, f: F) -> Vec<R>
     where
         S: Send,
         R: Send,
         F: Fn(S, PointsView<'_>) -> R + Sync,
     {
-        self.map_chunks_noting(states, |s, v, _| f(s, v))
-    }
-
-    /// [`C3d::map_point_chunks`] with what decoding each chunk noticed (nothing when the
-    /// points were already decoded).
-    pub(crate) fn map_chunks_noting<S, R, F>(&self, states: Vec<S>, f: F) -> Vec<R>
-    where
-        S: Send,
-        R: Send,
-        F: Fn(S, PointsView<'_>, DecodeNotes) -> R + Sync,
-    {
         use rayon::prelude::*;
         let chunk = self.point_chunk_frames();
-        match (self.points.get(), self.data_bytes()) {
-            (None, Some(bytes)) => self.processor.dispatch(MapChunks {
+        let visit = |(i, s): (usize, S)| {
+            let first = i * chunk;
+            let view = match (self.points.get(), self.data_bytes()) {
+                (None, Some(bytes)) => {
+                    let fb = self.layout.frame_bytes();
+                    let end = ((first + chunk) * fb).min(self.layout.frames * fb);
+                    PointsView::stored(first, &bytes[first * fb..end], self.layout, self.processor)
+                }
+                (p, _) => {
+                    let p = p.unwrap_or_else(|| self.points());
+                    let end = (first + chunk).min(p.frames) * p.count;
+                    PointsView::decoded(first, p, first * p.count..end)
+                }
+            };
+            f(s, view)
+        };
+        let n = self.point_chunks().min(states.len());
+        let states = states.into_iter().take(n).enumerate();
+        if self.layout.data_bytes() > crate::data::PARALLEL_BYTES {
+            states
+                .collect::<Vec<_>>()
+                .into_par_iter()
+                .map(visit)
+                .collect()
+        } else {
+            states.map(visit).collect()
+        }
+    }
+
+    /// What one pass over the stored samples notes (see [`crate::data::Scan`]).
+    pub(crate) fn scan(&self) -> ScanNotes {
+        match self.data_bytes() {
+            Some(bytes) => self.processor.dispatch(Scan {
                 bytes,
                 layout: self.layout,
-                states,
-                f,
             }),
-            (p, _) => {
-                let p = p.unwrap_or_else(|| self.points());
-                let per = chunk * p.count;
-                if per == 0 {
-                    return Vec::new();
-                }
-                p.xyz
-                    .par_chunks(per)
-                    .zip(p.residual.par_chunks(per))
-                    .zip(p.camera_mask.par_chunks(per))
-                    .zip(states)
-                    .enumerate()
-                    .map(|(i, (((x, r), m), s))| {
-                        let view = PointsView {
-                            first_frame: i * chunk,
-                            frames: x.len() / p.count,
-                            count: p.count,
-                            xyz: x,
-                            residual: r,
-                            camera_mask: m,
-                        };
-                        f(s, view, DecodeNotes::default())
-                    })
-                    .collect()
-            }
+            None => ScanNotes::default(),
         }
     }
 
@@ -365,7 +359,7 @@ impl C3d {
 
     /// The bytes the file was read from, if it was read.
     pub fn source_bytes(&self) -> Option<&[u8]> {
-        self.source.as_ref().map(|s| s.bytes.as_slice())
+        self.source.as_ref().map(|s| &s.bytes[..])
     }
 
     /// Where the data section starts in the bytes the file was read from (after the reader's

@@ -30,4 +30,4 @@ pub use header::{Header, HeaderEvent, BLOCK};
 pub use parameters::{Group, Parameter, Parameters, Record, Value};
 pub use points::{is_missing, Points};
 pub use processor::Processor;
-pub use read::{read, read_file};
+pub use read::{read, read_file, read_file_mapped};

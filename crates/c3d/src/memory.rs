@@ -72,3 +72,75 @@ pub(crate) fn read_file(mut f: std::fs::File) -> std::io::Result<Vec<u8>> {
     f.read_to_end(&mut buf)?;
     Ok(buf)
 }
+
+/// A file's bytes: read into memory, or privately mapped (see [`map_file`]).
+pub(crate) enum Bytes {
+    Owned(Vec<u8>),
+    Mapped(memmap2::MmapMut),
+}
+
+impl std::ops::Deref for Bytes {
+    type Target = [u8];
+    fn deref(&self) -> &[u8] {
+        match self {
+            Bytes::Owned(v) => v,
+            Bytes::Mapped(m) => m,
+        }
+    }
+}
+
+impl std::ops::DerefMut for Bytes {
+    fn deref_mut(&mut self) -> &mut [u8] {
+        match self {
+            Bytes::Owned(v) => v,
+            Bytes::Mapped(m) => m,
+        }
+    }
+}
+
+impl Clone for Bytes {
+    /// A copy in memory (a copy of a mapping is the mapped bytes as they are now).
+    fn clone(&self) -> Self {
+        Bytes::Owned(self.to_vec())
+    }
+}
+
+impl std::fmt::Debug for Bytes {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let kind = match self {
+            Bytes::Owned(_) => "in memory",
+            Bytes::Mapped(_) => "mapped",
+        };
+        write!(f, "{} bytes {kind}", self.len())
+    }
+}
+
+/// Files smaller than this are read, not mapped: a mapping costs more than it saves.
+const MAP_MIN: u64 = 64 << 10;
+
+/// A regular file's bytes through a private, copy-on-write mapping of it, its pages faulted
+/// in up front: no fresh memory to zero and fill, and nothing copied. Writes (samples
+/// patched in) go to private copies of the pages they touch; the file is never changed.
+///
+/// The mapping shows the file as it is: a file that another program truncates while the
+/// mapping lives makes the next access to the lost pages fail (SIGBUS), and one it rewrites
+/// in place shows the new bytes in pages not yet written here. That suits a command that
+/// reads a file and is done within seconds; [`read_file`] suits objects that live long
+/// (a library user's, the Python package's). Small files, and files that cannot be mapped,
+/// are read instead.
+pub(crate) fn map_file(f: std::fs::File) -> std::io::Result<Bytes> {
+    let len = f.metadata().map(|m| m.len()).unwrap_or(0);
+    if len >= MAP_MIN {
+        // SAFETY: a private mapping of a regular file, read-write only for this process's
+        // own copy-on-write pages; what concurrent changes to the file do is documented
+        // above and is the caller's choice of this function.
+        if let Ok(m) = unsafe { memmap2::MmapOptions::new().map_copy(&f) } {
+            // Fault every page in with one call, without copying any (Linux 5.14 and later;
+            // elsewhere the pages come in as they are first read).
+            #[cfg(target_os = "linux")]
+            let _ = m.advise(memmap2::Advice::PopulateRead);
+            return Ok(Bytes::Mapped(m));
+        }
+    }
+    read_file(f).map(Bytes::Owned)
+}

@@ -142,11 +142,15 @@ pub(crate) fn decode_word(word: i16, abs_scale: f32) -> (f32, u8) {
 /// 16-bit word at all.
 #[inline(always)]
 pub(crate) fn float_word(w: f32) -> Option<i16> {
-    if (-32768.0..=65535.0).contains(&w) && w.fract() == 0.0 {
-        Some(w as i32 as u16 as i16)
-    } else {
-        None
+    if (-32768.0..=65535.0).contains(&w) {
+        // In this range the conversion truncates exactly; the value is integral when it
+        // survives the round trip (cheaper than `fract`, a library call on baseline x86-64).
+        let i = w as i32;
+        if i as f32 == w {
+            return Some(i as u16 as i16);
+        }
     }
+    None
 }
 
 /// A float file's fourth word decoded: through [`float_word`] when it is a 16-bit word.

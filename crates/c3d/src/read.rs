@@ -1,10 +1,11 @@
 //! Reading: bytes → [`C3d`]. Every count taken from the file is checked against the bytes
 //! actually present before anything is allocated from it.
 
-use crate::data::{DecodeNotes, Layout};
+use crate::data::Layout;
 use crate::error::{Error, Result, Section, Warning};
 use crate::file::{C3d, Source};
 use crate::header::{Header, BLOCK};
+use crate::memory::Bytes;
 use crate::parameters::{self, Parameters, SectionBounds};
 use crate::processor::Processor;
 use std::path::Path;
@@ -17,6 +18,21 @@ pub fn read_file(path: impl AsRef<Path>) -> Result<C3d> {
     let f = std::fs::File::open(path)?;
     if f.metadata()?.is_file() {
         read(crate::memory::read_file(f)?)
+    } else {
+        read(read_stream(f)?)
+    }
+}
+
+/// [`read_file`] for a command that reads a file and is soon done: a regular file is mapped
+/// (privately; never changed) rather than copied into memory, so reading a long trial costs
+/// neither a second copy nor the time to make one. While the result lives, the file must not
+/// be truncated or rewritten in place by another program (the next access to its data would
+/// fail or see the new bytes); objects that live long should come from [`read_file`].
+pub fn read_file_mapped(path: impl AsRef<Path>) -> Result<C3d> {
+    let path = path.as_ref();
+    let f = std::fs::File::open(path)?;
+    if f.metadata()?.is_file() {
+        read_bytes(crate::memory::map_file(f)?)
     } else {
         read(read_stream(f)?)
     }
@@ -95,6 +111,10 @@ fn fill(r: &mut impl std::io::Read, buf: &mut Vec<u8>, len: usize) -> Result<()>
 
 /// Read a C3D file from its bytes (kept, so that an unchanged file is rewritten exactly).
 pub fn read(bytes: Vec<u8>) -> Result<C3d> {
+    read_bytes(Bytes::Owned(bytes))
+}
+
+fn read_bytes(bytes: Bytes) -> Result<C3d> {
     let mut warnings = Vec::new();
     if bytes.len() < BLOCK {
         return Err(Error::malformed(
@@ -247,17 +267,10 @@ pub fn read(bytes: Vec<u8>) -> Result<C3d> {
         bytes,
     };
     let mut c = C3d::from_parts(header, parameters, layout, processor, Vec::new(), source);
-    // One pass over the samples, chunk by chunk, for what the file says about itself; the
-    // arrays are decoded later, and only if someone asks for them.
-    let scan = c.map_chunks_noting(vec![(); c.point_chunks()], |(), v, notes| {
-        let valid =
-            (0..v.frames * v.count).any(|k| !crate::points::is_missing(v.xyz[k], v.residual[k]));
-        let stored = v.xyz.iter().any(|p| p.iter().any(|&x| x != 0.0));
-        (notes, valid, stored)
-    });
-    let notes = scan
-        .iter()
-        .fold(DecodeNotes::default(), |a, s| a.merge(s.0));
+    // One pass over the stored samples for what the file says about itself; the arrays are
+    // decoded later, and only if someone asks for them.
+    let scan = c.scan();
+    let notes = scan.notes;
     if let Some(k) = notes.first_odd {
         let at = data_offset
             + (k / layout.points) * layout.frame_bytes()
@@ -273,11 +286,7 @@ pub fn read(bytes: Vec<u8>) -> Result<C3d> {
             ),
         ));
     }
-    if layout.points > 0
-        && layout.frames > 0
-        && !scan.iter().any(|s| s.1)
-        && scan.iter().any(|s| s.2)
-    {
+    if layout.points > 0 && layout.frames > 0 && !scan.any_valid && scan.any_stored {
         warnings.push(Warning::new(
             Section::Data,
             Some(data_offset),

@@ -106,7 +106,7 @@ impl C3d {
             // A different shape cannot be patched in: write the file afresh.
             return self.write_fresh(p, self.format(), None);
         }
-        let mut out = src.bytes.clone();
+        let mut out = src.bytes.to_vec();
         let mut header = self.header.clone();
         let mut data_offset = src.data_offset;
         if !self.parameters.unchanged(p) {

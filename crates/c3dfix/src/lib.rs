@@ -36,7 +36,7 @@ pub use options::{
     DEFAULT_MAX_EXPECTED_ERROR_MM,
 };
 pub use repair::{repair, GapBrief, Repaired, Summary};
-pub use trial::open;
+pub use trial::{open, open_mapped};
 
 use std::path::{Path, PathBuf};
 

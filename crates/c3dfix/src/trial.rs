@@ -15,6 +15,18 @@ pub fn open(path: impl AsRef<Path>) -> Result<c3d::C3d> {
     })
 }
 
+/// [`open`] for a command that reads a file and is soon done: the file is mapped rather
+/// than copied into memory ([`c3d::read_file_mapped`]), so a long trial is held once, by
+/// the page cache. The file must not be truncated or rewritten in place by another program
+/// while the result lives; objects that live long should come from [`open`].
+pub fn open_mapped(path: impl AsRef<Path>) -> Result<c3d::C3d> {
+    let path = path.as_ref();
+    c3d::read_file_mapped(path).map_err(|source| Error::C3d {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
 /// The given points of `c` as a repair trial. A sample is valid unless [`c3d::is_missing`]
 /// says otherwise; `zero_invalid` also treats samples at exactly (0, 0, 0) as missing, for
 /// writers that store missing points that way with a valid fourth word.
@@ -77,20 +89,16 @@ fn gather(c: &c3d::C3d, points: &[usize], zero_invalid: bool, with_xyz: bool) ->
     }
     let origins = c.map_point_chunks(states, |(mut xs, mut vs), view| {
         let mut origin = 0;
-        for (row, &i) in points.iter().enumerate() {
-            let (Some(v), x) = (vs.get_mut(row), xs.get_mut(row)) else {
-                continue;
-            };
-            let mut x = x;
-            for f in 0..view.frames {
-                let k = f * view.count + i;
-                let p = view.xyz[k];
-                let ok = !c3d::is_missing(p, view.residual[k]);
+        // Frames outer, markers inner: the chunk is read in the order it is stored.
+        for f in 0..view.frames {
+            for (row, &i) in points.iter().enumerate() {
+                let (p, r, _) = view.sample(f, i);
+                let ok = !c3d::is_missing(p, r);
                 let zero = p == [0.0; 3];
                 origin += usize::from(ok && zero);
-                v[f] = ok && !(zero_invalid && zero);
-                if let Some(x) = x.as_deref_mut() {
-                    x[f] = [p[0] as f64, p[1] as f64, p[2] as f64];
+                vs[row][f] = ok && !(zero_invalid && zero);
+                if with_xyz {
+                    xs[row][f] = [p[0] as f64, p[1] as f64, p[2] as f64];
                 }
             }
         }

@@ -7,7 +7,7 @@
 //! gaps of 5–60 frames, about 1.5 % of the samples, stored as the C3D manual says (fourth
 //! word −1). The content is reproducible byte for byte.
 
-use c3d::{Analog, C3d, NumberFormat, Parameters, Points, Processor};
+use c3d::{Analog, C3d, NumberFormat, Parameters, Points, Processor, Value};
 
 pub const FRAMES: usize = 100_000;
 pub const MARKERS: usize = 100;
@@ -96,7 +96,19 @@ pub fn big_trial() -> Result<Vec<u8>, c3d::Error> {
         .and_then(|_| ps.set_strings("POINT", "LABELS", &labels))
         .and_then(|_| ps.set_strings("POINT", "UNITS", &["mm".to_string()]))
         .and_then(|_| ps.set_f32("ANALOG", "RATE", RATE))
-        .and_then(|_| ps.set_strings("ANALOG", "LABELS", &alabels));
+        .and_then(|_| ps.set_strings("ANALOG", "LABELS", &alabels))
+        .and_then(|_| ps.set_f32("ANALOG", "GEN_SCALE", 1.0))
+        .and_then(|_| {
+            let n = CHANNELS as u8;
+            ps.set(
+                "ANALOG",
+                "SCALE",
+                vec![n],
+                Value::Float(vec![1.0; CHANNELS]),
+            )?;
+            ps.set("ANALOG", "OFFSET", vec![n], Value::Int(vec![0; CHANNELS]))?;
+            ps.set_strings("ANALOG", "UNITS", &vec!["V".to_string(); CHANNELS])
+        });
     set.and_then(|_| {
         C3d::new(pts, analog, ps, Processor::Intel, -0.1).convert(
             Processor::Intel,

@@ -47,7 +47,7 @@ pub fn run(a: Args) -> Result<i32> {
             }
             // Read once: a trial without points (EMG only) has nothing to repair; it is
             // skipped, and copied unchanged so the output folder holds every trial.
-            let mut c = c3dfix::open(input)?;
+            let mut c = c3dfix::open_mapped(input)?;
             if c.point_count() == 0 {
                 if !t.in_place {
                     write_atomic(output, c.source_bytes().unwrap_or_default(), overwrite)?;

@@ -60,9 +60,11 @@ pub struct Report<'a> {
     warnings: Vec<String>,
 }
 
-/// Read a C3D file, naming the file in any error (the library's [`c3dfix::open`]).
+/// Read a C3D file, naming the file in any error. A command runs for seconds and holds the
+/// file for that long only, so the file is mapped rather than copied
+/// ([`c3dfix::open_mapped`]).
 pub fn read_c3d(path: &Path) -> Result<c3d::C3d> {
-    Ok(c3dfix::open(path)?)
+    Ok(c3dfix::open_mapped(path)?)
 }
 
 pub fn run(a: Args) -> Result<i32> {

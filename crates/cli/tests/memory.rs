@@ -1,0 +1,81 @@
+//! Peak memory of the commands on a long trial (100 000 frames × 100 markers, about 162 MB):
+//! a trial is held once. `info`, `gaps` and a byte-identical `convert` need at most 1.2× the
+//! file, `repair --fill auto` at most 3× (the trial's trajectories in double precision are
+//! 1.5× the file by themselves).
+//!
+//! Its own test binary, so that no other test runs beside it: the peak of a child includes
+//! whatever this process held when it forked.
+
+#[cfg(target_os = "linux")]
+#[path = "../../c3d/examples/common/big_trial.rs"]
+mod big_trial;
+
+/// Peak resident memory (bytes) of `c3dfix ARGS`, run to its end.
+// The child is reaped by wait4 (which also gives its peak memory), not by `Child::wait`.
+#[allow(clippy::zombie_processes)]
+#[cfg(target_os = "linux")]
+fn peak(args: &[&str]) -> u64 {
+    use std::os::unix::process::CommandExt;
+    use std::process::{Command, Stdio};
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_c3dfix"));
+    cmd.args(args).stdout(Stdio::null()).stderr(Stdio::null());
+    // A hook before exec makes the standard library fork a copy of this (small) process,
+    // instead of starting the child in this process's memory, whose peak the kernel would
+    // then count as the child's.
+    // SAFETY: the hook does nothing, so it cannot break the forked child.
+    unsafe {
+        cmd.pre_exec(|| Ok(()));
+    }
+    let child = cmd.spawn().expect("run c3dfix");
+    let pid = child.id() as libc::pid_t;
+    let mut status = 0;
+    // SAFETY: an all-zero rusage is a valid value to be filled in.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    // SAFETY: `pid` is this process's child, not yet waited for; the pointers are to locals.
+    let r = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    assert_eq!(r, pid, "wait for c3dfix {args:?}");
+    assert!(
+        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
+        "c3dfix {args:?} failed"
+    );
+    usage.ru_maxrss as u64 * 1024
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_long_trial_is_held_once() {
+    let d = tempfile::tempdir().expect("temporary folder");
+    let file = d.path().join("long.c3d");
+    let out = d.path().join("out.c3d");
+    let bytes = big_trial::big_trial().expect("generate the long trial");
+    std::fs::write(&file, &bytes).expect("write the long trial");
+    let size = bytes.len() as f64;
+    drop(bytes);
+    let (f, o) = (
+        file.to_str().expect("utf-8 path"),
+        out.to_str().expect("utf-8 path"),
+    );
+    let runs: [(&[&str], f64); 4] = [
+        (&["info", "--json", f], 1.2),
+        (&["gaps", f], 1.2),
+        (&["convert", "--force", "-o", o, f], 1.2),
+        (&["repair", "--fill", "auto", "--force", "-o", o, f], 3.0),
+    ];
+    let mut report = Vec::new();
+    for (args, limit) in runs {
+        let ratio = peak(args) as f64 / size;
+        report.push(format!("{} {ratio:.2}× (limit {limit}×)", args[0]));
+        assert!(ratio <= limit, "{report:?}");
+        if args[0] == "convert" {
+            let same = std::fs::read(&out).ok() == std::fs::read(&file).ok();
+            assert!(same, "convert without changes is byte-identical");
+        }
+    }
+    println!("peak memory / file size: {report:?}");
+}
+
+#[cfg(not(target_os = "linux"))]
+#[test]
+fn a_long_trial_is_held_once() {
+    eprintln!("skipped: peak memory is measured on Linux only");
+}
