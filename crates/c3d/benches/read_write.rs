@@ -1,7 +1,7 @@
 //! Read+decode and rewrite throughput: c3dfix against c3dio in the same run, on the corpus
 //! files over 300 KB and on the generated 100 000-frame, 100-marker trial
-//! (`examples/common/big_trial.rs`). Reading here includes decoding every point sample,
-//! as c3dio's load does.
+//! (`examples/common/big_trial.rs`). Reading here includes decoding every point and analog
+//! sample, as c3dio's load does.
 //!
 //! `cargo bench -p c3d --bench read_write` (C3D_SAMPLES as for the tests).
 
@@ -51,7 +51,9 @@ fn bench(c: &mut Criterion) {
     for (name, path, bytes) in &files {
         g.throughput(Throughput::Bytes(bytes.len() as u64));
         g.bench_with_input(BenchmarkId::new("c3dfix", name), path, |b, path| {
-            b.iter(|| black_box(c3d::read_file(path).map(|c| c.points().frames())))
+            b.iter(|| {
+                black_box(c3d::read_file(path).map(|c| c.points().frames() + c.analog().raw.len()))
+            })
         });
         g.bench_with_input(BenchmarkId::new("c3dio", name), path, |b, path| {
             b.iter(|| {

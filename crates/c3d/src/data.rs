@@ -57,10 +57,15 @@ impl Layout {
     }
 }
 
-/// Files above this many data bytes are decoded in parallel chunks of frames. Below it, one
-/// thread decodes the whole section in less time than starting the others takes (a
-/// typical 2 MB trial: about 0.5 ms of decoding against 0.3–0.5 ms of thread start-up).
-pub(crate) const PARALLEL_BYTES: usize = 4 << 20;
+/// Data sections above this many bytes are decoded into arrays in parallel chunks of frames.
+const PARALLEL_BYTES: usize = 1 << 20;
+
+/// Data sections above this many bytes are scanned in parallel (the reader's notes,
+/// [`C3d::map_point_chunks`](crate::C3d::map_point_chunks)). A scan is lighter than
+/// decoding, and the commands that only scan are short processes for which starting the
+/// thread pool is part of the bill: below this, one thread scans a typical 2 MB trial in
+/// less time than starting the others takes (about 0.3 ms against 0.3–0.5 ms).
+pub(crate) const PARALLEL_SCAN_BYTES: usize = 4 << 20;
 
 /// Data bytes per chunk when the data section is decoded in pieces: small enough that each
 /// thread's chunk stays in cache, large enough that scheduling costs nothing.
@@ -377,7 +382,7 @@ impl CodecFn<ScanNotes> for Scan<'_> {
             any_stored: a.any_stored || b.any_stored,
         };
         let data = &self.bytes[..l.frames * fb];
-        if data.len() > PARALLEL_BYTES {
+        if data.len() > PARALLEL_SCAN_BYTES {
             data.par_chunks(chunk * fb)
                 .enumerate()
                 .map(scan)

@@ -245,7 +245,7 @@ impl C3d {
         };
         let n = self.point_chunks().min(states.len());
         let states = states.into_iter().take(n).enumerate();
-        if self.layout.data_bytes() > crate::data::PARALLEL_BYTES {
+        if self.layout.data_bytes() > crate::data::PARALLEL_SCAN_BYTES {
             states
                 .collect::<Vec<_>>()
                 .into_par_iter()

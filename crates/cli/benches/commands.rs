@@ -2,8 +2,9 @@
 //! process that only loads the file with c3dio (this bench binary itself, started with
 //! `C3DFIX_BENCH_C3DIO_LOAD=FILE`), in the same run, on the generated long trial (100 000
 //! frames × 100 markers, about 162 MB) and on the real trials of 1.5–2.6 MB in the corpora.
-//! After the timings, the peak memory of `info`, `gaps`, a byte-identical `convert` and
-//! `repair --fill auto` on the long trial, as a multiple of the file's size.
+//! After the timings, the peak memory and time of `info`, `gaps`, a byte-identical `convert`
+//! and `repair --fill auto` on the long trial (memory as a multiple of the file's size),
+//! beside an earlier build's when `C3DFIX_BENCH_BEFORE=PATH/TO/c3dfix` is set.
 //!
 //! `cargo bench -p c3dfix-cli --bench commands` (C3D_SAMPLES etc. as for the tests).
 
@@ -17,6 +18,8 @@ mod big_trial;
 
 const PEER: &str = "C3DFIX_BENCH_C3DIO_LOAD";
 const BIN: &str = env!("CARGO_BIN_EXE_c3dfix");
+/// An earlier build of the binary to compare with, in the memory table.
+const BEFORE: &str = "C3DFIX_BENCH_BEFORE";
 
 /// The peer: load `path` with c3dio as a program that only reads a file would.
 fn c3dio_load(path: &str) -> i32 {
@@ -141,35 +144,54 @@ fn peak_memory(_: &mut Command) -> Option<u64> {
     None
 }
 
+/// Peak memory and wall time of each command on the long trial, once each, for this build
+/// and (when `C3DFIX_BENCH_BEFORE` names one) an earlier build of the binary.
 fn memory_table(long: &Path) {
     let size = std::fs::metadata(long).map_or(1, |m| m.len()) as f64;
     let dir = tempfile::tempdir().expect("a temporary folder");
     let out = dir.path().join("out.c3d");
     let o = out.to_string_lossy().into_owned();
-    let runs: Vec<(&str, Command)> = vec![
-        ("info --json", c3dfix(&["info", "--json"], long)),
-        ("gaps", c3dfix(&["gaps"], long)),
+    let mut bins = vec![("this build", PathBuf::from(BIN))];
+    if let Some(b) = std::env::var_os(BEFORE) {
+        bins.push(("before", PathBuf::from(b)));
+    }
+    let commands: [(&str, Vec<&str>); 4] = [
+        ("info --json", vec!["info", "--json"]),
+        ("gaps", vec!["gaps"]),
         (
             "convert (byte-identical)",
-            c3dfix(&["convert", "--force", "-o", &o], long),
+            vec!["convert", "--force", "-o", &o],
         ),
         (
             "repair --fill auto",
-            c3dfix(&["repair", "--fill", "auto", "--force", "-o", &o], long),
+            vec!["repair", "--fill", "auto", "--force", "-o", &o],
         ),
-        ("c3dio load", peer(long)),
     ];
-    println!("\npeak memory on {} ({:.0} MB)", long.display(), size / 1e6);
-    for (name, mut cmd) in runs {
-        match peak_memory(&mut cmd) {
+    println!(
+        "\npeak memory and time on {} ({:.0} MB)",
+        long.display(),
+        size / 1e6
+    );
+    let show = |who: &str, name: &str, cmd: &mut Command| {
+        let t = std::time::Instant::now();
+        match peak_memory(cmd) {
             Some(b) => println!(
-                "  {name:<26} {:>7.0} MB  {:.2}× the file",
+                "  {who:<10} {name:<26} {:>7.0} MB  {:.2}× the file  {:>6.2} s",
                 b as f64 / 1e6,
-                b as f64 / size
+                b as f64 / size,
+                t.elapsed().as_secs_f64()
             ),
-            None => println!("  {name:<26} (not measured here)"),
+            None => println!("  {who:<10} {name:<26} (not measured here)"),
+        }
+    };
+    for (name, args) in &commands {
+        for (who, bin) in &bins {
+            let mut c = Command::new(bin);
+            c.args(args).arg(long);
+            show(who, name, &mut c);
         }
     }
+    show("c3dio", "load", &mut peer(long));
 }
 
 criterion_group!(benches, bench);
