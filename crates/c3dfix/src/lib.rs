@@ -65,20 +65,7 @@ pub fn save(c: &c3d::C3d, path: &Path, opts: &SaveOptions) -> Result<Option<Path
     } else {
         None
     };
-    let mut outs = Vec::with_capacity(2);
-    if let Some(b) = &backup {
-        // The file being replaced, copied from disk as the run writes.
-        outs.push(save::Output {
-            path: b,
-            bytes: save::Content::CopyOf(path),
-            replace: false,
-        });
-    }
-    outs.push(save::Output {
-        path,
-        bytes: save::Content::Bytes(&bytes),
-        replace,
-    });
+    let outs = save::replacing(path, &bytes, replace, backup.as_deref());
     save::write_all(&outs)?;
     Ok(backup)
 }

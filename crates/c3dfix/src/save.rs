@@ -76,6 +76,32 @@ pub struct Output<'a> {
     pub replace: bool,
 }
 
+/// The outputs of a run that writes `bytes` to `path`, keeping the file there first as
+/// `backup` when given: the backup (a copy of the file on disk, streamed as the run writes)
+/// and the new file. Add the run's other outputs and give them all to [`write_all`], so that
+/// they land together or not at all.
+pub fn replacing<'a>(
+    path: &'a Path,
+    bytes: &'a [u8],
+    replace: bool,
+    backup: Option<&'a Path>,
+) -> Vec<Output<'a>> {
+    let mut outs = Vec::with_capacity(3);
+    if let Some(b) = backup {
+        outs.push(Output {
+            path: b,
+            bytes: Content::CopyOf(path),
+            replace: false,
+        });
+    }
+    outs.push(Output {
+        path,
+        bytes: Content::Bytes(bytes),
+        replace,
+    });
+    outs
+}
+
 /// Write `bytes` to `path` atomically. Refuses to replace an existing file unless `force`.
 pub fn write_atomic(path: &Path, bytes: &[u8], force: bool) -> Result<()> {
     write_all(&[Output {

@@ -3,8 +3,8 @@
 //! temporary files synced and renamed together, folders synced.
 
 pub use c3dfix::save::{
-    backup_path, check_destination, new_backup, refuse_input, same_file, write_all, Content,
-    Output, NAME_MAX,
+    backup_path, check_destination, new_backup, refuse_input, replacing, same_file, write_all,
+    Content, Output, NAME_MAX,
 };
 use std::path::Path;
 

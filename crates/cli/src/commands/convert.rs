@@ -10,7 +10,7 @@ use crate::commands::parallel::run_each;
 use crate::commands::targets::{plan, TargetArgs};
 use crate::console::{errln, outln};
 use anyhow::{bail, Context, Result};
-use c3dfix::save::{check_destination, new_backup, write_all, Content, Output};
+use c3dfix::save::{check_destination, new_backup, replacing, write_all};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -107,20 +107,8 @@ fn convert_one(
     } else {
         None
     };
-    let mut outs = Vec::with_capacity(2);
-    if let Some(b) = &backup_to {
-        outs.push(Output {
-            path: b,
-            bytes: Content::CopyOf(output),
-            replace: false,
-        });
-        done.backup = Some(b.display().to_string());
-    }
-    outs.push(Output {
-        path: output,
-        bytes: Content::Bytes(&bytes),
-        replace: overwrite,
-    });
+    done.backup = backup_to.as_ref().map(|b| b.display().to_string());
+    let outs = replacing(output, &bytes, overwrite, backup_to.as_deref());
     // The backup and the converted file land together, or neither does.
     write_all(&outs)?;
     Ok(done)

@@ -4,7 +4,9 @@
 use crate::commands::info::read_c3d;
 use crate::commands::repair_io::{self, RepairArgs};
 use crate::console::outln;
-use crate::output::{check_destination, new_backup, refuse_input, write_all, Content, Output};
+use crate::output::{
+    check_destination, new_backup, refuse_input, replacing, write_all, Content, Output,
+};
 use anyhow::{Context, Result};
 use c3dfix::Summary;
 use std::path::{Path, PathBuf};
@@ -84,20 +86,9 @@ pub fn run(a: Args) -> Result<i32> {
     let bytes = c
         .encoded()
         .with_context(|| format!("writing the repaired {}", a.input.display()))?;
-    let mut outs = Vec::with_capacity(3);
-    if let Some(b) = &backup {
-        // The input as it is on disk (the trial in memory holds the repaired samples).
-        outs.push(Output {
-            path: b,
-            bytes: Content::CopyOf(&a.input),
-            replace: false,
-        });
-    }
-    outs.push(Output {
-        path: &out,
-        bytes: Content::Bytes(&bytes),
-        replace: overwrite,
-    });
+    // With --backup (in place), the input as it is on disk: the trial in memory holds the
+    // repaired samples.
+    let mut outs = replacing(&out, &bytes, overwrite, backup.as_deref());
     if let Some(path) = &a.report {
         outs.push(Output {
             path,
