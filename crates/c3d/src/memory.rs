@@ -127,10 +127,11 @@ const MAP_MIN: u64 = 64 << 10;
 /// in place shows the new bytes in pages not yet written here. That suits a command that
 /// reads a file and is done within seconds; [`read_file`] suits objects that live long
 /// (a library user's, the Python package's). Small files, and files that cannot be mapped,
-/// are read instead.
+/// are read instead; so is every file outside Unix, where a mapped file cannot be replaced
+/// by renaming another over it (as in-place commands do).
 pub(crate) fn map_file(f: std::fs::File) -> std::io::Result<Bytes> {
     let len = f.metadata().map(|m| m.len()).unwrap_or(0);
-    if len >= MAP_MIN {
+    if cfg!(unix) && len >= MAP_MIN {
         // SAFETY: a private mapping of a regular file, read-write only for this process's
         // own copy-on-write pages; what concurrent changes to the file do is documented
         // above and is the caller's choice of this function.
