@@ -14,17 +14,9 @@ pub const MARKERS: usize = 100;
 const CHANNELS: usize = 4;
 const RATE: f32 = 100.0;
 
-/// Deterministic splitmix64.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+#[path = "rng.rs"]
+mod rng;
+use rng::Rng;
 
 /// Position of marker `i` at time `t` (s): segment `i / 4` translates and turns about z.
 fn marker(i: usize, t: f64) -> [f64; 3] {
