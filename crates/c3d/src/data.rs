@@ -422,6 +422,8 @@ pub(crate) struct Encode<'a> {
     pub points: Option<&'a Points>,
     pub analog: Option<&'a Analog>,
     pub force: bool,
+    /// The trial's frame at which `out` starts (when it holds a chunk), for messages.
+    pub first_frame: usize,
 }
 
 fn same(a: f32, b: f32) -> bool {
@@ -538,6 +540,7 @@ impl CodecFn<Result<()>> for Encode<'_> {
             points,
             analog,
             force,
+            first_frame,
         } = self;
         let fb = l.frame_bytes();
         if fb == 0 {
@@ -552,7 +555,7 @@ impl CodecFn<Result<()>> for Encode<'_> {
                 for (i, c) in pbytes.chunks_exact_mut(4 * wb).enumerate() {
                     let k = base + i;
                     let sample = (pts.xyz[k], pts.residual[k], pts.camera_mask[k]);
-                    encode_point::<C>(c, &l, sample, force, (f, i))?;
+                    encode_point::<C>(c, &l, sample, force, (first_frame + f, i))?;
                 }
             }
             if let Some(ana) = analog {
@@ -570,7 +573,8 @@ impl CodecFn<Result<()>> for Encode<'_> {
                         let q = v.round();
                         if q.is_nan() || !(0.0..=65535.0).contains(&q) {
                             return Err(Error::Unrepresentable(format!(
-                                "analog frame {f}, word {j} = {v} does not fit in an unsigned 16-bit integer"
+                                "analog frame {}, word {j} = {v} does not fit in an unsigned 16-bit integer",
+                                first_frame + f
                             )));
                         }
                         c.copy_from_slice(&C::write_i16(q as u16 as i16));
@@ -578,7 +582,7 @@ impl CodecFn<Result<()>> for Encode<'_> {
                         if !force && same(C::read_i16([c[0], c[1]]) as f32, v) {
                             continue;
                         }
-                        let q = int16(v, || format!("analog frame {f}, word {j}"))?;
+                        let q = int16(v, || format!("analog frame {}, word {j}", first_frame + f))?;
                         c.copy_from_slice(&C::write_i16(q));
                     }
                 }

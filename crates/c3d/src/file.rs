@@ -140,6 +140,11 @@ impl C3d {
         })
     }
 
+    /// The point data if it has been decoded (or was given).
+    pub(crate) fn decoded_points(&self) -> Option<&Points> {
+        self.points.get()
+    }
+
     /// Mutable point data; samples changed through it are re-encoded when writing.
     pub fn points_mut(&mut self) -> &mut Points {
         self.points();

@@ -5,11 +5,13 @@
 //! that outgrows its blocks moves the data section. A new file, or a conversion to another
 //! processor or number format, is written *fresh*: header derived from the parameters and data.
 
+use crate::analog::Analog;
 use crate::data::{Encode, Layout};
 use crate::error::{Error, Result};
 use crate::file::{C3d, NumberFormat, Source};
 use crate::header::{Header, BLOCK, KEY_12345};
 use crate::parameters::{Parameters, Value};
+use crate::points::Points;
 use crate::processor::Processor;
 use std::borrow::Cow;
 use std::path::Path;
@@ -57,7 +59,7 @@ impl C3d {
         }
         if let Some(s) = scale.filter(|s| s.is_finite() && *s != 0.0) {
             if format == NumberFormat::Integer {
-                check_integer_scale(self.points(), s.abs())?;
+                check_integer_scale(self.point_stats(s.abs()).max_abs, s.abs())?;
             }
         }
         self.write_fresh(processor, format, scale).map(Cow::Owned)
@@ -166,6 +168,7 @@ impl C3d {
                 points: self.points_dirty.then(|| self.points()),
                 analog: self.analog_dirty.then(|| self.analog()),
                 force: false,
+                first_frame: 0,
             })?;
             if shared
                 .iter()
@@ -174,7 +177,7 @@ impl C3d {
                 // Integer samples keep their scale, so the samples left alone keep their
                 // values exactly (edited ones were kept within its range by the editor).
                 let keep = Some(l.point_scale)
-                    .filter(|s| !l.float && *s > 0.0 && s.is_finite() && fits(self.points(), *s));
+                    .filter(|s| !l.float && *s > 0.0 && s.is_finite() && fits(self, *s));
                 return self.write_fresh(p, self.format(), keep);
             }
         }
@@ -187,7 +190,6 @@ impl C3d {
         format: NumberFormat,
         scale: Option<f32>,
     ) -> Result<Vec<u8>> {
-        let pts = self.points();
         let float = format == NumberFormat::Float;
         let old = self.layout();
         let abs_scale = match scale {
@@ -197,7 +199,7 @@ impl C3d {
                 s if s > 0.0 && s.is_finite() => s,
                 _ => 1.0,
             },
-            None => integer_scale(pts, old.point_scale),
+            None => integer_scale(self.point_stats(old.point_scale), old.point_scale),
         };
         let mut params = self.parameters.clone();
         let mut analog = self.analog().clone();
@@ -205,9 +207,9 @@ impl C3d {
         if !float && old.float {
             unsigned = analog_to_integers(&mut analog, &mut params, unsigned)?;
         }
-        let frames = pts.frames();
+        let frames = self.frames();
         let layout = Layout {
-            points: pts.count(),
+            points: self.point_count(),
             analog_channels: analog.channels(),
             analog_samples_per_frame: analog.samples_per_frame().max(1),
             frames,
@@ -279,15 +281,114 @@ impl C3d {
         out.extend_from_slice(&sec);
         let data_offset = out.len();
         out.resize(data_offset + layout.data_bytes(), 0);
-        processor.dispatch(Encode {
-            out: &mut out[data_offset..],
-            layout,
-            points: Some(pts),
-            analog: Some(&analog),
-            force: true,
-        })?;
+        let data = &mut out[data_offset..];
+        match self.decoded_points() {
+            Some(pts) => processor.dispatch(Encode {
+                out: data,
+                layout,
+                points: Some(pts),
+                analog: Some(&analog),
+                force: true,
+                first_frame: 0,
+            })?,
+            None => self.encode_by_chunks(processor, layout, &analog, data)?,
+        }
         out.resize(out.len().div_ceil(BLOCK) * BLOCK, 0);
         Ok(out)
+    }
+
+    /// Encode points that were never decoded, chunk by chunk from the stored bytes, into
+    /// `data` (the new data section): a conversion of a long trial holds one chunk of
+    /// decoded samples, not a decoded copy of the trial.
+    fn encode_by_chunks(
+        &self,
+        processor: Processor,
+        layout: Layout,
+        analog: &Analog,
+        data: &mut [u8],
+    ) -> Result<()> {
+        let per = self.point_chunk_frames();
+        let fb = layout.frame_bytes();
+        let aw = layout.analog_words();
+        let states: Vec<&mut [u8]> = if fb == 0 {
+            Vec::new()
+        } else {
+            data.chunks_mut(per * fb).collect()
+        };
+        let done = self.map_point_chunks(states, |out, v| {
+            let mut pts = Points::new(v.frames, v.count);
+            for f in 0..v.frames {
+                for i in 0..v.count {
+                    let k = pts.index(f, i);
+                    (pts.xyz[k], pts.residual[k], pts.camera_mask[k]) = v.sample(f, i);
+                }
+            }
+            let spf = analog.samples_per_frame().max(1);
+            let first = v.first_frame;
+            let raw = analog
+                .raw
+                .get(first * aw..(first + v.frames) * aw)
+                .unwrap_or(&[])
+                .to_vec();
+            let part = Analog {
+                channels: analog.channels(),
+                samples_per_frame: spf,
+                frames: v.frames,
+                raw,
+            };
+            processor.dispatch(Encode {
+                out,
+                layout: Layout {
+                    frames: v.frames,
+                    ..layout
+                },
+                points: Some(&pts),
+                analog: Some(&part),
+                force: true,
+                first_frame: first,
+            })
+        });
+        done.into_iter().collect()
+    }
+
+    /// Largest |coordinate| of the valid samples, and whether every valid coordinate is an
+    /// exact multiple of `scale` that fits in 16 bits, in one pass that decodes nothing
+    /// into memory.
+    fn point_stats(&self, scale: f32) -> PointStats {
+        let exact_ok = scale > 0.0 && scale.is_finite();
+        self.map_point_chunks(vec![(); self.point_chunks()], |(), v| {
+            let mut st = PointStats {
+                max_abs: 0.0,
+                exact: exact_ok,
+            };
+            for f in 0..v.frames {
+                for i in 0..v.count {
+                    let (xyz, r, _) = v.sample(f, i);
+                    if r < 0.0 {
+                        continue;
+                    }
+                    for x in xyz {
+                        st.max_abs = st.max_abs.max(x.abs());
+                        if st.exact {
+                            let q = (x / scale).round();
+                            st.exact = q.abs() <= 32767.0 && (q * scale).to_bits() == x.to_bits();
+                        }
+                    }
+                }
+            }
+            st
+        })
+        .into_iter()
+        .fold(
+            PointStats {
+                max_abs: 0.0,
+                exact: exact_ok,
+            },
+            |a, b| PointStats {
+                max_abs: a.max_abs.max(b.max_abs),
+                exact: a.exact && b.exact,
+            },
+        )
     }
 }
 
@@ -309,25 +410,21 @@ fn next_structure(src: &Source, h: &Header) -> usize {
 }
 
 /// Whether every valid coordinate fits in 16 bits at `scale`.
-fn fits(pts: &crate::points::Points, scale: f32) -> bool {
-    (max_valid_abs(pts) / scale).round() <= 32767.0
+fn fits(c: &C3d, scale: f32) -> bool {
+    (c.point_stats(scale).max_abs / scale).round() <= 32767.0
 }
 
-/// Largest |coordinate| of the valid samples.
-fn max_valid_abs(pts: &crate::points::Points) -> f32 {
-    pts.xyz
-        .iter()
-        .zip(&pts.residual)
-        .filter(|(_, &r)| r >= 0.0)
-        .flat_map(|(xyz, _)| xyz.iter().map(|v| v.abs()))
-        .fold(0f32, f32::max)
+/// What the valid samples say about integer storage (see `C3d::point_stats`).
+#[derive(Debug, Clone, Copy)]
+struct PointStats {
+    max_abs: f32,
+    exact: bool,
 }
 
 /// A requested integer scale must hold the data: fine enough that the largest coordinate
 /// is at least one step (else every coordinate is stored as 0 or ±1 and the trial is lost),
-/// coarse enough that it fits in 16 bits.
-fn check_integer_scale(pts: &crate::points::Points, scale: f32) -> Result<()> {
-    let max = max_valid_abs(pts);
+/// coarse enough that it fits in 16 bits. `max` is the largest valid |coordinate|.
+fn check_integer_scale(max: f32, scale: f32) -> Result<()> {
     if max > 0.0 && max.is_finite() && (scale > max || max / scale > 32767.0) {
         return Err(Error::Misuse(format!(
             "scale {scale} does not suit the data: the largest coordinate is {max}, so the scale must be from {} to {max}",
@@ -339,26 +436,12 @@ fn check_integer_scale(pts: &crate::points::Points, scale: f32) -> Result<()> {
 
 /// The POINT:SCALE for integer data: the current one when every valid coordinate is an exact
 /// multiple of it that fits in int16 (so int → float → int is lossless), else the finest scale
-/// at which every valid coordinate fits.
-fn integer_scale(pts: &crate::points::Points, current: f32) -> f32 {
-    let mut max_abs = 0f32;
-    let mut exact = current > 0.0 && current.is_finite();
-    for (xyz, &r) in pts.xyz.iter().zip(&pts.residual) {
-        if r < 0.0 {
-            continue;
-        }
-        for &v in xyz {
-            max_abs = max_abs.max(v.abs());
-            if exact {
-                let q = (v / current).round();
-                exact = q.abs() <= 32767.0 && (q * current).to_bits() == v.to_bits();
-            }
-        }
-    }
-    if exact {
+/// at which every valid coordinate fits. `stats` are taken with `current`.
+fn integer_scale(stats: PointStats, current: f32) -> f32 {
+    if stats.exact {
         current
-    } else if max_abs > 0.0 {
-        max_abs / 32000.0
+    } else if stats.max_abs > 0.0 {
+        stats.max_abs / 32000.0
     } else {
         1.0
     }

@@ -155,12 +155,16 @@ fn memory_table(long: &Path) {
     if let Some(b) = std::env::var_os(BEFORE) {
         bins.push(("before", PathBuf::from(b)));
     }
-    let commands: [(&str, Vec<&str>); 4] = [
+    let commands: [(&str, Vec<&str>); 5] = [
         ("info --json", vec!["info", "--json"]),
         ("gaps", vec!["gaps"]),
         (
             "convert (byte-identical)",
             vec!["convert", "--force", "-o", &o],
+        ),
+        (
+            "convert --processor dec",
+            vec!["convert", "--processor", "dec", "--force", "-o", &o],
         ),
         (
             "repair --fill auto",

@@ -6,7 +6,7 @@
 //! what editing the decoded points writes; a conversion that succeeds reads back with the same
 //! shape.
 
-use c3d::{C3d, Processor};
+use c3d::{C3d, NumberFormat, Processor};
 
 pub fn check(data: &[u8]) {
     let Ok(c) = c3d::read(data.to_vec()) else {
@@ -67,6 +67,16 @@ fn lazy_matches_decoded(c: &C3d) {
             0 => edits.push((f, i, [0.0; 3], -1.0, 0)),
             1 if p.is_valid(f, i) => edits.push((f, i, p.xyz[k], 0.0, 0)),
             _ => {}
+        }
+    }
+    // Converting undecoded points (chunk by chunk) writes what converting decoded ones writes.
+    for p in [Processor::Intel, Processor::Dec, Processor::Sgi] {
+        for fmt in [NumberFormat::Float, NumberFormat::Integer] {
+            let (a, b) = (lazy.clone().convert(p, fmt, None), c.convert(p, fmt, None));
+            match (a, b) {
+                (Ok(a), Ok(b)) => assert!(a == b, "{p:?} {fmt:?}: chunked conversion differs"),
+                (a, b) => assert_eq!(a.is_ok(), b.is_ok(), "{:?} / {:?}", a.err(), b.err()),
+            }
         }
     }
     // `lazy` is still undecoded: its samples are patched into its bytes.
