@@ -1,6 +1,9 @@
 //! `auto`: for each gap, every applicable method fills the gap and also artificial gaps of
 //! the same length whose truth is known, and the fill that scores lowest there is used:
 //! one method, or the blend of the best two or three weighted by inverse squared error.
+//! Each donor method (rigid, pattern, PCA) enters twice on gaps up to 40 frames: tied to
+//! the valid samples by the line through its two anchor residuals, and by a spline through
+//! its residuals at several frames on each side (see `anchor`).
 //!
 //! Artificial gaps are cut first from the same marker, anywhere in the PCA training window
 //! where it and its donors are valid (nearest the real gap first, non-overlapping first),
@@ -12,10 +15,11 @@
 //! trial is scored with never saw the trial's hole.
 //! Without any artificial gap, PCA is used for long gaps and the quintic for short ones.
 
+use super::anchor::Raw;
 use super::skeleton::Skeleton;
 use super::{
-    dist, fill_with, linear, step_ratio, FillMethod, FillOptions, FillOutcome, Plan, SkipReason,
-    Span, Target, STEP_FACTOR,
+    dist, fill_raw, fill_with, linear, step_ratio, FillMethod, FillOptions, FillOutcome, Plan,
+    SkipReason, Span, Target, STEP_FACTOR,
 };
 
 /// Candidates for gaps with valid data on both sides.
@@ -34,6 +38,10 @@ const EDGE: [FillMethod; 3] = [FillMethod::Rigid, FillMethod::Pca, FillMethod::P
 const OTHER_MARKERS: usize = 4;
 /// Gap length from which the target's shorter holes stand in for missing room.
 const LONG: usize = 20;
+/// Donor fills are also tied to the samples by a spline through the residuals (see
+/// `anchor`) on gaps up to this many times the residual nodes per side: twice the span of
+/// the nodes. Across longer gaps the spline wanders.
+const SMOOTH_SPAN: usize = 4;
 /// Most candidates blended.
 const BLEND: usize = 3;
 /// Candidates this many times worse than the best after the first third of the trials are
@@ -132,21 +140,52 @@ pub(super) fn fill_checked(
 ) -> Result<(Vec<[f64; 3]>, Choice), SkipReason> {
     let edge = span.before.is_none() || span.after.is_none();
     let mut fills: Vec<(FillMethod, Vec<[f64; 3]>)> = Vec::new();
+    // smooth[c]: candidate c is its donor method's prediction tied to the samples by a
+    // spline through the residuals (see `anchor`) instead of the line.
+    let mut smooth: Vec<bool> = Vec::new();
     let mut reason = None;
     let mut implausible = f64::INFINITY;
+    let mut keep = |m: FillMethod, v: Vec<[f64; 3]>, sm: bool, fills: &mut Vec<_>| {
+        let r = step_ratio(t, span, &v);
+        if r <= STEP_FACTOR {
+            fills.push((m, v));
+            smooth.push(sm);
+        } else if let Some(d) = slowed(t, span, &v) {
+            fills.push((m, d));
+            smooth.push(sm);
+        } else {
+            implausible = implausible.min(r);
+        }
+    };
     for &m in cands {
-        match fill_with(m, t, span, plan, opts) {
-            Ok(v) if !estimate => return Ok((v, Choice::single(m))),
-            Ok(v) => {
-                let r = step_ratio(t, span, &v);
-                if r <= STEP_FACTOR {
-                    fills.push((m, v));
-                } else if let Some(d) = slowed(t, span, &v) {
-                    fills.push((m, d));
-                } else {
-                    implausible = implausible.min(r);
+        if !estimate {
+            match fill_with(m, t, span, plan, opts) {
+                Ok(v) => return Ok((v, Choice::single(m))),
+                Err(r) => {
+                    reason.get_or_insert(r);
                 }
             }
+            continue;
+        }
+        if m.is_donor() {
+            match fill_raw(m, t, span, plan, opts, opts.spline_context) {
+                Ok(raw) => {
+                    keep(m, raw.anchored(span), false, &mut fills);
+                    if let Some(v) = raw
+                        .smoothed(span)
+                        .filter(|_| span.len() <= SMOOTH_SPAN * opts.spline_context)
+                    {
+                        keep(m, v, true, &mut fills);
+                    }
+                }
+                Err(r) => {
+                    reason.get_or_insert(r);
+                }
+            }
+            continue;
+        }
+        match fill_with(m, t, span, plan, opts) {
+            Ok(v) => keep(m, v, false, &mut fills),
             Err(r) => {
                 reason.get_or_insert(r);
             }
@@ -156,6 +195,7 @@ pub(super) fn fill_checked(
         // Every donor fill at the edge is implausible: hold the last valid sample.
         if let Ok(v) = linear::hold(t, span) {
             fills.push((FillMethod::Hold, v));
+            smooth.push(false);
         }
     }
     if fills.is_empty() {
@@ -205,6 +245,9 @@ pub(super) fn fill_checked(
     );
     // Shorter holes flatter polynomials, which are far off on long gaps anyway.
     if shortened && fills.iter().any(|(m, _)| !m.is_polynomial()) {
+        let poly: Vec<bool> = fills.iter().map(|(m, _)| m.is_polynomial()).collect();
+        let mut k = poly.iter();
+        smooth.retain(|_| !*k.next().unwrap_or(&false));
         fills.retain(|(m, _)| !m.is_polynomial());
     }
     // Long gaps: each fill also held to the skeleton (Tits et al. 2018), as a candidate of
@@ -214,13 +257,14 @@ pub(super) fn fill_checked(
     if len >= LONG {
         if let Some(sk) = Skeleton::new(t, span, plan, opts) {
             for c in 0..fills.len() {
-                if fills[c].0 == FillMethod::Hold {
+                if fills[c].0 == FillMethod::Hold || smooth[c] {
                     continue;
                 }
                 let mut v = fills[c].1.clone();
                 if sk.apply(t, span, &mut v) && step_ratio(t, span, &v) <= STEP_FACTOR {
                     fills.push((fills[c].0, v));
                     skel.push(true);
+                    smooth.push(false);
                 }
             }
         }
@@ -250,6 +294,8 @@ pub(super) fn fill_checked(
                 preds.retain(|_| *k.next().unwrap_or(&true));
                 let mut k = keep.iter();
                 skel.retain(|_| *k.next().unwrap_or(&true));
+                let mut k = keep.iter();
+                smooth.retain(|_| *k.next().unwrap_or(&true));
             }
         }
         let tt = Target {
@@ -260,19 +306,42 @@ pub(super) fn fill_checked(
         let p = tr.plan.map_or(plan, |i| &plans[i]);
         let mut got: Vec<Vec<[f64; 3]>> = Vec::with_capacity(fills.len());
         let mut sk: Option<Option<Skeleton>> = None;
+        // Each donor method's raw prediction of this trial, shared by its variants.
+        let mut raws: Vec<(FillMethod, Option<Raw>)> = Vec::new();
         for (c, (m, _)) in fills.iter().enumerate() {
             // A constrained candidate follows its method's plain fill of this trial.
             let base = if skel[c] {
-                (0..c).find(|&b| !skel[b] && fills[b].0 == *m)
+                (0..c).find(|&b| !skel[b] && !smooth[b] && fills[b].0 == *m)
             } else {
                 None
             };
-            let mut v = match base {
-                Some(b) => got[b].clone(),
-                None => match fill_with(*m, &tt, tr.span, p, opts) {
-                    Ok(v) => v,
-                    Err(_) => break,
-                },
+            let made = match base {
+                Some(b) => Ok(got[b].clone()),
+                None if m.is_donor() => {
+                    let i = match raws.iter().position(|r| r.0 == *m) {
+                        Some(i) => i,
+                        None => {
+                            let ctx = if smooth.iter().zip(&fills).any(|(&s, f)| s && f.0 == *m) {
+                                opts.spline_context
+                            } else {
+                                1
+                            };
+                            raws.push((*m, fill_raw(*m, &tt, tr.span, p, opts, ctx).ok()));
+                            raws.len() - 1
+                        }
+                    };
+                    match &raws[i].1 {
+                        Some(r) if smooth[c] => {
+                            Ok(r.smoothed(tr.span).unwrap_or_else(|| r.anchored(tr.span)))
+                        }
+                        Some(r) => Ok(r.anchored(tr.span)),
+                        None => Err(()),
+                    }
+                }
+                None => fill_with(*m, &tt, tr.span, p, opts).map_err(|_| ()),
+            };
+            let Ok(mut v) = made else {
+                break;
             };
             if skel[c] {
                 let s = sk.get_or_insert_with(|| Skeleton::new(&tt, tr.span, p, opts));

@@ -2,6 +2,7 @@
 //! so markers can be filled in parallel and a method can be tried on artificial gaps
 //! (see `FillMethod::Auto`) without copying the trial.
 
+mod anchor;
 mod auto;
 mod linear;
 mod pattern;
@@ -404,11 +405,39 @@ pub(crate) fn fill_with(
         FillMethod::Lagrange2 => poly::lagrange(t, span, 3),
         FillMethod::Lagrange5 => poly::lagrange(t, span, 6),
         FillMethod::Spline => spline::fill(t, span, opts.spline_context),
-        FillMethod::Rigid => rigid::fill(t, span, plan),
-        FillMethod::Pattern => pattern::fill(t, span, plan),
-        FillMethod::Pca => pca::fill(t, span, plan, opts),
+        FillMethod::Rigid | FillMethod::Pattern | FillMethod::Pca => {
+            fill_raw(method, t, span, plan, opts, 1).map(|r| r.anchored(span))
+        }
         FillMethod::Auto => auto::fill(t, span, plan, opts, auto::candidates(span)).map(|(v, _)| v),
         FillMethod::Hold => linear::hold(t, span),
+    }
+}
+
+/// A donor method's raw prediction of `span` with residuals at up to `per_side` valid
+/// frames on each side (see [`anchor::Raw`]); `NoDonors` for methods that use no donors.
+pub(crate) fn fill_raw(
+    method: FillMethod,
+    t: &Target,
+    span: Span,
+    plan: &Plan,
+    opts: &FillOptions,
+    per_side: usize,
+) -> std::result::Result<anchor::Raw, SkipReason> {
+    match method {
+        FillMethod::Rigid => rigid::raw(t, span, plan, per_side),
+        FillMethod::Pattern => pattern::raw(t, span, plan, per_side),
+        FillMethod::Pca => pca::raw(t, span, plan, opts, per_side),
+        _ => Err(SkipReason::NoDonors),
+    }
+}
+
+impl FillMethod {
+    /// Whether the method predicts from donor markers (and so has a [`fill_raw`]).
+    pub(crate) fn is_donor(self) -> bool {
+        matches!(
+            self,
+            FillMethod::Rigid | FillMethod::Pattern | FillMethod::Pca
+        )
     }
 }
 
@@ -476,44 +505,6 @@ pub(crate) fn fill_gap_diag(
             _ => (Some(v), choice.outcome(), choice.diag),
         },
         Err(r) => skip(r),
-    }
-}
-
-/// Adds to `fill` the linear blend of the prediction errors at the anchors, so the fill
-/// meets the valid samples at both edges; with one anchor the error is added as a constant.
-/// `pred_before`/`pred_after` are the method's predictions at the anchors.
-pub(crate) fn blend_edges(
-    fill: &mut [[f64; 3]],
-    t: &Target,
-    span: Span,
-    pred_before: Option<[f64; 3]>,
-    pred_after: Option<[f64; 3]>,
-) {
-    let err = |anchor: Option<usize>, pred: Option<[f64; 3]>| {
-        let (f, p) = (anchor?, pred?);
-        let a = t.at(f);
-        Some([a[0] - p[0], a[1] - p[1], a[2] - p[2]])
-    };
-    let eb = err(span.before, pred_before);
-    let ea = err(span.after, pred_after);
-    for (i, v) in fill.iter_mut().enumerate() {
-        let f = span.first + i;
-        let c = match (eb, ea, span.before, span.after) {
-            (Some(b), Some(a), Some(fb), Some(fa)) => {
-                let w = (f - fb) as f64 / (fa - fb) as f64;
-                [
-                    b[0] + w * (a[0] - b[0]),
-                    b[1] + w * (a[1] - b[1]),
-                    b[2] + w * (a[2] - b[2]),
-                ]
-            }
-            (Some(b), None, _, _) => b,
-            (None, Some(a), _, _) => a,
-            _ => [0.0; 3],
-        };
-        for k in 0..3 {
-            v[k] += c[k];
-        }
     }
 }
 

@@ -11,8 +11,9 @@
 //! of them while together they hold at most a fifth of the training rows, which saves
 //! eigen-decompositions.
 
+use super::anchor::Raw;
 use super::plan::ScoringModels;
-use super::{blend_edges, Fill, FillOptions, Plan, SkipReason, Span, Target};
+use super::{FillOptions, Plan, SkipReason, Span, Target};
 use crate::linalg::{solve_in_place, symmetric_eigen};
 use nalgebra::DMatrix;
 use std::cell::OnceCell;
@@ -28,7 +29,15 @@ pub(crate) struct Model {
     bmat: Vec<f64>,
 }
 
-pub(super) fn fill(t: &Target, span: Span, plan: &Plan, opts: &FillOptions) -> Fill {
+/// The PCA prediction over the span, with residuals at up to `per_side` frames per side
+/// (see [`Raw`]).
+pub(super) fn raw(
+    t: &Target,
+    span: Span,
+    plan: &Plan,
+    opts: &FillOptions,
+    per_side: usize,
+) -> Result<Raw, SkipReason> {
     let d = t.data;
     let nb = &plan.pca;
     let (lo_o, hi_o) = span.outer();
@@ -79,7 +88,10 @@ pub(super) fn fill(t: &Target, span: Span, plan: &Plan, opts: &FillOptions) -> F
     };
     let model = model.as_ref().map_err(|&e| e)?;
     let mut y = vec![0.0; known];
-    let mut predict = |f: usize| {
+    let predict = |f: usize| {
+        if !nb.iter().all(|&(j, _)| d.ok(j, f)) {
+            return None;
+        }
         let c = centroid(t, nb, f);
         known_row(t, nb, f, c, &mut y);
         let mut out = [0.0; 3];
@@ -93,13 +105,9 @@ pub(super) fn fill(t: &Target, span: Span, plan: &Plan, opts: &FillOptions) -> F
                 .sum();
             out[k] = model.mean[known + k] + v + c[k];
         }
-        out
+        Some(out)
     };
-    let mut out: Vec<[f64; 3]> = (span.first..=span.last).map(&mut predict).collect();
-    let pb = span.before.map(&mut predict);
-    let pa = span.after.map(&mut predict);
-    blend_edges(&mut out, t, span, pb, pa);
-    Ok(out)
+    Raw::gather(t, span, per_side, predict).ok_or(SkipReason::NoDonors)
 }
 
 fn centroid(t: &Target, nb: &[(usize, f64)], f: usize) -> [f64; 3] {

@@ -3,7 +3,8 @@
 //! gap; each gap frame gets a least-squares (Kabsch) donor transform; the remaining drift is
 //! removed by blending the anchor errors across the gap.
 
-use super::{blend_edges, Fill, Plan, SkipReason, Span, Target};
+use super::anchor::Raw;
+use super::{Plan, SkipReason, Span, Target};
 use crate::linalg::kabsch;
 
 /// Reference frames per side.
@@ -11,7 +12,9 @@ const REFS: usize = 10;
 /// How far from the gap reference frames are looked for.
 const REF_REACH: usize = 200;
 
-pub(super) fn fill(t: &Target, span: Span, plan: &Plan) -> Fill {
+/// The rigid prediction over the span, with residuals at up to `per_side` frames per side
+/// (see [`Raw`]).
+pub(super) fn raw(t: &Target, span: Span, plan: &Plan, per_side: usize) -> Result<Raw, SkipReason> {
     let donors = &plan.rigid;
     let d = t.data;
     let (lo, hi) = span.outer();
@@ -42,15 +45,13 @@ pub(super) fn fill(t: &Target, span: Span, plan: &Plan) -> Fill {
             local[k] += l[k] / refs.len() as f64;
         }
     }
-    let predict = |f: usize| kabsch(&canon, &cluster(f)).map(|tr| tr.apply(local));
-    let mut out = Vec::with_capacity(span.len());
-    for f in span.first..=span.last {
-        out.push(predict(f).ok_or(SkipReason::Degenerate)?);
-    }
-    let pb = span.before.and_then(predict);
-    let pa = span.after.and_then(predict);
-    blend_edges(&mut out, t, span, pb, pa);
-    Ok(out)
+    let predict = |f: usize| {
+        if !donors.iter().all(|&j| d.ok(j, f)) {
+            return None;
+        }
+        kabsch(&canon, &cluster(f)).map(|tr| tr.apply(local))
+    };
+    Raw::gather(t, span, per_side, predict).ok_or(SkipReason::Degenerate)
 }
 
 #[cfg(test)]

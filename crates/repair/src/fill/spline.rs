@@ -13,33 +13,49 @@ pub(super) fn fill(t: &Target, span: Span, per_side: usize) -> Fill {
         return Err(SkipReason::TouchesEdge);
     }
     let frames: Vec<usize> = before.iter().rev().chain(after.iter()).copied().collect();
+    let y: Vec<[f64; 3]> = frames.iter().map(|&f| t.at(f)).collect();
+    through(&frames, &y, before.len(), span).ok_or(SkipReason::Degenerate)
+}
+
+/// The not-a-knot spline through `(frames[i], y[i])` evaluated on the span's frames, which
+/// all lie between node `n_before - 1` and node `n_before` (nodes sorted, at least one on
+/// each side). `None` if the system is singular.
+pub(super) fn through(
+    frames: &[usize],
+    y: &[[f64; 3]],
+    n_before: usize,
+    span: Span,
+) -> Option<Vec<[f64; 3]>> {
     let centre = (span.first + span.last) as f64 / 2.0;
     let x: Vec<f64> = frames.iter().map(|&f| f as f64 - centre).collect();
-    let y: Vec<[f64; 3]> = frames.iter().map(|&f| t.at(f)).collect();
     let n = x.len();
     let at = |f: usize| f as f64 - centre;
     if n <= 3 {
-        return Ok((span.first..=span.last)
-            .map(|f| lagrange_eval(&x, &y, at(f)))
-            .collect());
+        return Some(
+            (span.first..=span.last)
+                .map(|f| lagrange_eval(&x, y, at(f)))
+                .collect(),
+        );
     }
-    let m = second_derivatives(&x, &y).ok_or(SkipReason::Degenerate)?;
+    let m = second_derivatives(&x, y)?;
     // Every gap frame lies in the one interval between the nearest nodes on each side.
-    let i = before.len() - 1;
+    let i = n_before - 1;
     let h = x[i + 1] - x[i];
-    Ok((span.first..=span.last)
-        .map(|f| {
-            let (l, r) = (x[i + 1] - at(f), at(f) - x[i]);
-            let mut out = [0.0; 3];
-            for k in 0..3 {
-                out[k] = m[i][k] * l.powi(3) / (6.0 * h)
-                    + m[i + 1][k] * r.powi(3) / (6.0 * h)
-                    + (y[i][k] / h - m[i][k] * h / 6.0) * l
-                    + (y[i + 1][k] / h - m[i + 1][k] * h / 6.0) * r;
-            }
-            out
-        })
-        .collect())
+    Some(
+        (span.first..=span.last)
+            .map(|f| {
+                let (l, r) = (x[i + 1] - at(f), at(f) - x[i]);
+                let mut out = [0.0; 3];
+                for k in 0..3 {
+                    out[k] = m[i][k] * l.powi(3) / (6.0 * h)
+                        + m[i + 1][k] * r.powi(3) / (6.0 * h)
+                        + (y[i][k] / h - m[i][k] * h / 6.0) * l
+                        + (y[i + 1][k] / h - m[i + 1][k] * h / 6.0) * r;
+                }
+                out
+            })
+            .collect(),
+    )
 }
 
 /// Second derivatives at the knots for the not-a-knot spline (n >= 4), all three
