@@ -38,14 +38,20 @@ pub(super) fn raw(t: &Target, span: Span, plan: &Plan, per_side: usize) -> Resul
     let cluster = |f: usize| -> Vec<[f64; 3]> { donors.iter().map(|&j| d.at(j, f)).collect() };
     let canon = cluster(r0);
     let mut local = [0.0; 3];
+    // The reference frames' transforms, kept: they are the residual frames next to the gap.
+    let mut known = Vec::with_capacity(refs.len());
     for &r in &refs {
         let tr = kabsch(&canon, &cluster(r)).ok_or(SkipReason::Degenerate)?;
         let l = tr.apply_inverse(t.at(r));
         for k in 0..3 {
             local[k] += l[k] / refs.len() as f64;
         }
+        known.push((r, tr));
     }
     let predict = |f: usize| {
+        if let Some((_, tr)) = known.iter().find(|x| x.0 == f) {
+            return Some(tr.apply(local));
+        }
         if !donors.iter().all(|&j| d.ok(j, f)) {
             return None;
         }

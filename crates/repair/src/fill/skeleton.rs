@@ -14,6 +14,9 @@ const SWEEPS: usize = 10;
 /// The observed distance intervals from a target to its donors around one gap.
 pub(super) struct Skeleton {
     intervals: Vec<(usize, f64, f64)>,
+    /// A correction smaller than this (a millionth of the longest interval's end) ends the
+    /// sweeps early: the frame has settled.
+    settled: f64,
 }
 
 impl Skeleton {
@@ -47,7 +50,8 @@ impl Skeleton {
                 (n >= MIN_FRAMES.max(2 * span.len())).then_some((j, mn, mx))
             })
             .collect();
-        (intervals.len() >= 2).then_some(Skeleton { intervals })
+        let settled = 1e-6 * intervals.iter().map(|x| x.2).fold(0.0, f64::max);
+        (intervals.len() >= 2).then_some(Skeleton { intervals, settled })
     }
 
     /// Moves each frame of `fill` (frames `span.first..`) into the intervals, by averaged
@@ -79,8 +83,14 @@ impl Skeleton {
                     break;
                 }
                 moved = true;
+                let mut step = 0.0f64;
                 for k in 0..3 {
-                    p[k] += acc[k] / n as f64;
+                    let dk = acc[k] / n as f64;
+                    p[k] += dk;
+                    step = step.max(dk.abs());
+                }
+                if step < self.settled {
+                    break;
                 }
             }
         }

@@ -4,7 +4,7 @@
 
 use super::poly::lagrange_eval;
 use super::{Fill, SkipReason, Span, Target};
-use crate::linalg::solve_in_place;
+use crate::linalg::solve_band_in_place;
 
 pub(super) fn fill(t: &Target, span: Span, per_side: usize) -> Fill {
     let before = t.before(span.first, per_side);
@@ -82,7 +82,8 @@ fn second_derivatives(x: &[f64], y: &[[f64; 3]]) -> Option<Vec<[f64; 3]>> {
                 6.0 * ((y[i + 1][k] - y[i][k]) / h[i] - (y[i][k] - y[i - 1][k]) / h[i - 1]);
         }
     }
-    if !solve_in_place(&mut a, n, &mut rhs, 3) {
+    // Tridiagonal but for the not-a-knot rows, which reach two places off the diagonal.
+    if !solve_band_in_place(&mut a, n, &mut rhs, 3, 2) {
         return None;
     }
     Some(rhs.chunks(3).map(|c| [c[0], c[1], c[2]]).collect())
