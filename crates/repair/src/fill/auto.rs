@@ -139,6 +139,55 @@ pub(super) fn fill_checked(
     estimate: bool,
 ) -> Result<(Vec<[f64; 3]>, Choice), SkipReason> {
     let edge = span.before.is_none() || span.after.is_none();
+    if !estimate {
+        let mut reason = None;
+        for &m in cands {
+            match fill_with(m, t, span, plan, opts) {
+                Ok(v) => return Ok((v, Choice::single(m))),
+                Err(r) => {
+                    reason.get_or_insert(r);
+                }
+            }
+        }
+        return Err(reason.unwrap_or(SkipReason::NoContext));
+    }
+    let len = span.len();
+    // Short gaps: polynomials and donors differ clearly, half the trials tell them apart.
+    let want = if len >= LONG {
+        opts.auto_trials
+    } else {
+        opts.auto_trials.div_ceil(2)
+    };
+    let enough = want.div_ceil(2);
+    let mut trials = same_marker(t, span, plan, len, want, opts);
+    let full = trials.len();
+    let mut plans: Vec<Plan> = Vec::new();
+    let mut shortened = false;
+    if full < enough {
+        // Too little room for the gap's length: the marker's own shorter holes (for long
+        // gaps) say which donors serve it; the real gap's frames in other markers say how
+        // hard these frames are.
+        if len >= LONG {
+            let mut l = len / 2;
+            while l >= 5 && trials.len() < enough {
+                let more = same_marker(t, span, plan, l, want - trials.len(), opts);
+                shortened |= !more.is_empty();
+                trials.extend(more);
+                l /= 2;
+            }
+        }
+        other_markers(t, span, plan, want - full, opts, &mut trials, &mut plans);
+    }
+    // PCA may train one scoring model without several of the target's holes (and fills
+    // the real gap with the model of the nearest ones: see `pca`), so this comes before
+    // the candidates fill the real gap.
+    let _ = plan.exclude.set(
+        trials
+            .iter()
+            .filter(|tr| tr.plan.is_none())
+            .map(|tr| tr.hole)
+            .collect(),
+    );
     let mut fills: Vec<(FillMethod, Vec<[f64; 3]>)> = Vec::new();
     // smooth[c]: candidate c is its donor method's prediction tied to the samples by a
     // spline through the residuals (see `anchor`) instead of the line.
@@ -158,15 +207,6 @@ pub(super) fn fill_checked(
         }
     };
     for &m in cands {
-        if !estimate {
-            match fill_with(m, t, span, plan, opts) {
-                Ok(v) => return Ok((v, Choice::single(m))),
-                Err(r) => {
-                    reason.get_or_insert(r);
-                }
-            }
-            continue;
-        }
         if m.is_donor() {
             match fill_raw(m, t, span, plan, opts, opts.spline_context) {
                 Ok(raw) => {
@@ -208,41 +248,6 @@ pub(super) fn fill_checked(
         });
     }
 
-    let len = span.len();
-    // Short gaps: polynomials and donors differ clearly, half the trials tell them apart.
-    let want = if len >= LONG {
-        opts.auto_trials
-    } else {
-        opts.auto_trials.div_ceil(2)
-    };
-    let enough = want.div_ceil(2);
-    let mut trials = same_marker(t, span, plan, len, want, opts);
-    let full = trials.len();
-    let mut plans: Vec<Plan> = Vec::new();
-    let mut shortened = false;
-    if full < enough {
-        // Too little room for the gap's length: the marker's own shorter holes (for long
-        // gaps) say which donors serve it; the real gap's frames in other markers say how
-        // hard these frames are.
-        if len >= LONG {
-            let mut l = len / 2;
-            while l >= 5 && trials.len() < enough {
-                let more = same_marker(t, span, plan, l, want - trials.len(), opts);
-                shortened |= !more.is_empty();
-                trials.extend(more);
-                l /= 2;
-            }
-        }
-        other_markers(t, span, plan, want - full, opts, &mut trials, &mut plans);
-    }
-    // PCA may train one scoring model without several of the target's holes.
-    let _ = plan.exclude.set(
-        trials
-            .iter()
-            .filter(|tr| tr.plan.is_none())
-            .map(|tr| tr.hole)
-            .collect(),
-    );
     // Shorter holes flatter polynomials, which are far off on long gaps anyway.
     if shortened && fills.iter().any(|(m, _)| !m.is_polynomial()) {
         let poly: Vec<bool> = fills.iter().map(|(m, _)| m.is_polynomial()).collect();
@@ -254,8 +259,13 @@ pub(super) fn fill_checked(
     // its own, so the artificial gaps say whether the constraint helps here. Short gaps
     // drift too little for it to matter.
     let mut skel = vec![false; fills.len()];
-    if len >= LONG {
-        if let Some(sk) = Skeleton::new(t, span, plan, opts) {
+    let real_sk = if len >= LONG {
+        Skeleton::new(t, span, plan, opts)
+    } else {
+        None
+    };
+    {
+        if let Some(sk) = &real_sk {
             for c in 0..fills.len() {
                 if fills[c].0 == FillMethod::Hold || smooth[c] {
                     continue;
@@ -344,7 +354,10 @@ pub(super) fn fill_checked(
                 break;
             };
             if skel[c] {
-                let s = sk.get_or_insert_with(|| Skeleton::new(&tt, tr.span, p, opts));
+                let s = sk.get_or_insert_with(|| match (tr.plan, &real_sk) {
+                    (None, Some(r)) => r.without(tr.hole, tr.span.len()),
+                    _ => Skeleton::new(&tt, tr.span, p, opts),
+                });
                 if let Some(s) = s {
                     s.apply(&tt, tr.span, &mut v);
                 }

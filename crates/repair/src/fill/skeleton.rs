@@ -4,7 +4,11 @@
 //! body (long gaps, donors far away) are pulled back; fills that already respect the
 //! skeleton are left exactly as they are.
 
-use super::{dist, FillOptions, Plan, Span, Target};
+use super::{FillOptions, Plan, Span, Target};
+
+fn dist2(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)
+}
 
 /// Frames both markers must share for an interval to count.
 const MIN_FRAMES: usize = 20;
@@ -17,6 +21,11 @@ pub(super) struct Skeleton {
     /// A correction smaller than this (a millionth of the longest interval's end) ends the
     /// sweeps early: the frame has settled.
     settled: f64,
+    /// Per donor its squared distance to the target on each frame of the window from
+    /// `lo` (NaN where either is invalid), kept so that `auto`'s artificial holes in the
+    /// same marker get their intervals without a second pass over the markers.
+    series: Vec<(usize, Vec<f64>)>,
+    lo: usize,
 }
 
 impl Skeleton {
@@ -33,62 +42,101 @@ impl Skeleton {
         let half = opts.pca_window.max(5 * span.len());
         let lo = span.first.saturating_sub(half);
         let hi = (span.last + half).min(d.frames - 1);
-        let intervals: Vec<(usize, f64, f64)> = donors
+        let series = donors
             .into_iter()
-            .filter_map(|j| {
+            .map(|j| {
+                let (xt, xj) = (&d.xyz[t.m], &d.xyz[j]);
+                let r: Vec<f64> = (lo..=hi)
+                    .map(|f| {
+                        if t.ok(f) && d.ok(j, f) {
+                            dist2(xt[f], xj[f])
+                        } else {
+                            f64::NAN
+                        }
+                    })
+                    .collect();
+                (j, r)
+            })
+            .collect();
+        Skeleton::from_series(series, lo, None, span.len())
+    }
+
+    /// The same target's skeleton with the frames of `hole` (an artificial gap of the
+    /// marker, as long as `len`) left out of the intervals too.
+    pub fn without(&self, hole: (usize, usize), len: usize) -> Option<Skeleton> {
+        Skeleton::from_series(self.series.clone(), self.lo, Some(hole), len)
+    }
+
+    fn from_series(
+        series: Vec<(usize, Vec<f64>)>,
+        lo: usize,
+        hole: Option<(usize, usize)>,
+        len: usize,
+    ) -> Option<Skeleton> {
+        let (h0, h1) = hole.map_or((1, 0), |(a, b)| {
+            (a.saturating_sub(lo), (b + 1).saturating_sub(lo))
+        });
+        let intervals: Vec<(usize, f64, f64)> = series
+            .iter()
+            .filter_map(|(j, r)| {
+                // Squared distances: one square root per interval end, not per frame.
                 let (mut mn, mut mx, mut n) = (f64::INFINITY, 0.0f64, 0usize);
-                for f in lo..=hi {
-                    if t.ok(f) && d.ok(j, f) {
-                        let r = dist(t.at(f), d.at(j, f));
-                        mn = mn.min(r);
-                        mx = mx.max(r);
+                for (i, &v) in r.iter().enumerate() {
+                    if !(v.is_nan() || (h0..h1).contains(&i)) {
+                        mn = mn.min(v);
+                        mx = mx.max(v);
                         n += 1;
                     }
                 }
                 // Intervals seen over fewer frames than twice the gap may well miss the
                 // poses inside it, and would then pull a good fill off.
-                (n >= MIN_FRAMES.max(2 * span.len())).then_some((j, mn, mx))
+                (n >= MIN_FRAMES.max(2 * len)).then_some((*j, mn.sqrt(), mx.sqrt()))
             })
             .collect();
         let settled = 1e-6 * intervals.iter().map(|x| x.2).fold(0.0, f64::max);
-        (intervals.len() >= 2).then_some(Skeleton { intervals, settled })
+        (intervals.len() >= 2).then_some(Skeleton {
+            intervals,
+            settled,
+            series,
+            lo,
+        })
     }
 
-    /// Moves each frame of `fill` (frames `span.first..`) into the intervals, by averaged
-    /// projections onto the violated ones. Returns whether anything moved.
+    /// Moves each frame of `fill` (frames `span.first..`) into the intervals by cyclic
+    /// projections onto the violated ones (each distance in turn set to the nearest end of
+    /// its interval), sweeping until none is violated, the frame has settled, or
+    /// [`SWEEPS`] sweeps. Returns whether anything moved.
     pub fn apply(&self, t: &Target, span: Span, fill: &mut [[f64; 3]]) -> bool {
         let d = t.data;
         let mut moved = false;
         for (i, p) in fill.iter_mut().enumerate() {
             let f = span.first + i;
             for _ in 0..SWEEPS {
-                let mut acc = [0.0; 3];
-                let mut n = 0usize;
+                let mut step = 0.0f64;
+                let mut violated = false;
                 for &(j, mn, mx) in &self.intervals {
                     let q = d.at(j, f);
-                    let r = dist(*p, q);
+                    // Within the interval (the common case): no square root needed.
+                    let r2 = dist2(*p, q);
+                    if r2 >= mn * mn && r2 <= mx * mx {
+                        continue;
+                    }
+                    let r = r2.sqrt();
                     if r <= 1e-12 {
                         continue;
                     }
-                    let target = r.clamp(mn, mx);
-                    if target != r {
-                        let s = (target - r) / r;
-                        for k in 0..3 {
-                            acc[k] += s * (p[k] - q[k]);
-                        }
-                        n += 1;
+                    let s = (r.clamp(mn, mx) - r) / r;
+                    violated = true;
+                    for k in 0..3 {
+                        let dk = s * (p[k] - q[k]);
+                        p[k] += dk;
+                        step = step.max(dk.abs());
                     }
                 }
-                if n == 0 {
+                if !violated {
                     break;
                 }
                 moved = true;
-                let mut step = 0.0f64;
-                for k in 0..3 {
-                    let dk = acc[k] / n as f64;
-                    p[k] += dk;
-                    step = step.max(dk.abs());
-                }
                 if step < self.settled {
                     break;
                 }
