@@ -21,10 +21,12 @@ pub(crate) fn solve_band_in_place(
     band: usize,
 ) -> bool {
     let reach = |col: usize, w: usize| (col + w + 1).min(n);
-    let scale = a
-        .iter()
-        .fold(0.0f64, |m, v| m.max(v.abs()))
-        .max(f64::MIN_POSITIVE);
+    let mut scale = f64::MIN_POSITIVE;
+    for row in 0..n {
+        for v in &a[row * n + row.saturating_sub(band)..row * n + reach(row, band)] {
+            scale = scale.max(v.abs());
+        }
+    }
     for col in 0..n {
         let mut piv = col;
         for row in col + 1..reach(col, band) {

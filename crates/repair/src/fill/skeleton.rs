@@ -23,7 +23,8 @@ pub(super) struct Skeleton {
     settled: f64,
     /// Per donor its squared distance to the target on each frame of the window from
     /// `lo` (NaN where either is invalid), kept so that `auto`'s artificial holes in the
-    /// same marker get their intervals without a second pass over the markers.
+    /// same marker get their intervals without a second pass over the markers (empty in
+    /// those derived skeletons).
     series: Vec<(usize, Vec<f64>)>,
     lo: usize,
 }
@@ -42,7 +43,7 @@ impl Skeleton {
         let half = opts.pca_window.max(5 * span.len());
         let lo = span.first.saturating_sub(half);
         let hi = (span.last + half).min(d.frames - 1);
-        let series = donors
+        let series: Vec<(usize, Vec<f64>)> = donors
             .into_iter()
             .map(|j| {
                 let (xt, xj) = (&d.xyz[t.m], &d.xyz[j]);
@@ -58,17 +59,23 @@ impl Skeleton {
                 (j, r)
             })
             .collect();
-        Skeleton::from_series(series, lo, None, span.len())
+        let mut s = Skeleton::from_series(&series, lo, None, span.len())?;
+        s.series = series;
+        Some(s)
     }
 
     /// The same target's skeleton with the frames of `hole` (an artificial gap of the
     /// marker, as long as `len`) left out of the intervals too.
     pub fn without(&self, hole: (usize, usize), len: usize) -> Option<Skeleton> {
-        Skeleton::from_series(self.series.clone(), self.lo, Some(hole), len)
+        let mut s = Skeleton::from_series(&self.series, self.lo, Some(hole), len)?;
+        s.series = Vec::new();
+        Some(s)
     }
 
+    /// Intervals from the series, without the frames of `hole`; the skeleton keeps the
+    /// series (callers that need no `without` may drop them).
     fn from_series(
-        series: Vec<(usize, Vec<f64>)>,
+        series: &[(usize, Vec<f64>)],
         lo: usize,
         hole: Option<(usize, usize)>,
         len: usize,
@@ -97,7 +104,7 @@ impl Skeleton {
         (intervals.len() >= 2).then_some(Skeleton {
             intervals,
             settled,
-            series,
+            series: Vec::new(),
             lo,
         })
     }
