@@ -12,7 +12,10 @@
 //! (files whose path contains TEXT), `--set walking|fullbody`, `--records FILE` (every
 //! gap's errors as JSON lines, for further analysis).
 
-use repair::{calibration, evaluate, EvalConfig, FillMethod, GapScore, Trial};
+mod corpus;
+
+use corpus::load;
+use repair::{calibration, evaluate, EvalConfig, FillMethod, GapScore};
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::PathBuf;
@@ -163,53 +166,6 @@ fn args() -> Result<Args, String> {
         }
     }
     Ok(a)
-}
-
-fn mm_per_unit(units: &str) -> f64 {
-    match units.trim().to_ascii_lowercase().as_str() {
-        "m" | "mete" | "meter" | "meters" | "metre" | "metres" => 1000.0,
-        "cm" => 10.0,
-        "dm" => 100.0,
-        "in" | "inch" | "inches" => 25.4,
-        _ => 1.0,
-    }
-}
-
-/// The file's markers (points that are not model outputs) as a trial in mm.
-fn load(path: &std::path::Path) -> Result<Trial, String> {
-    let c = c3d::read_file(path).map_err(|e| e.to_string())?;
-    let outputs: Vec<String> = [
-        "ANGLES",
-        "FORCES",
-        "MOMENTS",
-        "POWERS",
-        "SCALARS",
-        "REACTIONS",
-    ]
-    .iter()
-    .flat_map(|p| c.parameters.get_strings("POINT", p).unwrap_or_default())
-    .filter(|s| !s.is_empty())
-    .collect();
-    let k = mm_per_unit(&c.point_units());
-    let p = c.points();
-    let (mut xyz, mut valid) = (Vec::new(), Vec::new());
-    for (i, l) in c.point_labels().iter().enumerate() {
-        if outputs.contains(l) {
-            continue;
-        }
-        let v: Vec<bool> = (0..p.frames()).map(|f| p.is_valid(f, i)).collect();
-        if !v.iter().any(|&x| x) {
-            continue;
-        }
-        xyz.push(
-            p.trajectory(i)
-                .iter()
-                .map(|q| [q[0] as f64 * k, q[1] as f64 * k, q[2] as f64 * k])
-                .collect(),
-        );
-        valid.push(v);
-    }
-    Trial::new(c.point_rate() as f64, xyz, valid).map_err(|e| e.to_string())
 }
 
 /// One gap record with where it came from.
