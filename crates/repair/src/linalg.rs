@@ -169,7 +169,10 @@ fn polar_rotation(a: &Matrix3<f64>) -> Option<Matrix3<f64>> {
 /// row-major.
 pub(crate) fn symmetric_eigen(a: &[f64], n: usize) -> (Vec<f64>, DMatrix<f64>) {
     let m = DMatrix::from_row_slice(n, n, a);
-    let e = m.symmetric_eigen();
+    // Converged to 1e-10 rather than machine precision: principal components need no
+    // more, and the QR sweeps stop sooner.
+    let e = nalgebra::SymmetricEigen::try_new(m.clone(), 1e-10, 0)
+        .unwrap_or_else(|| m.symmetric_eigen());
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&i, &j| e.eigenvalues[j].total_cmp(&e.eigenvalues[i]));
     let vals = order.iter().map(|&i| e.eigenvalues[i]).collect();

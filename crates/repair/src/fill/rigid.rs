@@ -35,13 +35,19 @@ pub(super) fn raw(t: &Target, span: Span, plan: &Plan, per_side: usize) -> Resul
     let Some(&r0) = refs.first() else {
         return Err(SkipReason::NoContext);
     };
-    let cluster = |f: usize| -> Vec<[f64; 3]> { donors.iter().map(|&j| d.at(j, f)).collect() };
-    let canon = cluster(r0);
+    let cluster = |f: usize, out: &mut Vec<[f64; 3]>| {
+        out.clear();
+        out.extend(donors.iter().map(|&j| d.at(j, f)));
+    };
+    let mut canon = Vec::with_capacity(donors.len());
+    cluster(r0, &mut canon);
+    let mut buf = Vec::with_capacity(donors.len());
     let mut local = [0.0; 3];
     // The reference frames' transforms, kept: they are the residual frames next to the gap.
     let mut known = Vec::with_capacity(refs.len());
     for &r in &refs {
-        let tr = kabsch(&canon, &cluster(r)).ok_or(SkipReason::Degenerate)?;
+        cluster(r, &mut buf);
+        let tr = kabsch(&canon, &buf).ok_or(SkipReason::Degenerate)?;
         let l = tr.apply_inverse(t.at(r));
         for k in 0..3 {
             local[k] += l[k] / refs.len() as f64;
@@ -55,7 +61,8 @@ pub(super) fn raw(t: &Target, span: Span, plan: &Plan, per_side: usize) -> Resul
         if !donors.iter().all(|&j| d.ok(j, f)) {
             return None;
         }
-        kabsch(&canon, &cluster(f)).map(|tr| tr.apply(local))
+        cluster(f, &mut buf);
+        kabsch(&canon, &buf).map(|tr| tr.apply(local))
     };
     Raw::gather(t, span, per_side, predict).ok_or(SkipReason::Degenerate)
 }
