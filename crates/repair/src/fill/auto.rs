@@ -38,10 +38,13 @@ const EDGE: [FillMethod; 3] = [FillMethod::Rigid, FillMethod::Pca, FillMethod::P
 const OTHER_MARKERS: usize = 4;
 /// Gap length from which the target's shorter holes stand in for missing room.
 const LONG: usize = 20;
-/// Donor fills are also tied to the samples by a spline through the residuals (see
-/// `anchor`) on gaps up to this many times the residual nodes per side: twice the span of
-/// the nodes. Across longer gaps the spline wanders.
-const SMOOTH_SPAN: usize = 4;
+/// Donor fills are also tied to the samples by a spline through their residuals (see
+/// `anchor`) on gaps up to this many frames; across longer gaps the spline wanders (on the
+/// corpus evaluation it lost at 80 frames).
+const SMOOTH_MAX: usize = 40;
+/// Residuals per side the spline goes through (10 scored the same on the corpus
+/// evaluation, at twice the cost).
+const RESID_NODES: usize = 5;
 /// Most candidates blended.
 const BLEND: usize = 3;
 /// Candidates this many times worse than the best after the first third of the trials are
@@ -208,13 +211,10 @@ pub(super) fn fill_checked(
     };
     for &m in cands {
         if m.is_donor() {
-            match fill_raw(m, t, span, plan, opts, opts.spline_context) {
+            match fill_raw(m, t, span, plan, opts, RESID_NODES) {
                 Ok(raw) => {
                     keep(m, raw.anchored(span), false, &mut fills);
-                    if let Some(v) = raw
-                        .smoothed(span)
-                        .filter(|_| span.len() <= SMOOTH_SPAN * opts.spline_context)
-                    {
+                    if let Some(v) = raw.smoothed(span).filter(|_| span.len() <= SMOOTH_MAX) {
                         keep(m, v, true, &mut fills);
                     }
                 }
@@ -332,7 +332,7 @@ pub(super) fn fill_checked(
                         Some(i) => i,
                         None => {
                             let ctx = if smooth.iter().zip(&fills).any(|(&s, f)| s && f.0 == *m) {
-                                opts.spline_context
+                                RESID_NODES
                             } else {
                                 1
                             };
