@@ -113,22 +113,29 @@ pub fn detect(xyz: &[[f64; 3]], valid: &[bool], marker: usize, opts: &SpikeOptio
         let mut axes = [false; 3];
         let mut median = [0.0; 3];
         for c in 0..3 {
-            buf.clear();
-            buf.extend((lo..=hi).filter(|&g| valid[g]).map(|g| xyz[g][c]));
-            if buf.len() < MIN_WINDOW {
-                break;
-            }
             let x = xyz[f][c];
-            if buf.len() % 2 == 1 {
-                // The sample is its window's median when no more than half the window lies
-                // on either side of it: then its deviation is 0, decided without sorting.
-                let below = buf.iter().filter(|&&v| v < x).count();
-                let above = buf.iter().filter(|&&v| v > x).count();
-                if below <= buf.len() / 2 && above <= buf.len() / 2 {
-                    median[c] = x;
-                    continue;
+            // One pass over the window: its size, and how much of it lies on either side of
+            // the sample.
+            let (mut len, mut below, mut above) = (0usize, 0usize, 0usize);
+            for g in lo..=hi {
+                if valid[g] {
+                    let v = xyz[g][c];
+                    len += 1;
+                    below += usize::from(v < x);
+                    above += usize::from(v > x);
                 }
             }
+            if len < MIN_WINDOW {
+                break;
+            }
+            // The sample is its window's median when no more than half the window lies on
+            // either side of it: then its deviation is 0, decided without sorting.
+            if len % 2 == 1 && below <= len / 2 && above <= len / 2 {
+                median[c] = x;
+                continue;
+            }
+            buf.clear();
+            buf.extend((lo..=hi).filter(|&g| valid[g]).map(|g| xyz[g][c]));
             let (outlier, med) = hampel(x, &mut buf, opts.min_deviation, opts.nsigma);
             median[c] = med;
             axes[c] = outlier;
