@@ -21,12 +21,48 @@ pub(super) struct Skeleton {
     /// A correction smaller than this (a millionth of the longest interval's end) ends the
     /// sweeps early: the frame has settled.
     settled: f64,
-    /// Per donor its squared distance to the target on each frame of the window from
-    /// `lo` (NaN where either is invalid), kept so that `auto`'s artificial holes in the
-    /// same marker get their intervals without a second pass over the markers (empty in
-    /// those derived skeletons).
-    series: Vec<(usize, Vec<f64>)>,
+    /// Per donor the running extremes of its squared distance to the target over the
+    /// window from `lo`, kept so that `auto`'s artificial holes in the same marker get
+    /// their intervals without another pass (empty in those derived skeletons).
+    runs: Vec<Runs>,
     lo: usize,
+}
+
+/// One donor's squared distances over a window of `w` frames summarised for any hole:
+/// `pre[i]` covers frames `..i`, `suf[i]` frames `i..`, each (min, max, valid count).
+struct Runs {
+    j: usize,
+    pre: Vec<(f64, f64, usize)>,
+    suf: Vec<(f64, f64, usize)>,
+}
+
+impl Runs {
+    /// The runs of `values` (one per window frame, `None` where either marker is invalid).
+    fn new(j: usize, values: &[Option<f64>]) -> Runs {
+        let add = |(mn, mx, n): (f64, f64, usize), v: Option<f64>| match v {
+            Some(v) => (mn.min(v), mx.max(v), n + 1),
+            None => (mn, mx, n),
+        };
+        let empty = (f64::INFINITY, 0.0f64, 0usize);
+        let mut pre = Vec::with_capacity(values.len() + 1);
+        pre.push(empty);
+        for (i, &v) in values.iter().enumerate() {
+            pre.push(add(pre[i], v));
+        }
+        let mut suf = vec![empty; values.len() + 1];
+        for i in (0..values.len()).rev() {
+            suf[i] = add(suf[i + 1], values[i]);
+        }
+        Runs { j, pre, suf }
+    }
+
+    /// (min, max, count) over the window without window indices `h0..h1`.
+    fn without(&self, h0: usize, h1: usize) -> (f64, f64, usize) {
+        let w = self.suf.len() - 1;
+        let (h0, h1) = (h0.min(w), h1.clamp(h0.min(w), w));
+        let (a, b) = (self.pre[h0], self.suf[h1]);
+        (a.0.min(b.0), a.1.max(b.1), a.2 + b.2)
+    }
 }
 
 impl Skeleton {
@@ -43,68 +79,52 @@ impl Skeleton {
         let half = opts.pca_window.max(5 * span.len());
         let lo = span.first.saturating_sub(half);
         let hi = (span.last + half).min(d.frames - 1);
-        let series: Vec<(usize, Vec<f64>)> = donors
+        // Squared distances: one square root per interval end, not per frame.
+        let runs: Vec<Runs> = donors
             .into_iter()
             .map(|j| {
                 let (xt, xj) = (&d.xyz[t.m], &d.xyz[j]);
-                let r: Vec<f64> = (lo..=hi)
-                    .map(|f| {
-                        if t.ok(f) && d.ok(j, f) {
-                            dist2(xt[f], xj[f])
-                        } else {
-                            f64::NAN
-                        }
-                    })
+                let values: Vec<Option<f64>> = (lo..=hi)
+                    .map(|f| (t.ok(f) && d.ok(j, f)).then(|| dist2(xt[f], xj[f])))
                     .collect();
-                (j, r)
+                Runs::new(j, &values)
             })
             .collect();
-        let mut s = Skeleton::from_series(&series, lo, None, span.len())?;
-        s.series = series;
+        let mut s = Skeleton::from_runs(&runs, lo, None, span.len())?;
+        s.runs = runs;
         Some(s)
     }
 
     /// The same target's skeleton with the frames of `hole` (an artificial gap of the
     /// marker, as long as `len`) left out of the intervals too.
     pub fn without(&self, hole: (usize, usize), len: usize) -> Option<Skeleton> {
-        let mut s = Skeleton::from_series(&self.series, self.lo, Some(hole), len)?;
-        s.series = Vec::new();
-        Some(s)
+        Skeleton::from_runs(&self.runs, self.lo, Some(hole), len)
     }
 
-    /// Intervals from the series, without the frames of `hole`; the skeleton keeps the
-    /// series (callers that need no `without` may drop them).
-    fn from_series(
-        series: &[(usize, Vec<f64>)],
+    /// Intervals from the runs, without the frames of `hole`.
+    fn from_runs(
+        runs: &[Runs],
         lo: usize,
         hole: Option<(usize, usize)>,
         len: usize,
     ) -> Option<Skeleton> {
-        let (h0, h1) = hole.map_or((1, 0), |(a, b)| {
+        let (h0, h1) = hole.map_or((0, 0), |(a, b)| {
             (a.saturating_sub(lo), (b + 1).saturating_sub(lo))
         });
-        let intervals: Vec<(usize, f64, f64)> = series
+        let intervals: Vec<(usize, f64, f64)> = runs
             .iter()
-            .filter_map(|(j, r)| {
-                // Squared distances: one square root per interval end, not per frame.
-                let (mut mn, mut mx, mut n) = (f64::INFINITY, 0.0f64, 0usize);
-                for (i, &v) in r.iter().enumerate() {
-                    if !(v.is_nan() || (h0..h1).contains(&i)) {
-                        mn = mn.min(v);
-                        mx = mx.max(v);
-                        n += 1;
-                    }
-                }
+            .filter_map(|r| {
+                let (mn, mx, n) = r.without(h0, h1);
                 // Intervals seen over fewer frames than twice the gap may well miss the
                 // poses inside it, and would then pull a good fill off.
-                (n >= MIN_FRAMES.max(2 * len)).then_some((*j, mn.sqrt(), mx.sqrt()))
+                (n >= MIN_FRAMES.max(2 * len)).then_some((r.j, mn.sqrt(), mx.sqrt()))
             })
             .collect();
         let settled = 1e-6 * intervals.iter().map(|x| x.2).fold(0.0, f64::max);
         (intervals.len() >= 2).then_some(Skeleton {
             intervals,
             settled,
-            series: Vec::new(),
+            runs: Vec::new(),
             lo,
         })
     }
