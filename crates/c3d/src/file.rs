@@ -423,6 +423,24 @@ impl C3d {
         })
     }
 
+    /// Labels of the points that are model outputs, not markers: Plug-in Gait and other
+    /// models store angles, forces, moments, powers and the like as points and list their
+    /// labels in POINT:ANGLES, FORCES, MOMENTS, POWERS, SCALARS and REACTIONS.
+    pub fn model_output_labels(&self) -> Vec<String> {
+        [
+            "ANGLES",
+            "FORCES",
+            "MOMENTS",
+            "POWERS",
+            "SCALARS",
+            "REACTIONS",
+        ]
+        .iter()
+        .flat_map(|p| self.parameters.get_strings("POINT", p).unwrap_or_default())
+        .filter(|s| !s.is_empty())
+        .collect()
+    }
+
     /// POINT:UNITS (default "mm").
     pub fn point_units(&self) -> String {
         self.parameters

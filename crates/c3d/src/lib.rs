@@ -19,6 +19,7 @@ mod points;
 mod processor;
 mod read;
 mod text;
+mod units;
 mod write;
 
 pub use analog::{Analog, Calibration};
@@ -31,3 +32,4 @@ pub use parameters::{Group, Parameter, Parameters, Record, Value};
 pub use points::{is_missing, Points};
 pub use processor::Processor;
 pub use read::{read, read_file, read_file_mapped};
+pub use units::mm_per_unit;

@@ -3,22 +3,10 @@
 
 use crate::error::{Error, Result};
 
-/// Labels of points that are model outputs, not markers: Plug-in Gait stores angles, forces,
-/// moments, powers and the like as points and lists them in these POINT parameters. They are
-/// never repaired nor used as donors.
+/// Labels of points that are model outputs, not markers ([`c3d::C3d::model_output_labels`]).
+/// They are never repaired nor used as donors.
 pub fn model_outputs(c: &c3d::C3d) -> Vec<String> {
-    [
-        "ANGLES",
-        "FORCES",
-        "MOMENTS",
-        "POWERS",
-        "SCALARS",
-        "REACTIONS",
-    ]
-    .iter()
-    .flat_map(|p| c.parameters.get_strings("POINT", p).unwrap_or_default())
-    .filter(|s| !s.is_empty())
-    .collect()
+    c.model_output_labels()
 }
 
 /// The markers of a trial: indices of the points that are not model outputs.
@@ -50,26 +38,4 @@ pub fn select(c: &c3d::C3d, names: &[String]) -> Result<Vec<usize>> {
     Ok(out)
 }
 
-/// Millimetres per POINT:UNITS unit, so that thresholds given in mm apply to any file and
-/// errors are reported in mm whatever the file's unit.
-pub fn mm_per_unit(units: &str) -> f64 {
-    match units.trim().to_ascii_lowercase().as_str() {
-        "m" | "mete" | "meter" | "meters" | "metre" | "metres" => 1000.0,
-        "cm" => 10.0,
-        "dm" => 100.0,
-        "in" | "inch" | "inches" => 25.4,
-        _ => 1.0,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn units_to_millimetres() {
-        assert_eq!(mm_per_unit("m"), 1000.0);
-        assert_eq!(mm_per_unit(" MM "), 1.0);
-        assert_eq!(mm_per_unit("cm"), 10.0);
-    }
-}
+pub use c3d::mm_per_unit;

@@ -3,32 +3,11 @@
 
 use repair::Trial;
 
-fn mm_per_unit(units: &str) -> f64 {
-    match units.trim().to_ascii_lowercase().as_str() {
-        "m" | "mete" | "meter" | "meters" | "metre" | "metres" => 1000.0,
-        "cm" => 10.0,
-        "dm" => 100.0,
-        "in" | "inch" | "inches" => 25.4,
-        _ => 1.0,
-    }
-}
-
 /// The file's markers (points that are not model outputs) as a trial in mm.
 pub fn load(path: &std::path::Path) -> Result<Trial, String> {
     let c = c3d::read_file(path).map_err(|e| e.to_string())?;
-    let outputs: Vec<String> = [
-        "ANGLES",
-        "FORCES",
-        "MOMENTS",
-        "POWERS",
-        "SCALARS",
-        "REACTIONS",
-    ]
-    .iter()
-    .flat_map(|p| c.parameters.get_strings("POINT", p).unwrap_or_default())
-    .filter(|s| !s.is_empty())
-    .collect();
-    let k = mm_per_unit(&c.point_units());
+    let outputs = c.model_output_labels();
+    let k = c3d::mm_per_unit(&c.point_units());
     let p = c.points();
     let (mut xyz, mut valid) = (Vec::new(), Vec::new());
     for (i, l) in c.point_labels().iter().enumerate() {
