@@ -21,6 +21,7 @@
 
 mod error;
 pub mod evaluate;
+mod gaps;
 pub mod markers;
 mod options;
 mod repair;
@@ -31,6 +32,7 @@ pub use ::c3d;
 pub use ::repair as repair_lib;
 pub use error::{Error, Result};
 pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
+pub use gaps::{gaps, GapInfo};
 pub use options::{
     fill_method, filter_spec, max_expected_error, method_name, spike_options, RepairOptions,
     DEFAULT_MAX_EXPECTED_ERROR_MM,

@@ -310,6 +310,22 @@ fn read(py: Python<'_>, path: PathBuf) -> PyResult<PyC3d> {
     })
 }
 
+/// gaps(path, zero_invalid=False) -> list[dict]
+///
+/// Every gap of every marker of a C3D file, as `c3dfix gaps --json` lists them: label,
+/// first_frame and last_frame (numbered as the file numbers its frames), length, at_start,
+/// at_end. The file is scanned once without being decoded into memory, so this is the way to
+/// survey a large archive. zero_invalid also counts samples at exactly (0, 0, 0) as missing.
+#[pyfunction]
+#[pyo3(signature = (path, zero_invalid=false))]
+fn gaps(py: Python<'_>, path: PathBuf, zero_invalid: bool) -> PyResult<PyObject> {
+    // The file is mapped only for the length of this call (see c3dfix::open_mapped).
+    let found = py
+        .allow_threads(|| c3dfix::open_mapped(&path).map(|c| c3dfix::gaps(&c, zero_invalid)))
+        .map_err(err)?;
+    to_python(py, &serde_json::to_value(&found).map_err(err)?)
+}
+
 /// repair(c3d, fill="auto", spikes=None, lowpass=None, max_gap=200,
 ///        max_expected_error=20.0, spike_mode="gap", spike_min_mm=5.0, spike_classic=False,
 ///        markers=None, zero_invalid=False) -> (C3d, dict)
@@ -395,6 +411,7 @@ fn _c3dfix(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyC3d>()?;
     m.add("C3dError", m.py().get_type::<C3dError>())?;
     m.add_function(wrap_pyfunction!(read, m)?)?;
+    m.add_function(wrap_pyfunction!(gaps, m)?)?;
     m.add_function(wrap_pyfunction!(repair, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -103,6 +103,34 @@ def test_points_and_missing_samples_match_the_command_line_export(tmp_path):
     assert checked >= 85, checked
 
 
+def test_gaps_are_the_commands_and_the_missing_samples():
+    files = corpus_files()
+    if not files:
+        pytest.skip("no corpus")
+    checked = 0
+    for f, c in readable(files):
+        if not c.labels:
+            continue
+        gaps = c3dfix.gaps(f)
+        r = subprocess.run([str(cli()), "gaps", "--json", str(f)], capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        assert gaps == json.loads(r.stdout)["gaps"], f
+        # Each gap is a maximal run of NaN frames of its marker in the decoded points.
+        p = c.points
+        for g in gaps:
+            if c.labels.count(g["label"]) != 1:
+                continue
+            i = c.labels.index(g["label"])
+            a, b = g["first_frame"] - c.first_frame, g["last_frame"] - c.first_frame
+            col = np.isnan(p[:, i, 0])
+            assert col[a : b + 1].all(), f"{f}: {g}"
+            assert a == 0 or not col[a - 1], f"{f}: {g}"
+            assert b + 1 == len(col) or not col[b + 1], f"{f}: {g}"
+            assert g["length"] == b - a + 1
+        checked += 1
+    assert checked >= 85, checked
+
+
 def test_values_agree_with_ezc3d_where_it_reads_the_file_right():
     ezc3d = pytest.importorskip("ezc3d")
     files = [SAMPLES / "walk_int.c3d", SAMPLES / "walk_float.c3d"]

@@ -4,8 +4,6 @@ use crate::commands::info::read_c3d;
 use crate::console::outln;
 use anyhow::Result;
 use c3dfix::markers::marker_indices;
-use c3dfix::trial::validity;
-use serde::Serialize;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -19,44 +17,18 @@ pub struct Args {
     pub zero_invalid: bool,
 }
 
-#[derive(Serialize)]
-struct GapOut {
-    label: String,
-    /// 1-based frame numbers as the file counts them.
-    first_frame: usize,
-    last_frame: usize,
-    length: usize,
-    at_start: bool,
-    at_end: bool,
-}
-
 pub fn run(a: Args) -> Result<i32> {
     let c = read_c3d(&a.file)?;
     if c.point_count() == 0 {
         anyhow::bail!("{}: the file has no points", a.file.display());
     }
-    let points = marker_indices(&c);
-    let v = validity(&c, &points, a.zero_invalid);
-    let labels = c.point_labels();
-    let first = c.first_frame();
-    let mut out = Vec::new();
-    for (row, &i) in points.iter().enumerate() {
-        for g in repair::find_gaps(&v.valid[row], row) {
-            out.push(GapOut {
-                label: labels[i].clone(),
-                first_frame: first + g.first,
-                last_frame: first + g.last,
-                length: g.len,
-                at_start: g.at_start,
-                at_end: g.at_end,
-            });
-        }
-    }
+    let out = c3dfix::gaps(&c, a.zero_invalid);
+    let markers = marker_indices(&c).len();
     if a.json {
         let v = serde_json::json!({
             "file": a.file.display().to_string(),
             "frames": c.frames(),
-            "markers": points.len(),
+            "markers": markers,
             "gaps": out,
         });
         outln!("{}", serde_json::to_string_pretty(&v)?)?;
@@ -65,7 +37,7 @@ pub fn run(a: Args) -> Result<i32> {
             "{}: {} gaps in {} markers ({} frames)",
             a.file.display(),
             out.len(),
-            points.len(),
+            markers,
             c.frames()
         )?;
         for g in &out {

@@ -10,6 +10,6 @@ The same library as the `c3dfix` command: the same rule for missing samples, the
 options and reports, the same errors (raised as C3dError, a ValueError).
 """
 
-from ._c3dfix import C3d, C3dError, __version__, evaluate, read, repair
+from ._c3dfix import C3d, C3dError, __version__, evaluate, gaps, read, repair
 
-__all__ = ["C3d", "C3dError", "evaluate", "read", "repair", "__version__"]
+__all__ = ["C3d", "C3dError", "evaluate", "gaps", "read", "repair", "__version__"]

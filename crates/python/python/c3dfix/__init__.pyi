@@ -54,6 +54,10 @@ class C3d:
 def read(path: _Path) -> C3d:
     """Read a C3D file; raises C3dError naming the file, section and byte offset."""
 
+def gaps(path: _Path, zero_invalid: bool = False) -> List[Dict[str, Any]]:
+    """Every gap of every marker (label, first_frame, last_frame, length, at_start, at_end),
+    as `c3dfix gaps --json` lists them; the file is scanned without being decoded into memory."""
+
 def repair(
     c3d: C3d,
     fill: str = "auto",
