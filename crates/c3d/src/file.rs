@@ -212,8 +212,12 @@ impl C3d {
         crate::data::chunk_frames(&self.layout)
     }
 
-    /// Number of chunks [`C3d::map_point_chunks`] visits.
+    /// Number of chunks [`C3d::map_point_chunks`] visits (none when there are no points, however
+    /// many frames the header claims).
     pub fn point_chunks(&self) -> usize {
+        if self.point_count() == 0 {
+            return 0;
+        }
         self.frames().div_ceil(self.point_chunk_frames())
     }
 
