@@ -282,7 +282,11 @@ impl C3d {
         let data_offset = out.len();
         out.resize(data_offset + layout.data_bytes(), 0);
         let data = &mut out[data_offset..];
-        match self.decoded_points() {
+        // Without points there is nothing to decode; the analog data still go in whole.
+        let decoded = self
+            .decoded_points()
+            .or_else(|| (self.point_count() == 0).then(|| self.points()));
+        match decoded {
             Some(pts) => processor.dispatch(Encode {
                 out: data,
                 layout,
