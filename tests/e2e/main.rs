@@ -100,6 +100,12 @@ fn bad_files_get_a_clear_error_and_exit_2() {
         assert_eq!(out.status.code(), Some(2), "{name}: {}", stderr(&out));
         let e = stderr(&out);
         assert!(e.contains(name) && e.contains(expect), "{name}: {e}");
+        // Each part of the message is said once (the file's name, then what is wrong).
+        let parts: Vec<&str> = e.trim().split(": ").collect();
+        let mut unique = parts.clone();
+        unique.sort_unstable();
+        unique.dedup();
+        assert_eq!(unique.len(), parts.len(), "said once: {e}");
         assert!(!e.contains("panicked"), "{e}");
         // Nothing is written on error.
         let o = dir.path().join(format!("{name}.out.c3d"));

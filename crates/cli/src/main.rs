@@ -79,10 +79,28 @@ fn main() {
     match result.and_then(|code| flush_stdout().map(|()| code)) {
         Ok(code) => std::process::exit(code),
         Err(e) => {
-            write_stderr(format_args!("c3dfix: error: {e:#}\n"));
+            write_stderr(format_args!("c3dfix: error: {}\n", describe(&e)));
             std::process::exit(2);
         }
     }
+}
+
+/// The error and its causes, each said once: a cause whose text its parent already includes
+/// (the library's errors name their file, then say what is wrong, and keep that as their
+/// source) is not repeated.
+fn describe(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    for cause in e.chain() {
+        let m = cause.to_string();
+        if out.contains(&m) {
+            continue;
+        }
+        if !out.is_empty() {
+            out.push_str(": ");
+        }
+        out.push_str(&m);
+    }
+    out
 }
 
 /// Let a closed pipe (`c3dfix info x.c3d | head`) end the process quietly, as command-line
