@@ -14,13 +14,9 @@ use std::path::Path;
 /// a terminal) is read only as far as its header and parameters announce, so that a stream
 /// that is not C3D, or never ends, is refused instead of filling memory.
 pub fn read_file(path: impl AsRef<Path>) -> Result<C3d> {
-    let path = path.as_ref();
-    let f = std::fs::File::open(path)?;
-    if f.metadata()?.is_file() {
-        read(crate::memory::read_file(f)?)
-    } else {
-        read(read_stream(f)?)
-    }
+    read_path(path.as_ref(), |f| {
+        crate::memory::read_file(f).map(Bytes::Owned)
+    })
 }
 
 /// [`read_file`] for a command that reads a file and is soon done: a regular file is mapped
@@ -29,10 +25,17 @@ pub fn read_file(path: impl AsRef<Path>) -> Result<C3d> {
 /// be truncated or rewritten in place by another program (the next access to its data would
 /// fail or see the new bytes); objects that live long should come from [`read_file`].
 pub fn read_file_mapped(path: impl AsRef<Path>) -> Result<C3d> {
-    let path = path.as_ref();
+    read_path(path.as_ref(), crate::memory::map_file)
+}
+
+/// Open `path`; take a regular file's bytes with `regular`, anything else as a stream.
+fn read_path(
+    path: &Path,
+    regular: impl FnOnce(std::fs::File) -> std::io::Result<Bytes>,
+) -> Result<C3d> {
     let f = std::fs::File::open(path)?;
     if f.metadata()?.is_file() {
-        read_bytes(crate::memory::map_file(f)?)
+        read_bytes(regular(f)?)
     } else {
         read(read_stream(f)?)
     }

@@ -15,6 +15,9 @@ use std::time::Duration;
 
 #[path = "../../c3d/examples/common/big_trial.rs"]
 mod big_trial;
+#[path = "../tests/common/peak.rs"]
+mod peak;
+use peak::peak_memory;
 
 const PEER: &str = "C3DFIX_BENCH_C3DIO_LOAD";
 const BIN: &str = env!("CARGO_BIN_EXE_c3dfix");
@@ -112,38 +115,6 @@ fn bench(c: &mut Criterion) {
 }
 
 /// Peak resident memory (bytes) of a command run to its end.
-// The child is reaped by wait4 (which also gives its peak memory), not by `Child::wait`.
-#[allow(clippy::zombie_processes)]
-#[cfg(target_os = "linux")]
-fn peak_memory(cmd: &mut Command) -> Option<u64> {
-    use std::os::unix::process::CommandExt;
-    // A hook before exec makes the standard library fork a copy of this process instead of
-    // starting the child in this process's memory, whose peak the kernel would count as the
-    // child's (see tests/memory.rs).
-    // SAFETY: the hook does nothing, so it cannot break the forked child.
-    unsafe {
-        cmd.pre_exec(|| Ok(()));
-    }
-    let child = cmd
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .ok()?;
-    let pid = child.id() as libc::pid_t;
-    let mut status = 0;
-    // SAFETY: an all-zero rusage is a valid value to be filled in.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: `pid` is our own child, not yet waited for; both pointers are to live locals.
-    let r = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    (r == pid && libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0)
-        .then_some(usage.ru_maxrss as u64 * 1024)
-}
-
-#[cfg(not(target_os = "linux"))]
-fn peak_memory(_: &mut Command) -> Option<u64> {
-    None
-}
-
 /// Peak memory and wall time of each command on the long trial, once each, for this build
 /// and (when `C3DFIX_BENCH_BEFORE` names one) an earlier build of the binary.
 fn memory_table(long: &Path) {

@@ -10,35 +10,16 @@
 #[path = "../../c3d/examples/common/big_trial.rs"]
 mod big_trial;
 
+#[cfg(target_os = "linux")]
+#[path = "common/peak.rs"]
+mod peak;
+
 /// Peak resident memory (bytes) of `c3dfix ARGS`, run to its end.
-// The child is reaped by wait4 (which also gives its peak memory), not by `Child::wait`.
-#[allow(clippy::zombie_processes)]
 #[cfg(target_os = "linux")]
 fn peak(args: &[&str]) -> u64 {
-    use std::os::unix::process::CommandExt;
-    use std::process::{Command, Stdio};
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_c3dfix"));
-    cmd.args(args).stdout(Stdio::null()).stderr(Stdio::null());
-    // A hook before exec makes the standard library fork a copy of this (small) process,
-    // instead of starting the child in this process's memory, whose peak the kernel would
-    // then count as the child's.
-    // SAFETY: the hook does nothing, so it cannot break the forked child.
-    unsafe {
-        cmd.pre_exec(|| Ok(()));
-    }
-    let child = cmd.spawn().expect("run c3dfix");
-    let pid = child.id() as libc::pid_t;
-    let mut status = 0;
-    // SAFETY: an all-zero rusage is a valid value to be filled in.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: `pid` is this process's child, not yet waited for; the pointers are to locals.
-    let r = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    assert_eq!(r, pid, "wait for c3dfix {args:?}");
-    assert!(
-        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
-        "c3dfix {args:?} failed"
-    );
-    usage.ru_maxrss as u64 * 1024
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_c3dfix"));
+    cmd.args(args);
+    peak::peak_memory(&mut cmd).unwrap_or_else(|| panic!("c3dfix {args:?} failed"))
 }
 
 #[cfg(target_os = "linux")]
