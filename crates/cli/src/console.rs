@@ -51,3 +51,21 @@ macro_rules! errln {
 }
 
 pub(crate) use {errln, out, outln};
+
+/// The error and its causes, each said once: a cause whose text its parent already includes
+/// (the library's errors name their file, then say what is wrong, and keep that as their
+/// source) is not repeated.
+pub fn describe(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    for cause in e.chain() {
+        let m = cause.to_string();
+        if out.contains(&m) {
+            continue;
+        }
+        if !out.is_empty() {
+            out.push_str(": ");
+        }
+        out.push_str(&m);
+    }
+    out
+}

@@ -4,7 +4,7 @@
 //! Exit codes: 0 success, 1 "differences found" (diff), 2 error.
 
 use c3dfix_cli::commands;
-use c3dfix_cli::console::{flush_stdout, write_stderr};
+use c3dfix_cli::console::{describe, flush_stdout, write_stderr};
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
@@ -83,24 +83,6 @@ fn main() {
             std::process::exit(2);
         }
     }
-}
-
-/// The error and its causes, each said once: a cause whose text its parent already includes
-/// (the library's errors name their file, then say what is wrong, and keep that as their
-/// source) is not repeated.
-fn describe(e: &anyhow::Error) -> String {
-    let mut out = String::new();
-    for cause in e.chain() {
-        let m = cause.to_string();
-        if out.contains(&m) {
-            continue;
-        }
-        if !out.is_empty() {
-            out.push_str(": ");
-        }
-        out.push_str(&m);
-    }
-    out
 }
 
 /// Let a closed pipe (`c3dfix info x.c3d | head`) end the process quietly, as command-line

@@ -9,7 +9,7 @@ use crate::commands::repair::print_summary;
 use crate::commands::repair_io::RepairArgs;
 use crate::commands::targets::{plan, TargetArgs};
 use crate::console::outln;
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use c3dfix::save::write_atomic;
 use c3dfix::{SaveOptions, Summary};
 
@@ -38,13 +38,7 @@ pub fn run(a: Args) -> Result<i32> {
         t.json,
         |job| -> Result<Summary> {
             let (input, output) = (&job.input, &job.output);
-            if let Some(parent) = output.parent() {
-                std::fs::create_dir_all(parent)
-                    .with_context(|| format!("cannot create the folder {}", parent.display()))?;
-            }
-            if !overwrite && output.exists() {
-                bail!("{} exists (use --force to overwrite)", output.display());
-            }
+            job.prepare_output(overwrite)?;
             // Read once: a trial without points (EMG only) has nothing to repair; it is
             // skipped, and copied unchanged so the output folder holds every trial.
             let mut c = c3dfix::open_mapped(input)?;
@@ -65,14 +59,7 @@ pub fn run(a: Args) -> Result<i32> {
             };
             Ok(c3dfix::repair_opened(&mut c, input, output, &opts, &save)?.summary)
         },
-        |job, r| match r {
-            Ok(s) => {
-                serde_json::json!({"file": job.input.display().to_string(), "ok": true, "summary": s})
-            }
-            Err(e) => {
-                serde_json::json!({"file": job.input.display().to_string(), "ok": false, "error": e})
-            }
-        },
+        "summary",
     )?;
     let ok: Vec<&Summary> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
     let failed = results.len() - ok.len();

@@ -180,13 +180,7 @@ fn many(t: &TargetArgs, want: Wanted) -> Result<i32> {
         t.jobs,
         t.json,
         |job| {
-            if let Some(parent) = job.output.parent() {
-                std::fs::create_dir_all(parent)
-                    .with_context(|| format!("cannot create the folder {}", parent.display()))?;
-            }
-            if !overwrite && job.output.exists() {
-                bail!("{} exists (use --force to overwrite)", job.output.display());
-            }
+            job.prepare_output(overwrite)?;
             convert_one(
                 &job.input,
                 &job.output,
@@ -196,14 +190,7 @@ fn many(t: &TargetArgs, want: Wanted) -> Result<i32> {
                 overwrite,
             )
         },
-        |job, r| match r {
-            Ok(d) => {
-                serde_json::json!({"file": job.input.display().to_string(), "ok": true, "result": d})
-            }
-            Err(e) => {
-                serde_json::json!({"file": job.input.display().to_string(), "ok": false, "error": e})
-            }
-        },
+        "result",
     )?;
     let ok: Vec<&Converted> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
     let failed = results.len() - ok.len();

@@ -22,21 +22,28 @@ fn threads(jobs: Option<usize>, files: usize) -> usize {
     }
 }
 
-/// Run `work` on every target with `jobs` threads (None: one per core). With `json`, `line`
-/// makes each file's JSON line from its result; otherwise failures are printed as they come.
-/// Results come back in the targets' order, errors as their full message.
-pub fn run_each<T, W, L>(
+/// Run `work` on every target with `jobs` threads (None: one per core). With `json`, each
+/// file's line is `{"file", "ok": true, key: result}` or `{"file", "ok": false, "error"}`;
+/// otherwise failures are printed as they come. Results come back in the targets' order,
+/// errors as their full message.
+pub fn run_each<T, W>(
     targets: &[Target],
     jobs: Option<usize>,
     json: bool,
     work: W,
-    line: L,
+    key: &str,
 ) -> Result<Vec<Result<T, String>>>
 where
-    T: Send,
+    T: Send + serde::Serialize,
     W: Fn(&Target) -> Result<T> + Sync,
-    L: Fn(&Target, &Result<T, String>) -> serde_json::Value + Sync,
 {
+    let line = |t: &Target, r: &Result<T, String>| {
+        let file = t.input.display().to_string();
+        match r {
+            Ok(v) => serde_json::json!({"file": file, "ok": true, key: v}),
+            Err(e) => serde_json::json!({"file": file, "ok": false, "error": e}),
+        }
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads(jobs, targets.len()))
         .build()
@@ -55,7 +62,7 @@ where
         targets
             .par_iter()
             .map(|t| {
-                let r = work(t).map_err(|e| format!("{e:#}"));
+                let r = work(t).map_err(|e| crate::console::describe(&e));
                 let _guard = out_lock.lock();
                 if json {
                     let mut so = std::io::stdout().lock();

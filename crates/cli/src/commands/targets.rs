@@ -101,6 +101,23 @@ pub struct Target {
     pub output: PathBuf,
 }
 
+impl Target {
+    /// Make the output's folder, and refuse an existing output unless `overwrite`.
+    pub fn prepare_output(&self, overwrite: bool) -> anyhow::Result<()> {
+        if let Some(parent) = self.output.parent() {
+            std::fs::create_dir_all(parent)
+                .with_context(|| format!("cannot create the folder {}", parent.display()))?;
+        }
+        if !overwrite && self.output.exists() {
+            anyhow::bail!(
+                "{} exists (use --force to overwrite)",
+                self.output.display()
+            );
+        }
+        Ok(())
+    }
+}
+
 /// The files of one run.
 #[derive(Debug)]
 pub struct Plan {
