@@ -371,17 +371,30 @@ fn report(recs: &[Rec]) {
 }
 
 /// Features of the expected-error model: ln(expected / scored) = β · [1, ln q, ln(gap
-/// length), (ln q)²] + offset, q = spread / scored clamped to [0.05, 20]. The square lets
-/// the estimate grow faster when the candidates disagree far beyond their scores.
+/// length), (ln q)², ln q₃, ln h, ln bend, ln drift] + offset, with q = spread / scored,
+/// q₃ = spread3 / scored and h = spread_holes / scored, every ratio clamped to [0.05, 20]
+/// and taken as 1 where it is unknown (fewer than three or two candidates, holes without
+/// bend, no donor method). The square lets the estimate grow faster when the candidates
+/// disagree far beyond their scores. Keep in step with `repair`'s `calibrated`.
 fn features(g: &GapScore) -> Option<[f64; K]> {
     let (s, sp) = (g.scored?, g.spread?);
     let s = s.max(1e-9);
-    let q = (sp / s).clamp(0.05, 20.0).ln();
-    Some([1.0, q, (g.gap_len as f64).ln(), q * q])
+    let ln = |r: Option<f64>| r.map_or(0.0, |r| r.clamp(0.05, 20.0).ln());
+    let q = ln(Some(sp / s));
+    Some([
+        1.0,
+        q,
+        (g.gap_len as f64).ln(),
+        q * q,
+        ln(g.spread3.map(|x| x / s)),
+        ln(g.spread_holes.map(|x| x / s)),
+        ln(g.bend),
+        ln(g.drift),
+    ])
 }
 
 /// Number of features.
-const K: usize = 4;
+const K: usize = 8;
 
 /// Median regression of ln(real / scored) on the features (iteratively reweighted least
 /// squares, residuals floored at 0.05), and the offset that leaves 5 % of the fitted gaps
@@ -495,9 +508,10 @@ fn calibrate(recs: &[Rec]) {
     }
     let all: Vec<&GapScore> = auto.iter().map(|r| &r.g).collect();
     if let Some((beta, off)) = fit(&all) {
+        let b: Vec<String> = beta.iter().map(|b| format!("{b:.4}")).collect();
         println!(
-            "- model fitted on every lab (the constants shipped): beta {:.4} {:.4} {:.4} {:.4}, offset {:.4}",
-            beta[0], beta[1], beta[2], beta[3], off
+            "- model fitted on every lab (the constants shipped): beta {}, offset {off:.4}",
+            b.join(" ")
         );
     }
 }

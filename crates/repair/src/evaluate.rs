@@ -92,6 +92,15 @@ pub struct GapScore {
     /// and the mean distance between the two best candidates' fills of this gap.
     pub scored: Option<f64>,
     pub spread: Option<f64>,
+    /// How much harder the gap looks than the artificial gaps that scored it (see the
+    /// library's `Diag`): the mean distance between the best and third-best candidates'
+    /// fills, the two best candidates' mean distance on the artificial gaps, the fill's
+    /// deviation from the line between its anchors relative to the truth's on the
+    /// artificial gaps, the donor residuals' drift relative to theirs there.
+    pub spread3: Option<f64>,
+    pub spread_holes: Option<f64>,
+    pub bend: Option<f64>,
+    pub drift: Option<f64>,
 }
 
 /// All scores, method-major within each gap length.
@@ -334,6 +343,10 @@ fn run_group(trial: &Trial, g: &[(usize, usize)], len: usize, cfg: &EvalConfig) 
                             step_ratio: step_ratio(&t, Span::of(&gap, data.frames), &v),
                             scored: diag.map(|d| d.scored),
                             spread: diag.map(|d| d.spread),
+                            spread3: diag.and_then(|d| d.spread3),
+                            spread_holes: diag.and_then(|d| d.spread_holes),
+                            bend: diag.and_then(|d| d.bend),
+                            drift: diag.and_then(|d| d.drift),
                         });
                         e.extend(errs);
                     }

@@ -87,11 +87,26 @@ pub(crate) struct Choice {
 /// The evidence behind an expected error: the choice's mean error on the artificial gaps
 /// (`scored`), and how far the two best-scored candidates' fills of the real gap are apart
 /// (`spread`: their mean distance; 0 with one candidate). Both in the data's units.
+///
+/// The rest says how much harder the real gap is than the holes that scored it, from what
+/// is known there: how far the best and the third-best fills are apart (`spread3`, data
+/// units); how far the two best candidates' predictions were apart on the holes
+/// (`spread_holes`, data units: where they agreed there but not on the real gap, the gap is
+/// unlike the holes); how far the fill strays from the straight line between its anchors
+/// relative to how far the truth strayed from it in the holes (`bend`: what polynomial
+/// errors scale with); and how far the donor methods' residuals drift from one anchor to
+/// the other relative to the holes (`drift`, geometric mean over the donor methods: the
+/// linear tie to the anchors assumes a steady drift, so a large one means an error the
+/// anchors only partly correct).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Diag {
     pub scored: f64,
     pub spread: f64,
     pub len: usize,
+    pub spread3: Option<f64>,
+    pub spread_holes: Option<f64>,
+    pub bend: Option<f64>,
+    pub drift: Option<f64>,
 }
 
 impl Choice {
@@ -223,6 +238,8 @@ pub(super) fn fill_checked(
     let mut smooth: Vec<bool> = Vec::new();
     let mut reason = None;
     let mut implausible = f64::INFINITY;
+    // Per donor method (see `donor_index`), its residuals' drift across the real gap.
+    let mut drift_real = [None; 3];
     let mut keep = |m: FillMethod, v: Vec<[f64; 3]>, sm: bool, wd: bool, fills: &mut Vec<_>| {
         let r = step_ratio(t, span, &v);
         if r <= STEP_FACTOR {
@@ -241,6 +258,9 @@ pub(super) fn fill_checked(
         if m.is_donor() {
             match fill_raw(m, t, span, plan, opts, RESID_NODES) {
                 Ok(raw) => {
+                    if let Some(i) = donor_index(m) {
+                        drift_real[i] = drift(&raw);
+                    }
                     keep(m, raw.anchored(span), false, false, &mut fills);
                     if let Some(v) = raw.smoothed(span).filter(|_| span.len() <= SMOOTH_MAX) {
                         keep(m, v, true, false, &mut fills);
@@ -326,6 +346,10 @@ pub(super) fn fill_checked(
     // weight, and scoring it further (PCA above all) is most of auto's cost.
     let first_look = trials.len().div_ceil(3).max(2);
     let mut scored = 0;
+    // Over the scored holes: the sum of the truth's mean deviation from the line between
+    // the anchors, and per donor method the sum and count of its residuals' drift.
+    let mut bend_holes = 0.0;
+    let mut drift_holes = [(0.0, 0usize); 3];
     for tr in &trials {
         if scored == first_look && fills.len() > 1 {
             let err: Vec<f64> = preds
@@ -422,6 +446,14 @@ pub(super) fn fill_checked(
             continue;
         }
         scored += 1;
+        let whole: Vec<[f64; 3]> = (tr.span.first..=tr.span.last).map(|f| tt.at(f)).collect();
+        bend_holes += deviation(&tt, tr.span, &whole).unwrap_or(0.0);
+        for (m, r) in &raws {
+            if let (Some(i), Some(d)) = (donor_index(*m), r.as_ref().and_then(drift)) {
+                drift_holes[i].0 += d;
+                drift_holes[i].1 += 1;
+            }
+        }
         let skip = tr.hole.0 - tr.span.first;
         let n = tr.hole.1 - tr.hole.0 + 1;
         truth.extend((tr.hole.0..=tr.hole.1).map(|f| tt.at(f)));
@@ -472,17 +504,33 @@ pub(super) fn fill_checked(
         .collect();
 
     let others: Vec<(FillMethod, f64)> = blend[1..].iter().map(|&(c, w)| (fills[c].0, w)).collect();
-    let spread = match order.get(1) {
-        Some(&(_, c1)) => {
-            let (a, b) = (&fills[order[0].1].1, &fills[c1].1);
-            a.iter().zip(b).map(|(p, q)| dist(*p, *q)).sum::<f64>() / len as f64
-        }
-        None => 0.0,
+    let apart = |a: &[[f64; 3]], b: &[[f64; 3]]| {
+        a.iter().zip(b).map(|(p, q)| dist(*p, *q)).sum::<f64>() / a.len().max(1) as f64
     };
+    let best_fill = &fills[order[0].1].1;
+    let spread = order
+        .get(1)
+        .map_or(0.0, |&(_, c)| apart(best_fill, &fills[c].1));
+    let bend_real = deviation(t, span, &out);
+    let mut ln_drift = (0.0, 0);
+    for (real, holes) in drift_real.iter().zip(drift_holes) {
+        if let (Some(r), true) = (real, holes.1 > 0 && holes.0 > 0.0) {
+            ln_drift.0 += (r / (holes.0 / holes.1 as f64)).clamp(0.05, 20.0).ln();
+            ln_drift.1 += 1;
+        }
+    }
     let diag = Diag {
         scored: e,
         spread,
         len,
+        spread3: order.get(2).map(|&(_, c)| apart(best_fill, &fills[c].1)),
+        spread_holes: order
+            .get(1)
+            .map(|&(_, c)| apart(&preds[order[0].1], &preds[c])),
+        bend: bend_real
+            .filter(|_| bend_holes > 0.0)
+            .map(|b| b / (bend_holes / scored as f64)),
+        drift: (ln_drift.1 > 0).then(|| (ln_drift.0 / ln_drift.1 as f64).exp()),
     };
     let choice = Choice {
         skeleton: blend.iter().any(|&(c, _)| skel[c]),
@@ -526,6 +574,37 @@ fn slowed(t: &Target, span: Span, v: &[[f64; 3]]) -> Option<Vec<[f64; 3]>> {
     Some(mix(lo))
 }
 
+/// Mean distance of `v` (samples over `span`'s frames) from the straight line between the
+/// target's anchors (from the held anchor at the trial's edges): how far the marker bends
+/// away from what the simplest fill assumes.
+fn deviation(t: &Target, span: Span, v: &[[f64; 3]]) -> Option<f64> {
+    let line = match (span.before, span.after) {
+        (Some(_), Some(_)) => linear::fill(t, span).ok()?,
+        _ => linear::hold(t, span).ok()?,
+    };
+    Some(line.iter().zip(v).map(|(a, b)| dist(*a, *b)).sum::<f64>() / v.len().max(1) as f64)
+}
+
+/// The slot of a donor method in per-method tallies.
+fn donor_index(m: FillMethod) -> Option<usize> {
+    match m {
+        FillMethod::Rigid => Some(0),
+        FillMethod::Pattern => Some(1),
+        FillMethod::Pca => Some(2),
+        _ => None,
+    }
+}
+
+/// How far a donor prediction's residual moves from one anchor to the other (at the
+/// trial's edges: the one anchor's residual, which the fill keeps throughout).
+fn drift(r: &Raw) -> Option<f64> {
+    match (r.before.first(), r.after.first()) {
+        (Some(b), Some(a)) => Some(dist(b.1, a.1)),
+        (Some((_, e)), None) | (None, Some((_, e))) => Some(dist(*e, [0.0; 3])),
+        _ => None,
+    }
+}
+
 /// The weighted sum of candidates' predictions (weights sum to 1).
 fn combine(blend: &[(usize, f64)], pred: impl Fn(usize) -> [f64; 3]) -> [f64; 3] {
     let mut o = [0.0; 3];
@@ -563,21 +642,38 @@ fn fallback(mut fills: Vec<(FillMethod, Vec<[f64; 3]>)>, len: usize) -> (Vec<[f6
 ///
 /// Artificial gaps nearby miss what happens in the real gap's own frames, and the choice
 /// that scored best on them flatters itself, so the score alone was over-confident on 14 %
-/// of real trials' gaps. Where the two best candidates disagree on the real gap, its error
-/// is larger than their scores say, the more so the further they disagree; longer gaps are
-/// scored on fewer, shorter stand-ins. So with q = spread / scored (clamped to [0.05, 20]),
-/// ln(expected / scored) = β₀ + β₁ ln q + β₂ ln(len) + β₃ (ln q)² + offset, fitted by
-/// median regression on the real trials of the evaluation (`cargo run --release -p repair
-/// --example fill_eval`, which also checks the model fitted leave-one-lab-out: Spearman
-/// 0.928, 74 % of gaps within 2× of their estimate, 5.0 % above twice it), with the offset
-/// that leaves 5 % of those gaps above twice their estimate: the estimate is meant to
-/// vouch for a fill.
+/// of real trials' gaps. Where the candidates disagree on the real gap, its error is larger
+/// than their scores say, the more so the further they disagree; longer gaps are scored on
+/// fewer, shorter stand-ins; and what can be seen of the real gap says how much harder it
+/// is than the holes that scored it (see [`Diag`]). So with q = spread / scored,
+/// q₃ = spread3 / scored, h = spread_holes / scored (each ratio clamped to [0.05, 20], and
+/// 1 where unknown), ln(expected / scored) = β · [1, ln q, ln(len), (ln q)², ln q₃, ln h,
+/// ln bend, ln drift] + offset, fitted by median regression on the real trials of the
+/// evaluation (`cargo run --release -p repair --example fill_eval`, which also checks the
+/// model fitted leave-one-lab-out: Spearman 0.949, 80.9 % of gaps within 2× of their
+/// estimate, 5.0 % above twice it; with the spread, length and square alone 0.928, 74.3 %,
+/// 5.0 %), with the offset that leaves 5 % of those gaps above twice their estimate: the
+/// estimate is meant to vouch for a fill.
 pub(crate) fn calibrated(d: &Diag) -> f64 {
-    const BETA: [f64; 4] = [0.0175, 0.3693, -0.0196, 0.1183];
-    const OFFSET: f64 = 0.2221;
+    const BETA: [f64; 8] = [
+        0.1815, 0.2885, -0.0641, 0.0731, 0.1755, -0.1042, 0.0984, 0.2459,
+    ];
+    const OFFSET: f64 = 0.1186;
     let s = d.scored.max(1e-12);
-    let q = (d.spread / s).clamp(0.05, 20.0).ln();
-    s * (BETA[0] + BETA[1] * q + BETA[2] * (d.len as f64).ln() + BETA[3] * q * q + OFFSET).exp()
+    let ln = |r: Option<f64>| r.map_or(0.0, |r| r.clamp(0.05, 20.0).ln());
+    let q = ln(Some(d.spread / s));
+    let x = [
+        1.0,
+        q,
+        (d.len as f64).ln(),
+        q * q,
+        ln(d.spread3.map(|v| v / s)),
+        ln(d.spread_holes.map(|v| v / s)),
+        ln(d.bend),
+        ln(d.drift),
+    ];
+    let z: f64 = BETA.iter().zip(x).map(|(b, x)| b * x).sum();
+    s * (z + OFFSET).exp()
 }
 
 /// Expected error without any artificial gap to score on: a quarter of the distance the
