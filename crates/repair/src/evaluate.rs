@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use crate::error::{RepairError, Result};
 use crate::fill::{
-    fill_gap_diag, max_steps, step_ratio, Data, FillMethod, FillOptions, FillOutcome, Span, Target,
+    fill_gaps, max_steps, step_ratio, Data, FillMethod, FillOptions, FillOutcome, Span, Target,
 };
 use crate::gaps::Gap;
 use crate::rng::SplitMix64;
@@ -311,16 +311,21 @@ fn run_group(trial: &Trial, g: &[(usize, usize)], len: usize, cfg: &EvalConfig) 
             let mut e = Vec::new();
             let mut failed = 0;
             let mut recs = Vec::new();
-            for &(m, a) in g {
-                let gap = Gap {
+            let gaps: Vec<Gap> = g
+                .iter()
+                .map(|&(m, a)| Gap {
                     marker: m,
                     first: a,
                     last: a + len - 1,
                     len,
                     at_start: false,
                     at_end: false,
-                };
-                match fill_gap_diag(data, &gap, &opts, false) {
+                })
+                .collect();
+            // The group filled together, as the pipeline fills a trial's gaps.
+            let filled = fill_gaps(data, &gaps, &opts, false);
+            for ((&(m, a), gap), got) in g.iter().zip(&gaps).zip(filled) {
+                match got {
                     (Some(v), FillOutcome::Filled { expected_error, .. }, diag) => {
                         let errs: Vec<f64> = v
                             .iter()
@@ -340,7 +345,7 @@ fn run_group(trial: &Trial, g: &[(usize, usize)], len: usize, cfg: &EvalConfig) 
                             mean: errs.iter().sum::<f64>() / errs.len().max(1) as f64,
                             max: errs.iter().copied().fold(0.0, f64::max),
                             expected: expected_error,
-                            step_ratio: step_ratio(&t, Span::of(&gap, data.frames), &v),
+                            step_ratio: step_ratio(&t, Span::of(gap, data.frames), &v),
                             scored: diag.map(|d| d.scored),
                             spread: diag.map(|d| d.spread),
                             spread3: diag.and_then(|d| d.spread3),

@@ -4,7 +4,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::Result;
-use crate::fill::{fill_gap, max_steps, Data, FillOptions, FillOutcome};
+use crate::fill::{fill_gaps, max_steps, Data, FillOptions, FillOutcome};
 use crate::filter::FilterSpec;
 use crate::gaps::{find_gaps, valid_segments, Gap};
 use crate::spikes::{detect, Spike, SpikeMode, SpikeOptions};
@@ -123,7 +123,6 @@ impl RepairReport {
 }
 
 /// A gap's record and, when filled, its samples.
-type FilledGap = (GapRecord, Option<Vec<[f64; 3]>>);
 
 /// Repairs `trial` in place: spikes, then gap fill, then zero-phase filtering of each
 /// continuous valid segment. Markers are processed in parallel; each marker's gaps are
@@ -171,31 +170,24 @@ pub fn repair_trial(trial: &mut Trial, cfg: &RepairConfig) -> Result<RepairRepor
     // 2. Fill, reading the spike-free data; writes are applied afterwards.
     let steps = max_steps(&trial.xyz, &trial.valid);
     let data = Data::new(&trial.xyz, &trial.valid, &steps);
-    let per_marker: Vec<Vec<FilledGap>> = (0..markers)
+    let found: Vec<Gap> = (0..markers)
         .into_par_iter()
-        .map(|m| {
-            find_gaps(&trial.valid[m], m)
-                .into_iter()
-                .map(|gap| {
-                    let (v, outcome) = fill_gap(data, &gap, &cfg.fill, true);
-                    (GapRecord { gap, outcome }, v)
-                })
-                .collect()
-        })
+        .map(|m| find_gaps(&trial.valid[m], m))
+        .flatten()
         .collect();
-    let mut gaps = Vec::new();
-    for (m, recs) in per_marker.into_iter().enumerate() {
-        for (rec, v) in recs {
-            if let Some(v) = v {
-                for (i, p) in v.into_iter().enumerate() {
-                    let f = rec.gap.first + i;
-                    trial.xyz[m][f] = p;
-                    trial.valid[m][f] = true;
-                    changes[m][f] |= change::FILLED;
-                }
+    let filled = fill_gaps(data, &found, &cfg.fill, true);
+    let mut gaps = Vec::with_capacity(found.len());
+    for (gap, (v, outcome, _)) in found.into_iter().zip(filled) {
+        let m = gap.marker;
+        if let Some(v) = v {
+            for (i, p) in v.into_iter().enumerate() {
+                let f = gap.first + i;
+                trial.xyz[m][f] = p;
+                trial.valid[m][f] = true;
+                changes[m][f] |= change::FILLED;
             }
-            gaps.push(rec);
         }
+        gaps.push(GapRecord { gap, outcome });
     }
 
     // 3. Filter each continuous valid segment.

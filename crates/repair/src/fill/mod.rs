@@ -13,6 +13,7 @@ mod rigid;
 mod skeleton;
 mod spline;
 
+use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::{RepairError, Result};
@@ -164,6 +165,35 @@ impl FillOptions {
     }
 }
 
+impl FillOutcome {
+    /// This outcome with the expected error of `other` (when both are fills).
+    fn with_expected_error_of(self, other: &FillOutcome) -> FillOutcome {
+        match (self, other) {
+            (
+                FillOutcome::Filled {
+                    method,
+                    blended_with,
+                    weight,
+                    blended_with_2,
+                    weight_2,
+                    skeleton,
+                    ..
+                },
+                FillOutcome::Filled { expected_error, .. },
+            ) => FillOutcome::Filled {
+                method,
+                blended_with,
+                weight,
+                blended_with_2,
+                weight_2,
+                expected_error: *expected_error,
+                skeleton,
+            },
+            (o, _) => o,
+        }
+    }
+}
+
 /// Why a gap was left unfilled.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(tag = "reason", rename_all = "snake_case")]
@@ -245,6 +275,9 @@ pub(crate) struct Data<'a> {
     /// Per marker, its largest step between consecutive valid frames ([`max_steps`]):
     /// no fill may move the marker faster than its own recorded data does.
     pub max_step: &'a [f64],
+    /// One marker's validity read from here instead of `valid` (see [`fill_gaps`]: the
+    /// target as recorded, among neighbours whose first-pass fills count as samples).
+    own: Option<(usize, &'a [bool])>,
 }
 
 /// Per marker, the largest distance between two consecutive valid samples (0 without any
@@ -300,12 +333,29 @@ impl<'a> Data<'a> {
             valid,
             frames,
             max_step,
+            own: None,
+        }
+    }
+
+    /// The same data with marker `m`'s validity taken from `own`.
+    fn with_own(self, m: usize, own: &'a [bool]) -> Self {
+        Data {
+            own: Some((m, own)),
+            ..self
+        }
+    }
+
+    #[inline]
+    fn row(&self, m: usize) -> &'a [bool] {
+        match self.own {
+            Some((o, v)) if o == m => v,
+            _ => &self.valid[m],
         }
     }
 
     #[inline]
     pub fn ok(&self, m: usize, f: usize) -> bool {
-        self.valid[m][f]
+        self.row(m)[f]
     }
 
     #[inline]
@@ -315,7 +365,7 @@ impl<'a> Data<'a> {
 
     /// Whether marker `m` is valid on every frame of `lo..=hi`.
     pub fn ok_through(&self, m: usize, lo: usize, hi: usize) -> bool {
-        self.valid[m][lo..=hi].iter().all(|&v| v)
+        self.row(m)[lo..=hi].iter().all(|&v| v)
     }
 }
 
@@ -441,42 +491,17 @@ impl FillMethod {
     }
 }
 
-/// Fills one gap of marker `gap.marker` with the configured method, applying `max_gap` and
-/// the edge rule. Returns the samples for `gap.first..=gap.last` and the outcome.
-/// With `checked` false a single method's fill is returned as the method makes it, without
-/// the plausibility check or an expected error (evaluations of the methods themselves);
-/// `auto` is always checked.
-pub(crate) fn fill_gap(
-    data: Data,
-    gap: &Gap,
-    opts: &FillOptions,
-    checked: bool,
-) -> (Option<Vec<[f64; 3]>>, FillOutcome) {
-    let (v, o, _) = fill_gap_diag(data, gap, opts, checked);
-    (v, o)
-}
+/// One gap's fill: the samples for `gap.first..=gap.last` (none when skipped), the
+/// outcome, and for `auto` the evidence behind its expected error (for calibration).
+pub(crate) type GapFill = (Option<Vec<[f64; 3]>>, FillOutcome, Option<auto::Diag>);
 
-/// [`fill_gap`] with the evidence behind the expected error (for calibration).
-pub(crate) fn fill_gap_diag(
-    data: Data,
-    gap: &Gap,
-    opts: &FillOptions,
-    checked: bool,
-) -> (Option<Vec<[f64; 3]>>, FillOutcome, Option<auto::Diag>) {
-    let skip = |r| (None, FillOutcome::Skipped(r), None);
-    if opts.method == FillMethod::None {
-        return skip(SkipReason::MethodNone);
-    }
-    if let Some(max) = opts.max_gap {
-        if gap.len > max {
-            return skip(SkipReason::TooLong { max_gap: max });
-        }
-    }
-    if gap.touches_edge() && opts.method.is_polynomial() {
-        return skip(SkipReason::TouchesEdge);
-    }
-    if gap.at_start && gap.at_end {
-        return skip(SkipReason::NoContext);
+/// Fills one gap of marker `gap.marker` with the configured method, applying `max_gap` and
+/// the edge rule. With `checked` false a single method's fill is returned as the method
+/// makes it, without the plausibility check or an expected error (evaluations of the
+/// methods themselves); `auto` is always checked.
+pub(crate) fn fill_gap_diag(data: Data, gap: &Gap, opts: &FillOptions, checked: bool) -> GapFill {
+    if let Some(r) = refused(gap, opts) {
+        return (None, FillOutcome::Skipped(r), None);
     }
     let t = Target {
         m: gap.marker,
@@ -489,6 +514,31 @@ pub(crate) fn fill_gap_diag(
     } else {
         Plan::build(&t, span, opts)
     };
+    fill_planned(&t, span, &plan, opts, checked)
+}
+
+/// Why the configured method leaves `gap` whatever the data (`None`: it may fill it).
+fn refused(gap: &Gap, opts: &FillOptions) -> Option<SkipReason> {
+    if opts.method == FillMethod::None {
+        return Some(SkipReason::MethodNone);
+    }
+    if let Some(max) = opts.max_gap {
+        if gap.len > max {
+            return Some(SkipReason::TooLong { max_gap: max });
+        }
+    }
+    if gap.touches_edge() && opts.method.is_polynomial() {
+        return Some(SkipReason::TouchesEdge);
+    }
+    if gap.at_start && gap.at_end {
+        return Some(SkipReason::NoContext);
+    }
+    None
+}
+
+/// The configured method's fill of `span` with donors from `plan`.
+fn fill_planned(t: &Target, span: Span, plan: &Plan, opts: &FillOptions, checked: bool) -> GapFill {
+    let skip = |r| (None, FillOutcome::Skipped(r), None);
     let single = [opts.method];
     let cands = if opts.method == FillMethod::Auto {
         auto::candidates(span)
@@ -496,7 +546,7 @@ pub(crate) fn fill_gap_diag(
         &single
     };
     let checked = checked || opts.method == FillMethod::Auto;
-    match auto::fill_checked(&t, span, &plan, opts, cands, checked) {
+    match auto::fill_checked(t, span, plan, opts, cands, checked) {
         Ok((v, choice)) => match (choice.expected_error, opts.max_expected_error) {
             (Some(e), Some(max)) if e > max => skip(SkipReason::Uncertain {
                 expected_error: e,
@@ -506,6 +556,86 @@ pub(crate) fn fill_gap_diag(
         },
         Err(r) => skip(r),
     }
+}
+
+/// Fills `gaps` (of any markers; each gap one of its marker's) in two passes, each gap's
+/// fill read from data that is never written to. Occlusions often hide several
+/// neighbouring markers over overlapping frames, and each then loses its nearest donors to
+/// the others for the whole gap, though they are missing only part of it. So after the
+/// first pass every gap is planned again with the other markers' first-pass fills counted
+/// as samples (the target's own samples stay as recorded, so `auto` still scores on
+/// recorded truth only), and filled again when a donor now is a marker filled near it.
+/// On the corpus evaluation (`fill_eval`) this took 10–25 % off `auto`'s errors on 2–3
+/// neighbouring markers missing together.
+pub(crate) fn fill_gaps(
+    data: Data,
+    gaps: &[Gap],
+    opts: &FillOptions,
+    checked: bool,
+) -> Vec<GapFill> {
+    let first: Vec<GapFill> = gaps
+        .par_iter()
+        .map(|g| fill_gap_diag(data, g, opts, checked))
+        .collect();
+    if !(opts.method.is_donor() || opts.method == FillMethod::Auto) {
+        return first;
+    }
+    // Per marker, the frames the first pass filled.
+    let mut filled: Vec<Vec<(usize, usize)>> = vec![Vec::new(); data.xyz.len()];
+    for (g, r) in gaps.iter().zip(&first) {
+        if r.0.is_some() {
+            filled[g.marker].push((g.first, g.last));
+        }
+    }
+    let near_filled = |plan: &Plan, span: Span| {
+        let (lo, hi) = span.outer();
+        plan.rigid
+            .iter()
+            .chain(plan.pca.iter().map(|(j, _)| j))
+            .chain(&plan.pattern)
+            .any(|&j| filled[j].iter().any(|&(a, b)| a <= hi && b >= lo))
+    };
+    if filled.iter().all(Vec::is_empty) {
+        return first;
+    }
+    let mut xyz = data.xyz.to_vec();
+    let mut valid = data.valid.to_vec();
+    for (g, r) in gaps.iter().zip(&first) {
+        if let Some(v) = &r.0 {
+            xyz[g.marker][g.first..=g.last].copy_from_slice(v);
+            valid[g.marker][g.first..=g.last].fill(true);
+        }
+    }
+    let second = Data::new(&xyz, &valid, data.max_step);
+    gaps.par_iter()
+        .zip(first)
+        .map(|(g, r)| {
+            if refused(g, opts).is_some() {
+                return r;
+            }
+            let t = Target {
+                m: g.marker,
+                data: second.with_own(g.marker, &data.valid[g.marker]),
+                hole: None,
+            };
+            let span = Span::of(g, data.frames);
+            let plan = Plan::build(&t, span, opts);
+            // Only a gap with a donor filled near it can fill differently.
+            if !near_filled(&plan, span) {
+                return r;
+            }
+            match (fill_planned(&t, span, &plan, opts, checked), r) {
+                // The expected error stays the first pass's: the artificial gaps of the
+                // second are scored with recorded donors where the real gap has filled
+                // ones, so its own estimate is over-confident (on the corpus evaluation,
+                // 10 % of gaps above twice their estimate instead of 5 %).
+                ((Some(v), again, _), (_, first, diag)) => {
+                    (Some(v), again.with_expected_error_of(&first), diag)
+                }
+                (_, r) => r,
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]
