@@ -122,12 +122,11 @@ impl RepairReport {
     }
 }
 
-/// A gap's record and, when filled, its samples.
-
 /// Repairs `trial` in place: spikes, then gap fill, then zero-phase filtering of each
-/// continuous valid segment. Markers are processed in parallel; each marker's gaps are
-/// filled from the other markers' data as it stood before any fill, so the result does not
-/// depend on marker order.
+/// continuous valid segment. Markers are processed in parallel; gaps are filled from the
+/// data as it stood before any fill, then those next to a filled neighbour once more with
+/// the neighbour's first fill as a donor (see `fill_gaps`), so the result does not depend
+/// on marker order.
 pub fn repair_trial(trial: &mut Trial, cfg: &RepairConfig) -> Result<RepairReport> {
     trial.check()?;
     let iir = cfg.filter.map(|s| s.design(trial.rate_hz)).transpose()?;
