@@ -561,7 +561,7 @@ fn fill_planned(t: &Target, span: Span, plan: &Plan, opts: &FillOptions, checked
 /// A gap is filled again when one of its this many nearest PCA neighbours is a marker
 /// filled near it. On the corpus evaluation 2 kept the gains of refilling whenever any donor
 /// was filled (2–3 markers missing together, every rate within 2 %), and on the pipeline
-/// bench (independent random gaps) cost about 1.1× instead of 1.7–2×: the nearest markers
+/// bench (independent random gaps) cost about 1.25× instead of 1.7–2×: the nearest markers
 /// carry most of the weight, and many far donors are filled somewhere near a gap.
 const REFILL_NEAREST: usize = 2;
 
