@@ -322,8 +322,10 @@ fn run_group(trial: &Trial, g: &[(usize, usize)], len: usize, cfg: &EvalConfig) 
                     at_end: false,
                 })
                 .collect();
-            // The group filled together, as the pipeline fills a trial's gaps.
-            let filled = fill_gaps(data, &gaps, &opts, false);
+            // The group filled together, as the pipeline fills a trial's gaps (into a copy:
+            // the trial holds the truth).
+            let mut xyz = trial.xyz.clone();
+            let filled = fill_gaps(&mut xyz, &valid, &steps, &gaps, &opts, false);
             for ((&(m, a), gap), got) in g.iter().zip(&gaps).zip(filled) {
                 match got {
                     (Some(v), FillOutcome::Filled { expected_error, .. }, diag) => {

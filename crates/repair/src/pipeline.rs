@@ -4,7 +4,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::Result;
-use crate::fill::{fill_gaps, max_steps, Data, FillOptions, FillOutcome};
+use crate::fill::{fill_gaps, max_steps, FillOptions, FillOutcome};
 use crate::filter::FilterSpec;
 use crate::gaps::{find_gaps, valid_segments, Gap};
 use crate::spikes::{detect, Spike, SpikeMode, SpikeOptions};
@@ -166,24 +166,29 @@ pub fn repair_trial(trial: &mut Trial, cfg: &RepairConfig) -> Result<RepairRepor
         spikes = found.into_iter().flatten().collect();
     }
 
-    // 2. Fill, reading the spike-free data; writes are applied afterwards.
+    // 2. Fill, reading the spike-free data; `fill_gaps` writes the samples, the masks are
+    // set here.
     let steps = max_steps(&trial.xyz, &trial.valid);
-    let data = Data::new(&trial.xyz, &trial.valid, &steps);
     let found: Vec<Gap> = (0..markers)
         .into_par_iter()
         .map(|m| find_gaps(&trial.valid[m], m))
         .flatten()
         .collect();
-    let filled = fill_gaps(data, &found, &cfg.fill, true);
+    let filled = fill_gaps(
+        &mut trial.xyz,
+        &trial.valid,
+        &steps,
+        &found,
+        &cfg.fill,
+        true,
+    );
     let mut gaps = Vec::with_capacity(found.len());
     for (gap, (v, outcome, _)) in found.into_iter().zip(filled) {
         let m = gap.marker;
-        if let Some(v) = v {
-            for (i, p) in v.into_iter().enumerate() {
-                let f = gap.first + i;
-                trial.xyz[m][f] = p;
-                trial.valid[m][f] = true;
-                changes[m][f] |= change::FILLED;
+        if v.is_some() {
+            trial.valid[m][gap.first..=gap.last].fill(true);
+            for c in &mut changes[m][gap.first..=gap.last] {
+                *c |= change::FILLED;
             }
         }
         gaps.push(GapRecord { gap, outcome });

@@ -565,35 +565,51 @@ fn fill_planned(t: &Target, span: Span, plan: &Plan, opts: &FillOptions, checked
 /// carry most of the weight, and many far donors are filled somewhere near a gap.
 const REFILL_NEAREST: usize = 2;
 
-/// Fills `gaps` (of any markers; each gap one of its marker's) in two passes, each gap's
-/// fill read from data that is never written to. Occlusions often hide several
-/// neighbouring markers over overlapping frames, and each then loses its nearest donors to
-/// the others for the whole gap, though they are missing only part of it. So after the
-/// first pass every gap is planned again with the other markers' first-pass fills counted
-/// as samples (the target's own samples stay as recorded, so `auto` still scores on
-/// recorded truth only), and filled again when one of its nearest donors now is a marker
-/// filled near it.
-/// On the corpus evaluation (`fill_eval`) this took 10–25 % off `auto`'s errors on 2–3
-/// neighbouring markers missing together.
+/// Fills `gaps` (of any markers; each gap one of its marker's) in two passes, each pass's
+/// fills read from the data as the pass found it, and writes every fill into `xyz` (the
+/// samples are also returned; `valid` is left to the caller, who knows what it means).
+/// Occlusions often hide several neighbouring markers over overlapping frames, and each
+/// then loses its nearest donors to the others for the whole gap, though they are missing
+/// only part of it. So after the first pass every gap is planned again with the other
+/// markers' first-pass fills counted as samples (the target's own samples stay as
+/// recorded, so `auto` still scores on recorded truth only), and filled again when one of
+/// its nearest donors now is a marker filled near it. On the corpus evaluation
+/// (`fill_eval`) this took 10–25 % off `auto`'s errors on 2–3 neighbouring markers missing
+/// together. The first pass's fills are written into `xyz` rather than into a copy, so the
+/// second pass costs no second copy of the trial.
 pub(crate) fn fill_gaps(
-    data: Data,
+    xyz: &mut [Vec<[f64; 3]>],
+    valid: &[Vec<bool>],
+    max_step: &[f64],
     gaps: &[Gap],
     opts: &FillOptions,
     checked: bool,
 ) -> Vec<GapFill> {
+    let write = |xyz: &mut [Vec<[f64; 3]>], fills: &[GapFill]| {
+        for (g, r) in gaps.iter().zip(fills) {
+            if let Some(v) = &r.0 {
+                xyz[g.marker][g.first..=g.last].copy_from_slice(v);
+            }
+        }
+    };
+    let data = Data::new(xyz, valid, max_step);
     let first: Vec<GapFill> = gaps
         .par_iter()
         .map(|g| fill_gap_diag(data, g, opts, checked))
         .collect();
+    write(xyz, &first);
     if !(opts.method.is_donor() || opts.method == FillMethod::Auto) {
         return first;
     }
     // Per marker, the frames the first pass filled.
-    let mut filled: Vec<Vec<(usize, usize)>> = vec![Vec::new(); data.xyz.len()];
+    let mut filled: Vec<Vec<(usize, usize)>> = vec![Vec::new(); xyz.len()];
     for (g, r) in gaps.iter().zip(&first) {
         if r.0.is_some() {
             filled[g.marker].push((g.first, g.last));
         }
+    }
+    if filled.iter().all(Vec::is_empty) {
+        return first;
     }
     // Whether one of the gap's nearest donors now is a marker filled near it.
     let near_filled = |plan: &Plan, span: Span| {
@@ -603,19 +619,15 @@ pub(crate) fn fill_gaps(
             .take(REFILL_NEAREST)
             .any(|&(j, _)| filled[j].iter().any(|&(a, b)| a <= hi && b >= lo))
     };
-    if filled.iter().all(Vec::is_empty) {
-        return first;
-    }
-    let mut xyz = data.xyz.to_vec();
-    let mut valid = data.valid.to_vec();
-    for (g, r) in gaps.iter().zip(&first) {
-        if let Some(v) = &r.0 {
-            xyz[g.marker][g.first..=g.last].copy_from_slice(v);
-            valid[g.marker][g.first..=g.last].fill(true);
+    let mut valid2 = valid.to_vec();
+    for (m, ranges) in filled.iter().enumerate() {
+        for &(a, b) in ranges {
+            valid2[m][a..=b].fill(true);
         }
     }
-    let second = Data::new(&xyz, &valid, data.max_step);
-    gaps.par_iter()
+    let second = Data::new(xyz, &valid2, max_step);
+    let out: Vec<GapFill> = gaps
+        .par_iter()
         .zip(first)
         .map(|(g, r)| {
             if refused(g, opts).is_some() {
@@ -623,10 +635,10 @@ pub(crate) fn fill_gaps(
             }
             let t = Target {
                 m: g.marker,
-                data: second.with_own(g.marker, &data.valid[g.marker]),
+                data: second.with_own(g.marker, &valid[g.marker]),
                 hole: None,
             };
-            let span = Span::of(g, data.frames);
+            let span = Span::of(g, second.frames);
             let plan = Plan::build(&t, span, opts);
             if !near_filled(&plan, span) {
                 return r;
@@ -642,7 +654,9 @@ pub(crate) fn fill_gaps(
                 (_, r) => r,
             }
         })
-        .collect()
+        .collect();
+    write(xyz, &out);
+    out
 }
 
 #[cfg(test)]
@@ -731,6 +745,7 @@ mod tests {
         let steps = max_steps(&trial.xyz, &valid);
         let data = Data::new(&trial.xyz, &valid, &steps);
         let opts = FillOptions::default();
+        let mut xyz = trial.xyz.clone();
         let err = |g: &Gap, v: &[[f64; 3]]| {
             v.iter()
                 .enumerate()
@@ -738,10 +753,12 @@ mod tests {
                 .sum::<f64>()
                 / v.len() as f64
         };
-        let both = fill_gaps(data, &gaps, &opts, true);
+        let both = fill_gaps(&mut xyz, &valid, &steps, &gaps, &opts, true);
         for (g, (v, outcome, _)) in gaps.iter().zip(&both) {
+            let v = v.as_ref().unwrap();
+            assert_eq!(&xyz[g.marker][g.first..=g.last], &v[..]);
             let (alone, first, _) = fill_gap_diag(data, g, &opts, true);
-            let (a, b) = (err(g, &alone.unwrap()), err(g, v.as_ref().unwrap()));
+            let (a, b) = (err(g, &alone.unwrap()), err(g, v));
             assert!(b < a, "marker {}: {b} not below {a}", g.marker);
             let expected = |o: &FillOutcome| match o {
                 FillOutcome::Filled { expected_error, .. } => *expected_error,
