@@ -630,7 +630,9 @@ pub(crate) fn fill_gaps(
         .par_iter()
         .zip(first)
         .map(|(g, r)| {
-            if refused(g, opts).is_some() {
+            // A gap too uncertain to fill stays so: its estimate is the first pass's.
+            let uncertain = matches!(r.1, FillOutcome::Skipped(SkipReason::Uncertain { .. }));
+            if uncertain || refused(g, opts).is_some() {
                 return r;
             }
             let t = Target {
