@@ -35,7 +35,7 @@ pub fn max_expected_error(s: &str) -> Result<Option<f64>> {
 /// Everything `repair` can be asked to do, as given by a person.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RepairOptions {
-    /// Fill method name: auto, linear, lagrange2, lagrange5, spline, rigid, pattern, pca, none.
+    /// Fill method name: auto, linear, lagrange2, lagrange5, spline, rigid, pattern, pca, kalman, none.
     pub fill: String,
     /// Longest gap (frames) to fill; longer ones are left and reported.
     pub max_gap: usize,
@@ -126,7 +126,7 @@ impl RepairOptions {
 pub fn fill_method(name: &str) -> Result<FillMethod> {
     FillMethod::from_name(&name.to_ascii_lowercase()).ok_or_else(|| {
         Error::options(format!(
-            "unknown fill method {name:?} (expected auto, linear, lagrange2, lagrange5, spline, rigid, pattern, pca or none)"
+            "unknown fill method {name:?} (expected auto, linear, lagrange2, lagrange5, spline, rigid, pattern, pca, kalman or none)"
         ))
     })
 }

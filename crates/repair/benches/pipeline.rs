@@ -27,6 +27,7 @@ fn bench(c: &mut Criterion) {
         FillMethod::Rigid,
         FillMethod::Pattern,
         FillMethod::Pca,
+        FillMethod::Kalman,
         FillMethod::Auto,
     ] {
         let fill = FillOptions {

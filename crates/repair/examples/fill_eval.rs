@@ -105,7 +105,7 @@ const FILES: &[(&str, &str, &str, &str)] = &[
 ];
 
 const LENGTHS: [usize; 5] = [5, 10, 20, 40, 80];
-const SINGLES: [FillMethod; 7] = [
+const SINGLES: [FillMethod; 8] = [
     FillMethod::Linear,
     FillMethod::Lagrange2,
     FillMethod::Lagrange5,
@@ -113,6 +113,7 @@ const SINGLES: [FillMethod; 7] = [
     FillMethod::Rigid,
     FillMethod::Pattern,
     FillMethod::Pca,
+    FillMethod::Kalman,
 ];
 
 struct Args {

@@ -4,6 +4,7 @@
 
 mod anchor;
 mod auto;
+mod kalman;
 mod linear;
 mod pattern;
 mod pca;
@@ -40,6 +41,9 @@ pub enum FillMethod {
     Pattern,
     /// Distance-weighted PCA reconstruction (Gløersen & Federolf 2016).
     Pca,
+    /// The marker and its PCA neighbours' component scores Kalman-smoothed through the gap
+    /// (Burke & Lasenby 2016).
+    Kalman,
     /// Per gap, the best method (or blend of up to three) judged on artificial gaps.
     Auto,
     /// The one valid sample next to a gap at the trial's edge, held: `auto`'s last resort
@@ -49,7 +53,7 @@ pub enum FillMethod {
 
 impl FillMethod {
     /// Every method that fills, for evaluations.
-    pub const ALL: [FillMethod; 8] = [
+    pub const ALL: [FillMethod; 9] = [
         FillMethod::Linear,
         FillMethod::Lagrange2,
         FillMethod::Lagrange5,
@@ -57,6 +61,7 @@ impl FillMethod {
         FillMethod::Rigid,
         FillMethod::Pattern,
         FillMethod::Pca,
+        FillMethod::Kalman,
         FillMethod::Auto,
     ];
 
@@ -80,6 +85,7 @@ impl FillMethod {
             "rigid" => FillMethod::Rigid,
             "pattern" => FillMethod::Pattern,
             "pca" => FillMethod::Pca,
+            "kalman" => FillMethod::Kalman,
             "auto" => FillMethod::Auto,
             "hold" => FillMethod::Hold,
             _ => return None,
@@ -455,7 +461,7 @@ pub(crate) fn fill_with(
         FillMethod::Lagrange2 => poly::lagrange(t, span, 3),
         FillMethod::Lagrange5 => poly::lagrange(t, span, 6),
         FillMethod::Spline => spline::fill(t, span, opts.spline_context),
-        FillMethod::Rigid | FillMethod::Pattern | FillMethod::Pca => {
+        FillMethod::Rigid | FillMethod::Pattern | FillMethod::Pca | FillMethod::Kalman => {
             fill_raw(method, t, span, plan, opts, 1).map(|r| r.anchored(span))
         }
         FillMethod::Auto => auto::fill(t, span, plan, opts, auto::candidates(span)).map(|(v, _)| v),
@@ -477,6 +483,7 @@ pub(crate) fn fill_raw(
         FillMethod::Rigid => rigid::raw(t, span, plan, per_side),
         FillMethod::Pattern => pattern::raw(t, span, plan, per_side),
         FillMethod::Pca => pca::raw(t, span, plan, opts, per_side),
+        FillMethod::Kalman => kalman::raw(t, span, plan, opts, per_side),
         _ => Err(SkipReason::NoDonors),
     }
 }
@@ -486,7 +493,7 @@ impl FillMethod {
     pub(crate) fn is_donor(self) -> bool {
         matches!(
             self,
-            FillMethod::Rigid | FillMethod::Pattern | FillMethod::Pca
+            FillMethod::Rigid | FillMethod::Pattern | FillMethod::Pca | FillMethod::Kalman
         )
     }
 }

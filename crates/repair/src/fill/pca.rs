@@ -129,7 +129,7 @@ pub(super) fn raw(
     Raw::gather(t, span, per_side, predict).ok_or(SkipReason::NoDonors)
 }
 
-fn centroid(t: &Target, nb: &[(usize, f64)], f: usize) -> [f64; 3] {
+pub(super) fn centroid(t: &Target, nb: &[(usize, f64)], f: usize) -> [f64; 3] {
     let mut c = [0.0; 3];
     for &(j, _) in nb {
         let p = t.data.at(j, f);
@@ -161,7 +161,7 @@ pub(crate) struct Sums {
 }
 
 /// One frame's row (unshifted): weighted neighbour offsets, then the target's offset.
-fn row(t: &Target, nb: &[(usize, f64)], f: usize, out: &mut [f64]) {
+pub(super) fn row(t: &Target, nb: &[(usize, f64)], f: usize, out: &mut [f64]) {
     let known = 3 * nb.len();
     let c = centroid(t, nb, f);
     known_row(t, nb, f, c, &mut out[..known]);
@@ -171,7 +171,7 @@ fn row(t: &Target, nb: &[(usize, f64)], f: usize, out: &mut [f64]) {
     }
 }
 
-fn sums(
+pub(super) fn sums(
     t: &Target,
     region: Span,
     nb: &[(usize, f64)],
@@ -214,6 +214,63 @@ fn sums(
         sum,
         xxt,
     })
+}
+
+impl Sums {
+    /// The training frames.
+    pub(super) fn frames(&self) -> &[usize] {
+        &self.frames
+    }
+
+    /// Mean row and covariance (row-major, `dims × dims`) of the rows summed.
+    pub(super) fn moments(&self) -> (Vec<f64>, Vec<f64>) {
+        let dims = self.shift.len();
+        let nf = self.frames.len() as f64;
+        let (sum, xxt) = (&self.sum, &self.xxt);
+        let mean: Vec<f64> = (0..dims).map(|i| self.shift[i] + sum[i] / nf).collect();
+        let mut cov = vec![0.0; dims * dims];
+        for i in 0..dims {
+            for j in 0..dims {
+                cov[i * dims + j] = (xxt[(i, j)] - sum[i] * sum[j] / nf) / (nf - 1.0);
+            }
+        }
+        (mean, cov)
+    }
+}
+
+/// The training sums of the plan's window, and the artificial holes sharing a scoring
+/// model with hole `h` (see `groups`) with that model's index; with `h` `None`, every
+/// training row (the gap's own model). The Kalman smoother trains its models on the same
+/// rows as PCA, so both are scored alike.
+pub(super) fn training(
+    t: &Target,
+    plan: &Plan,
+    opts: &FillOptions,
+    h: Option<(usize, usize)>,
+) -> Result<(Sums, usize), SkipReason> {
+    let nb = &plan.pca;
+    let base = Target {
+        hole: plan.hole,
+        ..*t
+    };
+    let all = plan
+        .pca_sums
+        .get_or_init(|| sums(&base, plan.region, nb, opts))
+        .as_ref()
+        .map_err(|&e| e)?;
+    let Some(h) = h else {
+        return Ok((all.clone(), 0));
+    };
+    let holes = plan.exclude.get().map_or(&[][..], Vec::as_slice);
+    let (group_of, _) = plan.pca_scoring_models.get_or_init(|| groups(all, holes));
+    let g = group_of[holes.iter().position(|&x| x == h).unwrap_or(0)];
+    let members: Vec<(usize, usize)> = holes
+        .iter()
+        .zip(group_of)
+        .filter(|&(_, &k)| k == g)
+        .map(|(&x, _)| x)
+        .collect();
+    Ok((without(all, &base, nb, &members), g))
 }
 
 /// Holes sharing a scoring model: consecutive ones while together they remove at most
@@ -274,15 +331,7 @@ fn model(s: &Sums, known: usize, opts: &FillOptions) -> Result<Model, SkipReason
     if n < MIN_TRAIN {
         return Err(SkipReason::NoContext);
     }
-    let (sum, xxt) = (&s.sum, &s.xxt);
-    let nf = n as f64;
-    let mean: Vec<f64> = (0..dims).map(|i| s.shift[i] + sum[i] / nf).collect();
-    let mut cov = vec![0.0; dims * dims];
-    for i in 0..dims {
-        for j in 0..dims {
-            cov[i * dims + j] = (xxt[(i, j)] - sum[i] * sum[j] / nf) / (nf - 1.0);
-        }
-    }
+    let (mean, cov) = s.moments();
     let (vals, vecs) = symmetric_eigen(&cov, dims);
     let total: f64 = vals.iter().map(|v| v.max(0.0)).sum();
     if total <= 0.0 {

@@ -1,8 +1,10 @@
 //! Donor choice for one gap, made once and reused when `auto` scores methods on artificial
 //! gaps nearby, so scores describe the fill that will actually be used.
 
-use std::cell::OnceCell;
+use std::cell::{OnceCell, RefCell};
+use std::rc::Rc;
 
+use super::kalman;
 use super::pca::{Model, Sums};
 use super::{FillOptions, SkipReason, Span, Target};
 
@@ -35,6 +37,10 @@ pub(crate) struct Plan {
     pub exclude: OnceCell<Vec<(usize, usize)>>,
     /// Per hole of `exclude`, the index of its model in `pca_scoring_models`.
     pub pca_scoring_models: OnceCell<ScoringModels>,
+    /// The Kalman smoother's model for the gap itself, and its scoring models (indexed as
+    /// PCA's), trained on first use.
+    pub kalman_model: OnceCell<Result<Rc<kalman::Model>, SkipReason>>,
+    pub kalman_scoring: RefCell<Vec<(usize, Rc<kalman::Model>)>>,
 }
 
 /// A lazily trained PCA model.
@@ -64,6 +70,8 @@ impl Plan {
             pca_model: OnceCell::new(),
             exclude: OnceCell::new(),
             pca_scoring_models: OnceCell::new(),
+            kalman_model: OnceCell::new(),
+            kalman_scoring: RefCell::new(Vec::new()),
         }
     }
 
@@ -134,6 +142,8 @@ impl Plan {
             pca_model: OnceCell::new(),
             exclude: OnceCell::new(),
             pca_scoring_models: OnceCell::new(),
+            kalman_model: OnceCell::new(),
+            kalman_scoring: RefCell::new(Vec::new()),
         }
     }
 }
