@@ -165,59 +165,6 @@ fn polar_rotation(a: &Matrix3<f64>) -> Option<Matrix3<f64>> {
     None
 }
 
-/// Inverts the symmetric positive definite `n × n` matrix `a` (row-major, lower triangle
-/// read) in place through its Cholesky factor: `a⁻¹ = L⁻ᵀ L⁻¹`. Returns false when `a` is
-/// not positive definite to working precision. Flat loops: the Kalman smoother inverts
-/// small covariances once per frame, where a generic decomposition spent most of its time.
-pub(crate) fn spd_inverse(a: &mut [f64], n: usize) -> bool {
-    // L, in the lower triangle.
-    for j in 0..n {
-        let mut d = a[j * n + j];
-        for k in 0..j {
-            d -= a[j * n + k] * a[j * n + k];
-        }
-        if d <= 0.0 || !d.is_finite() {
-            return false;
-        }
-        let d = d.sqrt();
-        a[j * n + j] = d;
-        for i in j + 1..n {
-            let mut s = a[i * n + j];
-            for k in 0..j {
-                s -= a[i * n + k] * a[j * n + k];
-            }
-            a[i * n + j] = s / d;
-        }
-    }
-    // L⁻¹, in the lower triangle.
-    for j in 0..n {
-        a[j * n + j] = 1.0 / a[j * n + j];
-        for i in j + 1..n {
-            let mut s = 0.0;
-            for k in j..i {
-                s -= a[i * n + k] * a[k * n + j];
-            }
-            a[i * n + j] = s / a[i * n + i];
-        }
-    }
-    // L⁻ᵀ L⁻¹: entry (i, j), i ≥ j, is the sum over k ≥ i of L⁻¹[k][i] L⁻¹[k][j].
-    for i in 0..n {
-        for j in 0..=i {
-            let mut s = 0.0;
-            for k in i..n {
-                s += a[k * n + i] * a[k * n + j];
-            }
-            a[i * n + j] = s;
-        }
-    }
-    for i in 0..n {
-        for j in i + 1..n {
-            a[i * n + j] = a[j * n + i];
-        }
-    }
-    true
-}
-
 /// Eigenvalues (descending) and matching eigenvectors (columns) of a symmetric matrix given
 /// row-major.
 pub(crate) fn symmetric_eigen(a: &[f64], n: usize) -> (Vec<f64>, DMatrix<f64>) {
@@ -236,27 +183,6 @@ pub(crate) fn symmetric_eigen(a: &[f64], n: usize) -> (Vec<f64>, DMatrix<f64>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn inverts_positive_definite_matrix() {
-        let n = 5;
-        let b = DMatrix::from_fn(n, n, |i, j| {
-            ((i * 7 + j * 3) % 5) as f64 - 1.5 + (i == j) as u8 as f64
-        });
-        let m = &b * b.transpose() + DMatrix::<f64>::identity(n, n);
-        let mut a: Vec<f64> = (0..n * n).map(|k| m[(k / n, k % n)]).collect();
-        assert!(spd_inverse(&mut a, n));
-        let inv = DMatrix::from_row_slice(n, n, &a);
-        let id = &m * inv;
-        for i in 0..n {
-            for j in 0..n {
-                let want = if i == j { 1.0 } else { 0.0 };
-                assert!((id[(i, j)] - want).abs() < 1e-10, "{i} {j} {}", id[(i, j)]);
-            }
-        }
-        let mut not = vec![1.0, 2.0, 2.0, 1.0];
-        assert!(!spd_inverse(&mut not, 2));
-    }
 
     #[test]
     fn solves_small_system() {
