@@ -289,12 +289,12 @@ fn evaluate_reports_errors_per_method_and_gap_length() {
         "--gaps-per-length",
         "6",
         "--methods",
-        "linear,rigid,pca,auto",
+        "linear,rigid,pca,kalman,auto",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let scores = v["files"][0]["evaluation"]["scores"].as_array().unwrap();
-    assert_eq!(scores.len(), 8);
+    assert_eq!(scores.len(), 10);
     let get = |m: &str, len: u64| {
         scores
             .iter()
@@ -305,6 +305,7 @@ fn evaluate_reports_errors_per_method_and_gap_length() {
     // On the clean synthetic walk, donor methods are far better than a straight line.
     assert!(get("rigid", 40) < get("linear", 40) / 3.0);
     assert!(get("pca", 40) < get("linear", 40) / 3.0);
+    assert!(get("kalman", 40) < get("linear", 40) / 3.0);
     let t = stdout(&c3dfix(&[
         "evaluate",
         s(&sample("walk_truth.c3d")),
