@@ -391,11 +391,13 @@ fn features(g: &GapScore) -> Option<[f64; K]> {
         ln(g.spread_holes.map(|x| x / s)),
         ln(g.bend),
         ln(g.drift),
+        f64::from(u8::from(g.refilled)),
+        ln(g.rescored),
     ])
 }
 
 /// Number of features.
-const K: usize = 8;
+const K: usize = 10;
 
 /// Median regression of ln(real / scored) on the features (iteratively reweighted least
 /// squares, residuals floored at 0.05), and the offset that leaves 5 % of the fitted gaps

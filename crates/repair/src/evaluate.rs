@@ -101,6 +101,10 @@ pub struct GapScore {
     pub spread_holes: Option<f64>,
     pub bend: Option<f64>,
     pub drift: Option<f64>,
+    /// Whether the second pass filled the gap again (the evidence is the first pass's).
+    pub refilled: bool,
+    /// For a refilled gap, the second pass's score over the first's.
+    pub rescored: Option<f64>,
 }
 
 /// All scores, method-major within each gap length.
@@ -354,6 +358,8 @@ fn run_group(trial: &Trial, g: &[(usize, usize)], len: usize, cfg: &EvalConfig) 
                             spread_holes: diag.and_then(|d| d.spread_holes),
                             bend: diag.and_then(|d| d.bend),
                             drift: diag.and_then(|d| d.drift),
+                            refilled: diag.is_some_and(|d| d.refilled),
+                            rescored: diag.and_then(|d| d.rescored),
                         });
                         e.extend(errs);
                     }

@@ -68,6 +68,12 @@ const WIDE_WINDOW: usize = 2000;
 /// 100-marker pipeline bench (gaps of 2–30 frames) took 2.5× as long (user time of one
 /// run, 4.6 s against 1.9 s); from 40 frames it adds 3 % there.
 const KALMAN_FROM: usize = WIDE_FROM;
+/// Gap length from which each fill is also held to the skeleton. From 20 frames instead,
+/// on the corpus evaluation, walking gaps of 20 frames were 2–4 % better and full-body ones
+/// 3 % worse (at 175 and 240 Hz the skeleton's distance ranges nearby miss the poses in the
+/// gap and pull good fills off), and the 100-marker pipeline bench, whose gaps are up to
+/// 30 frames, took 1.3× as long.
+const SKELETON_FROM: usize = 40;
 /// Most candidates blended.
 const BLEND: usize = 3;
 /// Candidates this many times worse than the best after the first third of the trials are
@@ -120,6 +126,11 @@ pub(crate) struct Diag {
     pub spread_holes: Option<f64>,
     pub bend: Option<f64>,
     pub drift: Option<f64>,
+    /// Whether the gap was filled again in the second pass (see `fill_gaps`) with a
+    /// neighbour's first-pass fill as a donor; the evidence above is the first pass's.
+    pub refilled: bool,
+    /// For a refilled gap: the second pass's score on its artificial gaps over the first's.
+    pub rescored: Option<f64>,
 }
 
 impl Choice {
@@ -331,7 +342,7 @@ pub(super) fn fill_checked(
     // its own, so the artificial gaps say whether the constraint helps here. Short gaps
     // drift too little for it to matter.
     let mut skel = vec![false; fills.len()];
-    let real_sk = if len >= LONG {
+    let real_sk = if len >= SKELETON_FROM {
         Skeleton::new(t, span, plan, opts)
     } else {
         None
@@ -547,6 +558,8 @@ pub(super) fn fill_checked(
             .filter(|_| bend_holes > 0.0)
             .map(|b| b / (bend_holes / scored as f64)),
         drift: (ln_drift.1 > 0).then(|| (ln_drift.0 / ln_drift.1 as f64).exp()),
+        refilled: false,
+        rescored: None,
     };
     let choice = Choice {
         skeleton: blend.iter().any(|&(c, _)| skel[c]),
@@ -601,7 +614,8 @@ fn deviation(t: &Target, span: Span, v: &[[f64; 3]]) -> Option<f64> {
     Some(line.iter().zip(v).map(|(a, b)| dist(*a, *b)).sum::<f64>() / v.len().max(1) as f64)
 }
 
-/// The slot of a donor method in per-method tallies.
+/// The slot of a donor method in per-method tallies. The Kalman smoother has none: its
+/// residuals are its own smoothed estimate's, near zero at the anchors whatever the gap.
 fn donor_index(m: FillMethod) -> Option<usize> {
     match m {
         FillMethod::Rigid => Some(0),
@@ -664,17 +678,22 @@ fn fallback(mut fills: Vec<(FillMethod, Vec<[f64; 3]>)>, len: usize) -> (Vec<[f6
 /// is than the holes that scored it (see [`Diag`]). So with q = spread / scored,
 /// q₃ = spread3 / scored, h = spread_holes / scored (each ratio clamped to [0.05, 20], and
 /// 1 where unknown), ln(expected / scored) = β · [1, ln q, ln(len), (ln q)², ln q₃, ln h,
-/// ln bend, ln drift] + offset, fitted by median regression on the real trials of the
-/// evaluation (`cargo run --release -p repair --example fill_eval`, which also checks the
-/// model fitted leave-one-lab-out: Spearman 0.949, 80.9 % of gaps within 2× of their
-/// estimate, 5.0 % above twice it; with the spread, length and square alone 0.928, 74.3 %,
-/// 5.0 %), with the offset that leaves 5 % of those gaps above twice their estimate: the
-/// estimate is meant to vouch for a fill.
+/// ln bend, ln drift, refilled, ln rescored] + offset, fitted by median regression on the
+/// real trials of the evaluation (`cargo run --release -p repair --example fill_eval`,
+/// which also checks the model fitted leave-one-lab-out). A gap filled again in the second
+/// pass keeps the first pass's evidence, with `refilled` set and `rescored` (the second
+/// pass's score over the first's): the second pass's own scores come from artificial gaps
+/// with recorded donors where the real gap has filled ones, and alone were over-confident
+/// on 10–16 % of gaps. Leave-one-lab-out: Spearman 0.944, 77.6 % of gaps within 2× of their
+/// estimate, 4.9 % above twice it (80.9 % within 2× before the second pass, whose refills'
+/// errors the first pass's evidence describes less well; with the spread, length and
+/// square alone 74.3 %). The offset leaves 5 % of those gaps above twice their estimate:
+/// the estimate is meant to vouch for a fill.
 pub(crate) fn calibrated(d: &Diag) -> f64 {
-    const BETA: [f64; 8] = [
-        0.1815, 0.2885, -0.0641, 0.0731, 0.1755, -0.1042, 0.0984, 0.2459,
+    const BETA: [f64; 10] = [
+        0.1416, 0.2641, -0.0461, 0.0601, 0.1481, -0.1667, 0.1145, 0.2382, -0.0160, 0.2796,
     ];
-    const OFFSET: f64 = 0.1186;
+    const OFFSET: f64 = 0.1935;
     let s = d.scored.max(1e-12);
     let ln = |r: Option<f64>| r.map_or(0.0, |r| r.clamp(0.05, 20.0).ln());
     let q = ln(Some(d.spread / s));
@@ -687,6 +706,8 @@ pub(crate) fn calibrated(d: &Diag) -> f64 {
         ln(d.spread_holes.map(|v| v / s)),
         ln(d.bend),
         ln(d.drift),
+        f64::from(u8::from(d.refilled)),
+        ln(d.rescored),
     ];
     let z: f64 = BETA.iter().zip(x).map(|(b, x)| b * x).sum();
     s * (z + OFFSET).exp()
