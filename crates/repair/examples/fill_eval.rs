@@ -372,32 +372,18 @@ fn report(recs: &[Rec]) {
 }
 
 /// Features of the expected-error model: ln(expected / scored) = β · [1, ln q, ln(gap
-/// length), (ln q)², ln q₃, ln h, ln bend, ln drift] + offset, with q = spread / scored,
+/// length), (ln q)², ln q₃, ln h, ln bend, ln drift, refilled, ln rescored] + offset, with
+/// q = spread / scored,
 /// q₃ = spread3 / scored and h = spread_holes / scored, every ratio clamped to [0.05, 20]
 /// and taken as 1 where it is unknown (fewer than three or two candidates, holes without
 /// bend, no donor method). The square lets the estimate grow faster when the candidates
-/// disagree far beyond their scores. Keep in step with `repair`'s `calibrated`.
+/// disagree far beyond their scores. `repair` makes them, for `calibrated` and for this fit.
 fn features(g: &GapScore) -> Option<[f64; K]> {
-    let (s, sp) = (g.scored?, g.spread?);
-    let s = s.max(1e-9);
-    let ln = |r: Option<f64>| r.map_or(0.0, |r| r.clamp(0.05, 20.0).ln());
-    let q = ln(Some(sp / s));
-    Some([
-        1.0,
-        q,
-        (g.gap_len as f64).ln(),
-        q * q,
-        ln(g.spread3.map(|x| x / s)),
-        ln(g.spread_holes.map(|x| x / s)),
-        ln(g.bend),
-        ln(g.drift),
-        f64::from(u8::from(g.refilled)),
-        ln(g.rescored),
-    ])
+    g.calibration_features()
 }
 
 /// Number of features.
-const K: usize = 10;
+const K: usize = repair::fill::FEATURES;
 
 /// Median regression of ln(real / scored) on the features (iteratively reweighted least
 /// squares, residuals floored at 0.05), and the offset that leaves 5 % of the fitted gaps

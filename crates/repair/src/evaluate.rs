@@ -7,7 +7,8 @@ use serde::Serialize;
 
 use crate::error::{RepairError, Result};
 use crate::fill::{
-    fill_gaps, max_steps, step_ratio, Data, FillMethod, FillOptions, FillOutcome, Span, Target,
+    features, fill_gaps, max_steps, step_ratio, Data, Diag, FillMethod, FillOptions, FillOutcome,
+    Span, Target, FEATURES,
 };
 use crate::gaps::Gap;
 use crate::rng::SplitMix64;
@@ -116,6 +117,24 @@ pub struct Evaluation {
     /// Every filled artificial gap (not serialized: one record per gap and method).
     #[serde(skip)]
     pub gaps: Vec<GapScore>,
+}
+
+impl GapScore {
+    /// The features `auto`'s expected error is made from (`None` without its evidence), as
+    /// the evaluation that fits the model needs them.
+    pub fn calibration_features(&self) -> Option<[f64; FEATURES]> {
+        Some(features(&Diag {
+            scored: self.scored?,
+            spread: self.spread?,
+            len: self.gap_len,
+            spread3: self.spread3,
+            spread_holes: self.spread_holes,
+            bend: self.bend,
+            drift: self.drift,
+            refilled: self.refilled,
+            rescored: self.rescored,
+        }))
+    }
 }
 
 impl Evaluation {

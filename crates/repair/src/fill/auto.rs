@@ -690,14 +690,24 @@ fn fallback(mut fills: Vec<(FillMethod, Vec<[f64; 3]>)>, len: usize) -> (Vec<[f6
 /// square alone 74.3 %). The offset leaves 5 % of those gaps above twice their estimate:
 /// the estimate is meant to vouch for a fill.
 pub(crate) fn calibrated(d: &Diag) -> f64 {
-    const BETA: [f64; 10] = [
+    const BETA: [f64; FEATURES] = [
         0.1416, 0.2641, -0.0461, 0.0601, 0.1481, -0.1667, 0.1145, 0.2382, -0.0160, 0.2796,
     ];
     const OFFSET: f64 = 0.1935;
+    let z: f64 = BETA.iter().zip(features(d)).map(|(b, x)| b * x).sum();
+    d.scored.max(1e-12) * (z + OFFSET).exp()
+}
+
+/// Number of the expected-error model's features.
+pub const FEATURES: usize = 10;
+
+/// The expected-error model's features (see [`calibrated`]), shared with the evaluation
+/// that fits it.
+pub(crate) fn features(d: &Diag) -> [f64; FEATURES] {
     let s = d.scored.max(1e-12);
     let ln = |r: Option<f64>| r.map_or(0.0, |r| r.clamp(0.05, 20.0).ln());
     let q = ln(Some(d.spread / s));
-    let x = [
+    [
         1.0,
         q,
         (d.len as f64).ln(),
@@ -708,9 +718,7 @@ pub(crate) fn calibrated(d: &Diag) -> f64 {
         ln(d.drift),
         f64::from(u8::from(d.refilled)),
         ln(d.rescored),
-    ];
-    let z: f64 = BETA.iter().zip(x).map(|(b, x)| b * x).sum();
-    s * (z + OFFSET).exp()
+    ]
 }
 
 /// Expected error without any artificial gap to score on: a quarter of the distance the

@@ -19,7 +19,7 @@ use std::rc::Rc;
 use nalgebra::{DMatrix, DVector};
 
 use super::anchor::Raw;
-use super::pca::{centroid, row, sums, training, Sums};
+use super::pca::{centroid, row, scoring_group, sums, training, Sums};
 use super::{FillOptions, Plan, SkipReason, Span, Target};
 use crate::linalg::symmetric_eigen;
 
@@ -58,12 +58,12 @@ pub(super) fn raw(
         None => plan
             .kalman_model
             .get_or_init(|| {
-                let (s, _) = training(t, plan, opts, None)?;
+                let s = training(t, plan, opts, &[])?;
                 Model::train(&s, t, nb, opts).map(Rc::new)
             })
             .clone()?,
         Some(Some(h)) => {
-            let (s, g) = training(t, plan, opts, Some(h))?;
+            let (g, members) = scoring_group(t, plan, opts, h)?;
             let hit = plan
                 .kalman_scoring
                 .borrow()
@@ -73,6 +73,7 @@ pub(super) fn raw(
             match hit {
                 Some(m) => m,
                 None => {
+                    let s = training(t, plan, opts, &members)?;
                     let m = Rc::new(Model::train(&s, t, nb, opts)?);
                     plan.kalman_scoring.borrow_mut().push((g, Rc::clone(&m)));
                     m
@@ -85,14 +86,13 @@ pub(super) fn raw(
     };
     // The smoother's window: the context each side, within the run where every neighbour
     // is valid (the rows are centred on their centroid).
-    let ctx = CONTEXT;
     let all_nb = |f: usize| nb.iter().all(|&(j, _)| d.ok(j, f));
     let mut lo = lo_o;
-    while lo > 0 && lo_o - lo < ctx && all_nb(lo - 1) {
+    while lo > 0 && lo_o - lo < CONTEXT && all_nb(lo - 1) {
         lo -= 1;
     }
     let mut hi = hi_o;
-    while hi + 1 < d.frames && hi - hi_o < ctx && all_nb(hi + 1) {
+    while hi + 1 < d.frames && hi - hi_o < CONTEXT && all_nb(hi + 1) {
         hi += 1;
     }
     let z = model.smooth(t, nb, lo, hi)?;
@@ -471,7 +471,7 @@ mod tests {
         let span = Span::new(120, 159, data.frames);
         let opts = FillOptions::default();
         let plan = Plan::build(&t, span, &opts);
-        let (s, _) = training(&t, &plan, &opts, None).unwrap();
+        let s = training(&t, &plan, &opts, &[]).unwrap();
         let model = Model::train(&s, &t, &plan.pca, &opts).unwrap();
         assert!(model.r >= 3, "components kept: {}", model.r);
         let got = model.smooth(&t, &plan.pca, 100, 179).unwrap();

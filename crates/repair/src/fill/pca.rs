@@ -52,28 +52,16 @@ pub(super) fn raw(
         hole: plan.hole,
         ..*t
     };
-    let all = || {
-        plan.pca_sums
-            .get_or_init(|| sums(&base, plan.region, nb, opts))
-    };
+    let all = || plan_sums(t, plan, opts);
     // The model trained without the artificial hole `h` and the others of its group.
     let scoring = |h: (usize, usize)| -> &Result<Model, SkipReason> {
         let s = match all() {
             Ok(s) => s,
-            Err(e) => return plan.pca_model.get_or_init(|| Err(*e)),
+            Err(e) => return plan.pca_model.get_or_init(|| Err(e)),
         };
-        let holes = plan.exclude.get().map_or(&[][..], Vec::as_slice);
-        let (group_of, models) = plan.pca_scoring_models.get_or_init(|| groups(s, holes));
-        let g = group_of[holes.iter().position(|&x| x == h).unwrap_or(0)];
-        models[g].get_or_init(|| {
-            let members: Vec<(usize, usize)> = holes
-                .iter()
-                .zip(group_of)
-                .filter(|&(_, &k)| k == g)
-                .map(|(&x, _)| x)
-                .collect();
-            model(&without(s, &base, nb, &members), known, opts)
-        })
+        let (g, members) = group(plan, s, h);
+        let models = &scoring_models(plan, s).1;
+        models[g].get_or_init(|| model(&without(s, &base, nb, &members), known, opts))
     };
     let fresh;
     let model = match (t.hole, plan.hole) {
@@ -89,15 +77,10 @@ pub(super) fn raw(
             let h0 = plan.exclude.get().and_then(|v| v.first().copied());
             scoring(h0.unwrap_or((0, 0)))
         }
-        (h, p) if h == p => plan
-            .pca_model
-            .get_or_init(|| model(all().as_ref().map_err(|&e| e)?, known, opts)),
+        (h, p) if h == p => plan.pca_model.get_or_init(|| model(all()?, known, opts)),
         (Some(h), None) if plan.exclude.get().is_some_and(|v| v.contains(&h)) => scoring(h),
         (Some(h), None) => {
-            fresh = all()
-                .as_ref()
-                .map_err(|&e| e)
-                .and_then(|s| model(&without(s, &base, nb, &[h]), known, opts));
+            fresh = all().and_then(|s| model(&without(s, &base, nb, &[h]), known, opts));
             &fresh
         }
         _ => {
@@ -238,39 +221,64 @@ impl Sums {
     }
 }
 
-/// The training sums of the plan's window, and the artificial holes sharing a scoring
-/// model with hole `h` (see `groups`) with that model's index; with `h` `None`, every
-/// training row (the gap's own model). The Kalman smoother trains its models on the same
-/// rows as PCA, so both are scored alike.
-pub(super) fn training(
-    t: &Target,
-    plan: &Plan,
-    opts: &FillOptions,
-    h: Option<(usize, usize)>,
-) -> Result<(Sums, usize), SkipReason> {
-    let nb = &plan.pca;
-    let base = Target {
-        hole: plan.hole,
-        ..*t
-    };
-    let all = plan
-        .pca_sums
-        .get_or_init(|| sums(&base, plan.region, nb, opts))
-        .as_ref()
-        .map_err(|&e| e)?;
-    let Some(h) = h else {
-        return Ok((all.clone(), 0));
-    };
+/// The plan's scoring models, grouped on first use (see `groups`).
+fn scoring_models<'p>(plan: &'p Plan, all: &Sums) -> &'p ScoringModels {
     let holes = plan.exclude.get().map_or(&[][..], Vec::as_slice);
-    let (group_of, _) = plan.pca_scoring_models.get_or_init(|| groups(all, holes));
+    plan.pca_scoring_models.get_or_init(|| groups(all, holes))
+}
+
+/// The scoring model of artificial hole `h`: its index, and the holes trained without.
+fn group(plan: &Plan, all: &Sums, h: (usize, usize)) -> (usize, Vec<(usize, usize)>) {
+    let holes = plan.exclude.get().map_or(&[][..], Vec::as_slice);
+    let group_of = &scoring_models(plan, all).0;
     let g = group_of[holes.iter().position(|&x| x == h).unwrap_or(0)];
-    let members: Vec<(usize, usize)> = holes
+    let members = holes
         .iter()
         .zip(group_of)
         .filter(|&(_, &k)| k == g)
         .map(|(&x, _)| x)
         .collect();
-    Ok((without(all, &base, nb, &members), g))
+    (g, members)
+}
+
+/// The plan's training sums (the gap's own model's rows), gathered on first use.
+fn plan_sums<'p>(t: &Target, plan: &'p Plan, opts: &FillOptions) -> Result<&'p Sums, SkipReason> {
+    let base = Target {
+        hole: plan.hole,
+        ..*t
+    };
+    plan.pca_sums
+        .get_or_init(|| sums(&base, plan.region, &plan.pca, opts))
+        .as_ref()
+        .map_err(|&e| e)
+}
+
+/// Which of PCA's scoring models artificial hole `h` shares (see `groups`), and the holes
+/// it is trained without. The Kalman smoother trains its models on the same rows as PCA,
+/// so both are scored alike.
+pub(super) fn scoring_group(
+    t: &Target,
+    plan: &Plan,
+    opts: &FillOptions,
+    h: (usize, usize),
+) -> Result<(usize, Vec<(usize, usize)>), SkipReason> {
+    Ok(group(plan, plan_sums(t, plan, opts)?, h))
+}
+
+/// The training sums of the plan's window without the artificial holes `exclude` (none:
+/// the gap's own model's rows).
+pub(super) fn training(
+    t: &Target,
+    plan: &Plan,
+    opts: &FillOptions,
+    exclude: &[(usize, usize)],
+) -> Result<Sums, SkipReason> {
+    let all = plan_sums(t, plan, opts)?;
+    let base = Target {
+        hole: plan.hole,
+        ..*t
+    };
+    Ok(without(all, &base, &plan.pca, exclude))
 }
 
 /// Holes sharing a scoring model: consecutive ones while together they remove at most
