@@ -549,3 +549,31 @@ fn every_gap_filled_plausibly_with_an_expected_error_or_left_uncertain() {
     assert_eq!(sum["left_because"]["uncertain"], uncertain.len());
     assert!(sum["expected_error_mm_max"].as_f64().unwrap() <= 20.0);
 }
+
+/// `--fill kalman` alone fills every gap of the generated walk, short ones too (`auto`
+/// weighs the smoother from 40 frames only), each with an expected error.
+#[test]
+fn kalman_alone_fills_every_gap() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("k.c3d");
+    let o = c3dfix(&[
+        "repair",
+        s(&sample("walk_int.c3d")),
+        "-o",
+        s(&out),
+        "--fill",
+        "kalman",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["filled"], 9, "{v}");
+    assert_eq!(v["filled_by"]["kalman"], 9, "{v}");
+    for g in v["gap_list"].as_array().unwrap() {
+        assert_eq!(g["method"], "kalman", "{g}");
+        assert!(
+            g["expected_error_mm"].as_f64().is_some_and(|e| e > 0.0),
+            "{g}"
+        );
+    }
+}

@@ -279,7 +279,8 @@ pub(super) fn fill_checked(
         }
     };
     for &m in cands {
-        if m == FillMethod::Kalman && len < KALMAN_FROM {
+        // `auto` weighs the smoother on long gaps only; asked for alone, it fills any.
+        if m == FillMethod::Kalman && len < KALMAN_FROM && cands.len() > 1 {
             continue;
         }
         if m.is_donor() {
