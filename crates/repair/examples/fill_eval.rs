@@ -393,7 +393,12 @@ const K: usize = repair::fill::FEATURES;
 fn fit(gs: &[&GapScore]) -> Option<([f64; K], f64)> {
     let rows: Vec<([f64; K], f64)> = gs
         .iter()
-        .filter_map(|g| Some((features(g)?, (g.mean.max(1e-9) / g.scored?.max(1e-9)).ln())))
+        .filter_map(|g| {
+            Some((
+                features(g)?,
+                (g.mean.max(1e-9) / g.evidence?.scored.max(1e-9)).ln(),
+            ))
+        })
         .collect();
     if rows.len() < 2 * K {
         return None;
@@ -448,7 +453,7 @@ fn solve(mut m: [[f64; K + 1]; K]) -> Option<[f64; K]> {
 
 fn predict(g: &GapScore, beta: [f64; K], off: f64) -> Option<f64> {
     let x = features(g)?;
-    Some(g.scored? * (dot(&beta, &x) + off).exp())
+    Some(g.evidence?.scored * (dot(&beta, &x) + off).exp())
 }
 
 /// The expected-error model fitted leave-one-lab-out: each lab's gaps are estimated by a

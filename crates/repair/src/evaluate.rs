@@ -89,23 +89,9 @@ pub struct GapScore {
     /// Largest step of the fill (joins to the anchors included) divided by the marker's
     /// largest recorded step.
     pub step_ratio: f64,
-    /// What `expected` was made from: the choice's mean error on artificial gaps nearby,
-    /// and the mean distance between the two best candidates' fills of this gap.
-    pub scored: Option<f64>,
-    pub spread: Option<f64>,
-    /// How much harder the gap looks than the artificial gaps that scored it (see the
-    /// library's `Diag`): the mean distance between the best and third-best candidates'
-    /// fills, the two best candidates' mean distance on the artificial gaps, the fill's
-    /// deviation from the line between its anchors relative to the truth's on the
-    /// artificial gaps, the donor residuals' drift relative to theirs there.
-    pub spread3: Option<f64>,
-    pub spread_holes: Option<f64>,
-    pub bend: Option<f64>,
-    pub drift: Option<f64>,
-    /// Whether the second pass filled the gap again (the evidence is the first pass's).
-    pub refilled: bool,
-    /// For a refilled gap, the second pass's score over the first's.
-    pub rescored: Option<f64>,
+    /// What `expected` was made from (`auto` and checked single methods; see [`Diag`]).
+    #[serde(flatten)]
+    pub evidence: Option<Diag>,
 }
 
 /// All scores, method-major within each gap length.
@@ -123,17 +109,7 @@ impl GapScore {
     /// The features `auto`'s expected error is made from (`None` without its evidence), as
     /// the evaluation that fits the model needs them.
     pub fn calibration_features(&self) -> Option<[f64; FEATURES]> {
-        Some(features(&Diag {
-            scored: self.scored?,
-            spread: self.spread?,
-            len: self.gap_len,
-            spread3: self.spread3,
-            spread_holes: self.spread_holes,
-            bend: self.bend,
-            drift: self.drift,
-            refilled: self.refilled,
-            rescored: self.rescored,
-        }))
+        self.evidence.as_ref().map(features)
     }
 }
 
@@ -371,14 +347,7 @@ fn run_group(trial: &Trial, g: &[(usize, usize)], len: usize, cfg: &EvalConfig) 
                             max: errs.iter().copied().fold(0.0, f64::max),
                             expected: expected_error,
                             step_ratio: step_ratio(&t, Span::of(gap, data.frames), &v),
-                            scored: diag.map(|d| d.scored),
-                            spread: diag.map(|d| d.spread),
-                            spread3: diag.and_then(|d| d.spread3),
-                            spread_holes: diag.and_then(|d| d.spread_holes),
-                            bend: diag.and_then(|d| d.bend),
-                            drift: diag.and_then(|d| d.drift),
-                            refilled: diag.is_some_and(|d| d.refilled),
-                            rescored: diag.and_then(|d| d.rescored),
+                            evidence: diag,
                         });
                         e.extend(errs);
                     }

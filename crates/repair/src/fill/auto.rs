@@ -16,6 +16,8 @@
 //! trial is scored with never saw the trial's hole.
 //! Without any artificial gap, PCA is used for long gaps and the quintic for short ones.
 
+use serde::Serialize;
+
 use super::anchor::Raw;
 use super::skeleton::Skeleton;
 use super::{
@@ -117,8 +119,8 @@ pub(crate) struct Choice {
 /// the other relative to the holes (`drift`, geometric mean over the donor methods: the
 /// linear tie to the anchors assumes a steady drift, so a large one means an error the
 /// anchors only partly correct).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Diag {
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Diag {
     pub scored: f64,
     pub spread: f64,
     pub len: usize,

@@ -19,7 +19,7 @@ use std::rc::Rc;
 use nalgebra::{DMatrix, DVector};
 
 use super::anchor::Raw;
-use super::pca::{centroid, row, scoring_group, sums, training, Sums};
+use super::pca::{centroid, neighbours_through, row, scoring_group, sums, training, Sums};
 use super::{FillOptions, Plan, SkipReason, Span, Target};
 use crate::linalg::symmetric_eigen;
 
@@ -41,11 +41,8 @@ pub(super) fn raw(
     per_side: usize,
 ) -> Result<Raw, SkipReason> {
     let d = t.data;
-    let nb = &plan.pca;
+    let nb = neighbours_through(t, span, plan)?;
     let (lo_o, hi_o) = span.outer();
-    if nb.len() < 2 || !nb.iter().all(|&(j, _)| d.ok_through(j, lo_o, hi_o)) {
-        return Err(SkipReason::NoDonors);
-    }
     // The gap itself has a model trained on every row; `auto`'s artificial gaps in the
     // same marker share PCA's scoring models' rows (trained without a few holes at a
     // time); any other hole gets a model of its own.

@@ -20,8 +20,8 @@ use serde::Serialize;
 use crate::error::{RepairError, Result};
 use crate::gaps::Gap;
 
-pub use auto::FEATURES;
-pub(crate) use auto::{features, Diag};
+pub(crate) use auto::features;
+pub use auto::{Diag, FEATURES};
 pub(crate) use plan::Plan;
 
 /// How gaps are filled.

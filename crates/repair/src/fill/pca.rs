@@ -41,11 +41,7 @@ pub(super) fn raw(
     per_side: usize,
 ) -> Result<Raw, SkipReason> {
     let d = t.data;
-    let nb = &plan.pca;
-    let (lo_o, hi_o) = span.outer();
-    if nb.len() < 2 || !nb.iter().all(|&(j, _)| d.ok_through(j, lo_o, hi_o)) {
-        return Err(SkipReason::NoDonors);
-    }
+    let nb = neighbours_through(t, span, plan)?;
     let known = 3 * nb.len();
     // The target as the plan saw it (with the plan's own hole, if any).
     let base = Target {
@@ -219,6 +215,21 @@ impl Sums {
         }
         (mean, cov)
     }
+}
+
+/// The plan's PCA neighbours, when there are at least two and each is valid through the
+/// span and its anchors (the rows are centred on their centroid frame by frame).
+pub(super) fn neighbours_through<'p>(
+    t: &Target,
+    span: Span,
+    plan: &'p Plan,
+) -> Result<&'p [(usize, f64)], SkipReason> {
+    let nb = &plan.pca;
+    let (lo, hi) = span.outer();
+    if nb.len() < 2 || !nb.iter().all(|&(j, _)| t.data.ok_through(j, lo, hi)) {
+        return Err(SkipReason::NoDonors);
+    }
+    Ok(nb)
 }
 
 /// The plan's scoring models, grouped on first use (see `groups`).
