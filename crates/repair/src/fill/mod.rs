@@ -21,7 +21,7 @@ use crate::error::{RepairError, Result};
 use crate::gaps::Gap;
 
 pub(crate) use auto::features;
-pub use auto::{Diag, FEATURES};
+pub use auto::{log_ratio, Diag, FEATURES};
 pub(crate) use plan::Plan;
 
 /// How gaps are filled.
@@ -608,11 +608,12 @@ pub(crate) fn fill_gaps(
     if !(opts.method.is_donor() || opts.method == FillMethod::Auto) {
         return first;
     }
-    // Per marker, the frames the first pass filled.
-    let mut filled: Vec<Vec<(usize, usize)>> = vec![Vec::new(); xyz.len()];
+    // Per marker, the frames the first pass filled and the fills' scores on their artificial
+    // gaps (the raw evidence, not the calibrated estimate, which is fitted with it).
+    let mut filled: Vec<Vec<(usize, usize, Option<f64>)>> = vec![Vec::new(); xyz.len()];
     for (g, r) in gaps.iter().zip(&first) {
         if r.0.is_some() {
-            filled[g.marker].push((g.first, g.last));
+            filled[g.marker].push((g.first, g.last, r.2.map(|d| d.scored)));
         }
     }
     if filled.iter().all(Vec::is_empty) {
@@ -625,13 +626,13 @@ pub(crate) fn fill_gaps(
     let near_filled = |plan: &Plan, span: Span| {
         let (lo, hi) = span.outer();
         plan.pca.iter().take(REFILL_NEAREST).any(|&(j, _)| {
-            filled[j].iter().any(|&(a, b)| a <= hi && b >= lo)
+            filled[j].iter().any(|&(a, b, _)| a <= hi && b >= lo)
                 && valid[j][span.first..=span.last].contains(&true)
         })
     };
     let mut valid2 = valid.to_vec();
     for (m, ranges) in filled.iter().enumerate() {
-        for &(a, b) in ranges {
+        for &(a, b, _) in ranges {
             valid2[m][a..=b].fill(true);
         }
     }
@@ -662,16 +663,26 @@ pub(crate) fn fill_gaps(
                 // donors where the real gap has filled ones, so its own estimate is
                 // over-confident (on the corpus evaluation, 10 % of gaps above twice
                 // their estimate instead of 5 %).
+                // A refill whose estimate is above `max_expected_error` (it leans on fills
+                // less sure than the recorded donors of the first pass) gives way to the
+                // first pass's fill, which its estimate vouched for.
                 // A gap the first pass could not fill keeps the second pass's own.
-                ((Some(v), again, own), (_, first, diag)) => match (&first, diag) {
-                    (FillOutcome::Filled { .. }, Some(d)) => {
+                ((Some(v), again, own), (v1, first, diag)) => match (&first, diag) {
+                    (FillOutcome::Filled { .. }, Some(d1)) => {
+                        let (donor_err, share) = filled_donors(&plan, g, &filled, valid);
                         let d = auto::Diag {
                             refilled: true,
-                            rescored: own.map(|o| o.scored / d.scored.max(1e-12)),
-                            ..d
+                            donor_err: donor_err.map(|e| e / d1.scored.max(1e-12)),
+                            share,
+                            rescored: own.map(|o| o.scored / d1.scored.max(1e-12)),
+                            ..d1
                         };
-                        let e = Some(auto::calibrated(&d));
-                        (Some(v), again.with_expected_error(e), Some(d))
+                        let e = auto::calibrated(&d);
+                        if opts.max_expected_error.is_some_and(|max| e > max) {
+                            (v1, first, Some(d1))
+                        } else {
+                            (Some(v), again.with_expected_error(Some(e)), Some(d))
+                        }
                     }
                     (FillOutcome::Filled { expected_error, .. }, None) => {
                         (Some(v), again.with_expected_error(*expected_error), None)
@@ -684,6 +695,29 @@ pub(crate) fn fill_gaps(
         .collect();
     write(xyz, &out);
     out
+}
+
+/// What a refilled gap leans on: the largest first-pass score (mean error on artificial
+/// gaps) among the fills of its nearest donors that overlap it, and the largest share of its frames where one of
+/// those donors is not recorded (so is a fill).
+fn filled_donors(
+    plan: &Plan,
+    g: &Gap,
+    filled: &[Vec<(usize, usize, Option<f64>)>],
+    valid: &[Vec<bool>],
+) -> (Option<f64>, Option<f64>) {
+    let (mut err, mut share) = (None::<f64>, None::<f64>);
+    let n = (g.last - g.first + 1) as f64;
+    for &(j, _) in plan.pca.iter().take(REFILL_NEAREST) {
+        for &(a, b, e) in &filled[j] {
+            if let (true, Some(e)) = (a <= g.last && b >= g.first, e) {
+                err = Some(err.map_or(e, |x| x.max(e)));
+            }
+        }
+        let missing = valid[j][g.first..=g.last].iter().filter(|v| !**v).count() as f64 / n;
+        share = Some(share.map_or(missing, |x| x.max(missing)));
+    }
+    (err, share)
 }
 
 #[cfg(test)]
