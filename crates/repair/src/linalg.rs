@@ -1,6 +1,6 @@
 //! Small dense helpers: Gaussian elimination, Kabsch, symmetric eigen (via nalgebra).
 
-use nalgebra::{DMatrix, Matrix3, Vector3};
+use nalgebra::{DMatrix, Matrix3, Matrix4, Vector3, Vector4};
 
 /// Solves `a x = rhs` in place for `n` unknowns and `r` right-hand sides by Gaussian
 /// elimination with partial pivoting. `a` is row-major n×n, `rhs` row-major n×r. Returns
@@ -128,16 +128,129 @@ pub(crate) fn kabsch(p: &[[f64; 3]], q: &[[f64; 3]]) -> Option<Rigid> {
             h += np * nq.transpose() * h.norm();
         }
     }
-    let rot = polar_rotation(&h.transpose()).or_else(|| {
-        let svd = h.svd(true, true);
-        let (u, vt) = (svd.u?, svd.v_t?);
-        let v = vt.transpose();
-        let d = (v * u.transpose()).determinant().signum();
-        let fix = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, if d < 0.0 { -1.0 } else { 1.0 }));
-        Some(v * fix * u.transpose())
-    })?;
+    let rot = quaternion_rotation(&h)
+        .or_else(|| polar_rotation(&h.transpose()))
+        .or_else(|| {
+            let svd = h.svd(true, true);
+            let (u, vt) = (svd.u?, svd.v_t?);
+            let v = vt.transpose();
+            let d = (v * u.transpose()).determinant().signum();
+            let fix =
+                Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, if d < 0.0 { -1.0 } else { 1.0 }));
+            Some(v * fix * u.transpose())
+        })?;
     let trans = cq - rot * cp;
     Some(Rigid { rot, trans })
+}
+
+/// Kabsch's rotation from the cross-covariance `h` (Σ (p − p̄)(q − q̄)ᵀ) by Horn's
+/// quaternion method: the rotation is the unit quaternion that is the eigenvector of the
+/// largest eigenvalue of a traceless symmetric 4 × 4 matrix made from `h`. That eigenvalue
+/// is found by Newton's method on the characteristic quartic from an upper bound (the
+/// quaternion characteristic polynomial method of Theobald 2005), the eigenvector as a
+/// column of the adjugate of K − λI. It is always a proper rotation, the one Kabsch's sign
+/// fix gives, at under half the cost of the polar iteration: the rigid fill makes one per
+/// frame, and they were an eighth of `auto`'s time (single-threaded `auto` on the synthetic
+/// 100-marker trial: 1.35 s against 1.48–1.62 s). `None` when the largest eigenvalue is
+/// (nearly) repeated, so the rotation is not determined by the eigenvector alone.
+fn quaternion_rotation(h: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+    let (sxx, sxy, sxz) = (h[(0, 0)], h[(0, 1)], h[(0, 2)]);
+    let (syx, syy, syz) = (h[(1, 0)], h[(1, 1)], h[(1, 2)]);
+    let (szx, szy, szz) = (h[(2, 0)], h[(2, 1)], h[(2, 2)]);
+    #[rustfmt::skip]
+    let k = Matrix4::new(
+        sxx + syy + szz, syz - szy, szx - sxz, sxy - syx,
+        syz - szy, sxx - syy - szz, sxy + syx, szx + sxz,
+        szx - sxz, sxy + syx, -sxx + syy - szz, syz + szy,
+        sxy - syx, szx + sxz, syz + szy, -sxx - syy + szz,
+    );
+    // det(λI − K) = λ⁴ − (tr K² / 2) λ² − (tr K³ / 3) λ + det K, as K is traceless.
+    let k2 = k * k;
+    let t2 = k2.trace();
+    let t3 = k2.component_mul(&k).sum();
+    let det = adjugate4(&k).0;
+    let norm = h.norm();
+    if !(norm.is_finite() && norm > 0.0) {
+        return None;
+    }
+    // The largest eigenvalue is at most the sum of h's singular values, ≤ √3 ‖h‖.
+    let mut l = 3f64.sqrt() * norm;
+    for i in 0.. {
+        let p = ((l * l - 0.5 * t2) * l - t3 / 3.0) * l + det;
+        let dp = (4.0 * l * l - t2) * l - t3 / 3.0;
+        if dp == 0.0 || i == 60 {
+            return None;
+        }
+        let step = p / dp;
+        l -= step;
+        if step.abs() <= 1e-13 * norm {
+            break;
+        }
+    }
+    // A column of adj(K − λI) spans its null space when it has rank 3: the largest one.
+    let adj = adjugate4(&(k - Matrix4::identity() * l)).1;
+    let mut best = (0.0, Vector4::zeros());
+    for c in 0..4 {
+        let v: Vector4<f64> = adj.column(c).into();
+        let n2 = v.norm_squared();
+        if n2 > best.0 {
+            best = (n2, v);
+        }
+    }
+    // A repeated top eigenvalue (collinear donors: the rotation about their line is not
+    // determined) leaves every column nearly zero, and Newton's method reaches a double
+    // root only to about √ε; those are left to the polar factor and the SVD.
+    if best.0.sqrt() < 1e-6 * norm.powi(3) {
+        return None;
+    }
+    let q = best.1 / best.0.sqrt();
+    let (w, x, y, z) = (q[0], q[1], q[2], q[3]);
+    #[rustfmt::skip]
+    let r = Matrix3::new(
+        w * w + x * x - y * y - z * z, 2.0 * (x * y - w * z), 2.0 * (x * z + w * y),
+        2.0 * (x * y + w * z), w * w - x * x + y * y - z * z, 2.0 * (y * z - w * x),
+        2.0 * (x * z - w * y), 2.0 * (y * z + w * x), w * w - x * x - y * y + z * z,
+    );
+    Some(r)
+}
+
+/// The determinant and the adjugate (`a · adj = det · I`) of a 4 × 4 matrix, from the
+/// 2 × 2 minors of its top and bottom row pairs (Laplace expansion).
+fn adjugate4(a: &Matrix4<f64>) -> (f64, Matrix4<f64>) {
+    let e = |r: usize, c: usize| a[(r, c)];
+    let s0 = e(0, 0) * e(1, 1) - e(1, 0) * e(0, 1);
+    let s1 = e(0, 0) * e(1, 2) - e(1, 0) * e(0, 2);
+    let s2 = e(0, 0) * e(1, 3) - e(1, 0) * e(0, 3);
+    let s3 = e(0, 1) * e(1, 2) - e(1, 1) * e(0, 2);
+    let s4 = e(0, 1) * e(1, 3) - e(1, 1) * e(0, 3);
+    let s5 = e(0, 2) * e(1, 3) - e(1, 2) * e(0, 3);
+    let c5 = e(2, 2) * e(3, 3) - e(3, 2) * e(2, 3);
+    let c4 = e(2, 1) * e(3, 3) - e(3, 1) * e(2, 3);
+    let c3 = e(2, 1) * e(3, 2) - e(3, 1) * e(2, 2);
+    let c2 = e(2, 0) * e(3, 3) - e(3, 0) * e(2, 3);
+    let c1 = e(2, 0) * e(3, 2) - e(3, 0) * e(2, 2);
+    let c0 = e(2, 0) * e(3, 1) - e(3, 0) * e(2, 1);
+    let det = s0 * c5 - s1 * c4 + s2 * c3 + s3 * c2 - s4 * c1 + s5 * c0;
+    #[rustfmt::skip]
+    let adj = Matrix4::new(
+        e(1, 1) * c5 - e(1, 2) * c4 + e(1, 3) * c3,
+        -e(0, 1) * c5 + e(0, 2) * c4 - e(0, 3) * c3,
+        e(3, 1) * s5 - e(3, 2) * s4 + e(3, 3) * s3,
+        -e(2, 1) * s5 + e(2, 2) * s4 - e(2, 3) * s3,
+        -e(1, 0) * c5 + e(1, 2) * c2 - e(1, 3) * c1,
+        e(0, 0) * c5 - e(0, 2) * c2 + e(0, 3) * c1,
+        -e(3, 0) * s5 + e(3, 2) * s2 - e(3, 3) * s1,
+        e(2, 0) * s5 - e(2, 2) * s2 + e(2, 3) * s1,
+        e(1, 0) * c4 - e(1, 1) * c2 + e(1, 3) * c0,
+        -e(0, 0) * c4 + e(0, 1) * c2 - e(0, 3) * c0,
+        e(3, 0) * s4 - e(3, 1) * s2 + e(3, 3) * s0,
+        -e(2, 0) * s4 + e(2, 1) * s2 - e(2, 3) * s0,
+        -e(1, 0) * c3 + e(1, 1) * c1 - e(1, 2) * c0,
+        e(0, 0) * c3 - e(0, 1) * c1 + e(0, 2) * c0,
+        -e(3, 0) * s3 + e(3, 1) * s1 - e(3, 2) * s0,
+        e(2, 0) * s3 - e(2, 1) * s1 + e(2, 2) * s0,
+    );
+    (det, adj)
 }
 
 /// The orthogonal polar factor of `a` when it is a proper rotation, by scaled Newton
@@ -222,6 +335,73 @@ mod tests {
 
     fn centroid(s: &[[f64; 3]]) -> Vector3<f64> {
         s.iter().map(|v| Vector3::from(*v)).sum::<Vector3<f64>>() / s.len() as f64
+    }
+
+    /// Horn's quaternion rotation equals the polar factor (Kabsch's rotation) on noisy and
+    /// planar clusters, and on ones whose best fit without the sign fix is a reflection.
+    #[test]
+    fn quaternion_rotation_matches_polar_factor() {
+        let mut seed = 11u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut checked = 0;
+        for case in 0..400 {
+            let n = 3 + case % 5;
+            let p: Vec<[f64; 3]> = (0..n)
+                .map(|_| {
+                    [
+                        100.0 * next(),
+                        100.0 * next(),
+                        if case % 7 == 0 { 0.0 } else { 100.0 * next() },
+                    ]
+                })
+                .collect();
+            let rot =
+                nalgebra::Rotation3::from_euler_angles(6.0 * next(), 6.0 * next(), 6.0 * next())
+                    .into_inner();
+            let mirror = case % 3 == 0;
+            let q: Vec<[f64; 3]> = p
+                .iter()
+                .map(|&x| {
+                    let mut v = rot * Vector3::from(x);
+                    if mirror {
+                        v.x = -v.x;
+                    }
+                    [v.x + 5.0 * next(), v.y + 5.0 * next(), v.z + 5.0 * next()]
+                })
+                .collect();
+            let (cp, cq) = (centroid(&p), centroid(&q));
+            let mut h = Matrix3::zeros();
+            for (a, b) in p.iter().zip(&q) {
+                h += (Vector3::from(*a) - cp) * (Vector3::from(*b) - cq).transpose();
+            }
+            let reference = polar_rotation(&h.transpose()).or_else(|| {
+                let svd = h.svd(true, true);
+                let (u, v) = (svd.u?, svd.v_t?.transpose());
+                let d = (v * u.transpose()).determinant().signum();
+                Some(v * Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, d)) * u.transpose())
+            });
+            if let (Some(a), Some(b)) = (quaternion_rotation(&h), reference) {
+                assert!((a - b).norm() < 1e-8, "case {case}: {a} vs {b}");
+                assert!((a.determinant() - 1.0).abs() < 1e-12);
+                checked += 1;
+            }
+        }
+        assert!(checked > 390, "{checked}");
+    }
+
+    #[test]
+    fn adjugate_times_matrix_is_determinant() {
+        let a = Matrix4::new(
+            2.0, -1.0, 0.5, 3.0, 0.0, 4.0, 1.0, -2.0, 1.5, 2.0, -3.0, 0.5, -1.0, 0.0, 2.0, 1.0,
+        );
+        let (det, adj) = adjugate4(&a);
+        assert!((det - a.determinant()).abs() < 1e-9);
+        assert!((a * adj - Matrix4::identity() * det).norm() < 1e-9);
     }
 
     #[test]
