@@ -726,7 +726,7 @@ pub(crate) fn calibrated(d: &Diag) -> f64 {
     d.scored.max(1e-12) * log_ratio(&features(d), &BETA, &GAMMA, C1, C0).exp()
 }
 
-/// ln(expected / scored) for features `x` under the model of [`calibrated`] (shared with the
+/// ln(expected / scored) for features `x` under `auto`'s expected-error model (shared with the
 /// evaluation that fits it).
 pub fn log_ratio(
     x: &[f64; FEATURES],
