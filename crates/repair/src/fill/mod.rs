@@ -675,6 +675,7 @@ pub(crate) fn fill_gaps(
                             donor_err: donor_err.map(|e| e / d1.scored.max(1e-12)),
                             share,
                             rescored: own.map(|o| o.scored / d1.scored.max(1e-12)),
+                            respread: own.map(|o| o.spread / d1.spread.max(1e-12)),
                             ..d1
                         };
                         let e = auto::calibrated(&d);
