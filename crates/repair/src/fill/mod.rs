@@ -699,8 +699,8 @@ pub(crate) fn fill_gaps(
 }
 
 /// What a refilled gap leans on: the largest first-pass score (mean error on artificial
-/// gaps) among the fills of its nearest donors that overlap it, and the largest share of its frames where one of
-/// those donors is not recorded (so is a fill).
+/// gaps) among the fills of its nearest donors that overlap it, and the largest share of
+/// its frames where one of those donors is not recorded (so is a fill).
 fn filled_donors(
     plan: &Plan,
     g: &Gap,
