@@ -341,13 +341,8 @@ mod tests {
     /// planar clusters, and on ones whose best fit without the sign fix is a reflection.
     #[test]
     fn quaternion_rotation_matches_polar_factor() {
-        let mut seed = 11u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rng = crate::rng::SplitMix64::new(11);
+        let mut next = || rng.uniform() - 0.5;
         let mut checked = 0;
         for case in 0..400 {
             let n = 3 + case % 5;
