@@ -168,7 +168,7 @@ fn quaternion_rotation(h: &Matrix3<f64>) -> Option<Matrix3<f64>> {
     let k2 = k * k;
     let t2 = k2.trace();
     let t3 = k2.component_mul(&k).sum();
-    let det = adjugate4(&k).0;
+    let det = det4(&k);
     let norm = h.norm();
     if !(norm.is_finite() && norm > 0.0) {
         return None;
@@ -188,7 +188,7 @@ fn quaternion_rotation(h: &Matrix3<f64>) -> Option<Matrix3<f64>> {
         }
     }
     // A column of adj(K − λI) spans its null space when it has rank 3: the largest one.
-    let adj = adjugate4(&(k - Matrix4::identity() * l)).1;
+    let adj = adjugate4(&(k - Matrix4::identity() * l));
     let mut best = (0.0, Vector4::zeros());
     for c in 0..4 {
         let v: Vector4<f64> = adj.column(c).into();
@@ -214,23 +214,42 @@ fn quaternion_rotation(h: &Matrix3<f64>) -> Option<Matrix3<f64>> {
     Some(r)
 }
 
-/// The determinant and the adjugate (`a · adj = det · I`) of a 4 × 4 matrix, from the
-/// 2 × 2 minors of its top and bottom row pairs (Laplace expansion).
-fn adjugate4(a: &Matrix4<f64>) -> (f64, Matrix4<f64>) {
+/// The 2 × 2 minors of a 4 × 4 matrix's top row pair (`s`) and bottom row pair (`c`), from
+/// which both its determinant and its adjugate follow (Laplace expansion).
+fn pair_minors(a: &Matrix4<f64>) -> ([f64; 6], [f64; 6]) {
     let e = |r: usize, c: usize| a[(r, c)];
-    let s0 = e(0, 0) * e(1, 1) - e(1, 0) * e(0, 1);
-    let s1 = e(0, 0) * e(1, 2) - e(1, 0) * e(0, 2);
-    let s2 = e(0, 0) * e(1, 3) - e(1, 0) * e(0, 3);
-    let s3 = e(0, 1) * e(1, 2) - e(1, 1) * e(0, 2);
-    let s4 = e(0, 1) * e(1, 3) - e(1, 1) * e(0, 3);
-    let s5 = e(0, 2) * e(1, 3) - e(1, 2) * e(0, 3);
-    let c5 = e(2, 2) * e(3, 3) - e(3, 2) * e(2, 3);
-    let c4 = e(2, 1) * e(3, 3) - e(3, 1) * e(2, 3);
-    let c3 = e(2, 1) * e(3, 2) - e(3, 1) * e(2, 2);
-    let c2 = e(2, 0) * e(3, 3) - e(3, 0) * e(2, 3);
-    let c1 = e(2, 0) * e(3, 2) - e(3, 0) * e(2, 2);
-    let c0 = e(2, 0) * e(3, 1) - e(3, 0) * e(2, 1);
-    let det = s0 * c5 - s1 * c4 + s2 * c3 + s3 * c2 - s4 * c1 + s5 * c0;
+    let top = |i: usize, j: usize| e(0, i) * e(1, j) - e(1, i) * e(0, j);
+    let bottom = |i: usize, j: usize| e(2, i) * e(3, j) - e(3, i) * e(2, j);
+    (
+        [
+            top(0, 1),
+            top(0, 2),
+            top(0, 3),
+            top(1, 2),
+            top(1, 3),
+            top(2, 3),
+        ],
+        [
+            bottom(0, 1),
+            bottom(0, 2),
+            bottom(0, 3),
+            bottom(1, 2),
+            bottom(1, 3),
+            bottom(2, 3),
+        ],
+    )
+}
+
+/// The determinant of a 4 × 4 matrix (see [`pair_minors`]).
+fn det4(a: &Matrix4<f64>) -> f64 {
+    let ([s0, s1, s2, s3, s4, s5], [c0, c1, c2, c3, c4, c5]) = pair_minors(a);
+    s0 * c5 - s1 * c4 + s2 * c3 + s3 * c2 - s4 * c1 + s5 * c0
+}
+
+/// The adjugate of a 4 × 4 matrix (`a · adj = det · I`; see [`pair_minors`]).
+fn adjugate4(a: &Matrix4<f64>) -> Matrix4<f64> {
+    let e = |r: usize, c: usize| a[(r, c)];
+    let ([s0, s1, s2, s3, s4, s5], [c0, c1, c2, c3, c4, c5]) = pair_minors(a);
     #[rustfmt::skip]
     let adj = Matrix4::new(
         e(1, 1) * c5 - e(1, 2) * c4 + e(1, 3) * c3,
@@ -250,7 +269,7 @@ fn adjugate4(a: &Matrix4<f64>) -> (f64, Matrix4<f64>) {
         -e(3, 0) * s3 + e(3, 1) * s1 - e(3, 2) * s0,
         e(2, 0) * s3 - e(2, 1) * s1 + e(2, 2) * s0,
     );
-    (det, adj)
+    adj
 }
 
 /// The orthogonal polar factor of `a` when it is a proper rotation, by scaled Newton
@@ -394,7 +413,7 @@ mod tests {
         let a = Matrix4::new(
             2.0, -1.0, 0.5, 3.0, 0.0, 4.0, 1.0, -2.0, 1.5, 2.0, -3.0, 0.5, -1.0, 0.0, 2.0, 1.0,
         );
-        let (det, adj) = adjugate4(&a);
+        let (det, adj) = (det4(&a), adjugate4(&a));
         assert!((det - a.determinant()).abs() < 1e-9);
         assert!((a * adj - Matrix4::identity() * det).norm() < 1e-9);
     }
