@@ -526,6 +526,11 @@ impl C3d {
         self.analog_calibration().apply(self.analog())
     }
 
+    /// The force plates FORCE_PLATFORM describes, checked against the analog channels.
+    pub fn platform_params(&self) -> crate::PlatformParams {
+        crate::platform_params(&self.parameters, self.analog_channels())
+    }
+
     /// Events from the header and from the EVENT group.
     pub fn header_events(&self) -> Vec<HeaderEvent> {
         self.header.events()

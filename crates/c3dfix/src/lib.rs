@@ -24,11 +24,13 @@ pub mod evaluate;
 mod gaps;
 pub mod markers;
 mod options;
+pub mod platforms;
 mod repair;
 pub mod save;
 pub mod trial;
 
 pub use ::c3d;
+pub use ::kinetics;
 pub use ::repair as repair_lib;
 pub use error::{Error, Result};
 pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
@@ -37,6 +39,7 @@ pub use options::{
     fill_method, filter_spec, max_expected_error, method_name, spike_options, RepairOptions,
     DEFAULT_MAX_EXPECTED_ERROR_MM,
 };
+pub use platforms::{force_platforms, ForceOptions, ForcePlatforms, PlateWarning, Platform};
 pub use repair::{repair, GapBrief, Repaired, Summary};
 pub use trial::{open, open_mapped};
 

@@ -31,6 +31,9 @@ enum Command {
     Export(commands::export::Args),
     /// List every gap of every marker.
     Gaps(commands::gaps::Args),
+    /// Force platforms: ground reaction force, moment, centre of pressure, free moment and
+    /// contact intervals of every plate.
+    Forces(commands::forces::Args),
     /// Remove spikes, fill gaps and low-pass filter one file.
     Repair(commands::repair::Args),
     /// Repair many files (folders recursively, lists, shards), in parallel.
@@ -67,6 +70,7 @@ fn main() {
         Command::Diff(a) => commands::diff::run(a),
         Command::Export(a) => commands::export::run(a),
         Command::Gaps(a) => commands::gaps::run(a),
+        Command::Forces(a) => commands::forces::run(a),
         Command::Repair(a) => commands::repair::run(a),
         Command::Batch(a) => commands::batch::run(a),
         Command::Evaluate(a) => commands::evaluate::run(a),

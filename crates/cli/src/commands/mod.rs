@@ -6,6 +6,7 @@ pub mod convert;
 pub mod diff;
 pub mod evaluate;
 pub mod export;
+pub mod forces;
 pub mod gaps;
 pub mod info;
 pub mod keyframes;

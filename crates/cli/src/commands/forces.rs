@@ -1,0 +1,186 @@
+//! `c3dfix forces`: ground reaction force, moment, centre of pressure and free moment of
+//! every force plate, with the contact intervals a gait lab reads as foot-strike and
+//! foot-off.
+
+use crate::commands::info::read_c3d;
+use crate::console::{errln, outln};
+use crate::output::{refuse_input, write_atomic};
+use anyhow::{bail, Result};
+use c3dfix::{ForceOptions, ForcePlatforms};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args)]
+pub struct Args {
+    pub file: PathBuf,
+    /// Print JSON (every sample of every plate) instead of a summary.
+    #[arg(long)]
+    pub json: bool,
+    /// |Fz| in N below which the COP and free moment are undefined, and which bounds the
+    /// contact intervals.
+    #[arg(long, default_value_t = c3dfix::platforms::DEFAULT_THRESHOLD_N)]
+    pub threshold: f64,
+    /// Subtract each channel's mean over FORCE_PLATFORM:ZERO's frames first.
+    #[arg(long)]
+    pub zero_baseline: bool,
+    /// Zero-phase low-pass filter of the plates' channels: butterworth:ORDER:CUTOFF_HZ or
+    /// cheby2:ORDER:CUTOFF_HZ:ATTEN_DB (as for markers).
+    #[arg(long)]
+    pub lowpass: Option<String>,
+    /// Write every sample to a file: JSON (`.json`) or CSV (`.csv`).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Replace an existing output file.
+    #[arg(long)]
+    pub force: bool,
+}
+
+pub fn run(a: Args) -> Result<i32> {
+    let table = match &a.output {
+        Some(out) => {
+            refuse_input(out, &[&a.file], "output")?;
+            match out.extension().and_then(|e| e.to_str()) {
+                Some(e) if e.eq_ignore_ascii_case("json") => Some(false),
+                Some(e) if e.eq_ignore_ascii_case("csv") => Some(true),
+                _ => bail!(
+                    "{}: the output's extension must be .json or .csv",
+                    out.display()
+                ),
+            }
+        }
+        None => None,
+    };
+    let c = read_c3d(&a.file)?;
+    let opts = ForceOptions {
+        threshold: a.threshold,
+        zero_baseline: a.zero_baseline,
+        lowpass: a.lowpass.clone(),
+    };
+    let fp = c3dfix::force_platforms(&c, &opts)?;
+    for w in &fp.warnings {
+        errln!("c3dfix: warning: {}: {w}", a.file.display());
+    }
+    if let (Some(out), Some(csv)) = (&a.output, table) {
+        let text = if csv {
+            csv_table(&fp)?
+        } else {
+            json(&a.file, &fp)?
+        };
+        write_atomic(out, text.as_bytes(), a.force)?;
+    }
+    if a.json {
+        outln!("{}", json(&a.file, &fp)?)?;
+    } else {
+        summary(&a.file, &fp)?;
+    }
+    Ok(0)
+}
+
+fn json(file: &Path, fp: &ForcePlatforms) -> Result<String> {
+    let v = serde_json::json!({
+        "file": file.display().to_string(),
+        "threshold": fp.threshold,
+        "platforms": fp.platforms,
+        "warnings": fp.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
+    });
+    Ok(serde_json::to_string(&v)?)
+}
+
+fn summary(file: &Path, fp: &ForcePlatforms) -> Result<()> {
+    if fp.platforms.is_empty() {
+        outln!(
+            "{}: no force platforms{}",
+            file.display(),
+            if fp.warnings.is_empty() {
+                ""
+            } else {
+                " could be computed (see the warnings)"
+            }
+        )?;
+        return Ok(());
+    }
+    outln!(
+        "{}: {} force platform{} (COP where |Fz| >= {} N)",
+        file.display(),
+        fp.platforms.len(),
+        if fp.platforms.len() == 1 { "" } else { "s" },
+        fp.threshold
+    )?;
+    for p in &fp.platforms {
+        let channels: Vec<String> = p.channels.iter().map(|c| c.to_string()).collect();
+        outln!(
+            "  plate {}  type {}  channels {}  {} Hz  peak |Fz| {:.1} {}{}{}",
+            p.index,
+            p.kind,
+            channels.join(","),
+            p.rate,
+            p.peak_force,
+            p.units.force,
+            match p.zero_applied {
+                Some([a, b]) => format!("  baseline frames {a}-{b} subtracted"),
+                None => String::new(),
+            },
+            match &p.filtered {
+                Some(f) => format!("  filtered {f}"),
+                None => String::new(),
+            }
+        )?;
+        if p.contacts.is_empty() {
+            outln!("    no contact")?;
+        }
+        for k in &p.contacts {
+            outln!(
+                "    contact frames {}-{} (samples {}-{}, {:.3}-{:.3} s), peak {:.1} N",
+                k.first_frame,
+                k.last_frame,
+                k.first_sample,
+                k.last_sample,
+                k.first_sample as f64 / p.rate,
+                k.last_sample as f64 / p.rate,
+                k.peak
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// Every sample as CSV: time, then per plate force, moment, COP and free moment.
+fn csv_table(fp: &ForcePlatforms) -> Result<String> {
+    let mut s = String::from("time");
+    for p in &fp.platforms {
+        for (q, unit) in [
+            ("force", &p.units.force),
+            ("moment", &p.units.moment),
+            ("cop", &p.units.position),
+            ("free_moment", &p.units.moment),
+        ] {
+            for ax in ["x", "y", "z"] {
+                write!(s, ",plate{}_{q}_{ax} ({unit})", p.index)?;
+            }
+        }
+    }
+    s.push('\n');
+    let n = fp
+        .platforms
+        .iter()
+        .map(|p| p.force.len())
+        .max()
+        .unwrap_or(0);
+    let rate = fp.platforms.first().map(|p| p.rate).unwrap_or(1.0);
+    for i in 0..n {
+        write!(s, "{}", i as f64 / rate)?;
+        for p in &fp.platforms {
+            for v in [&p.force, &p.moment, &p.cop, &p.free_moment] {
+                for x in v.get(i).copied().unwrap_or([f64::NAN; 3]) {
+                    if x.is_finite() {
+                        write!(s, ",{x}")?;
+                    } else {
+                        s.push(',');
+                    }
+                }
+            }
+        }
+        s.push('\n');
+    }
+    Ok(s)
+}
