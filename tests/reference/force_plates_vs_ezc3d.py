@@ -73,11 +73,13 @@ def main():
                         print(f"{tag}\tsamples ours {A['force'].shape[0]} ezc3d {ef.shape[0]}")
                         continue
                     ours_cop = np.isfinite(A["cop"]).all(axis=1)
+                    loaded = np.abs(A["F_plate"][:, 2]) >= fp.LOADED_FZ
                     ez_cop = np.isfinite(ec).all(axis=1)
                     print(
                         f"{tag}\tforce {maxdiff(A['force'], ef)}"
                         f"\tmoment {maxdiff(A['moment'], em)}"
                         f"\tcop {maxdiff(A['cop'], ec, True)}"
+                        f"\tcop@|Fz|>=100 {maxdiff(A['cop'][loaded], ec[loaded], True)}"
                         f"\tfree {maxdiff(A['free_moment'], et, True)}"
                         f"\tcop only ours {int((ours_cop & ~ez_cop).sum())}"
                         f" only ezc3d {int((~ours_cop & ez_cop).sum())}"
