@@ -62,18 +62,23 @@ Wrench about the centre of the working surface, in the plate frame
         M_C = M_O - r x F.
     Type 4: the same six outputs are CAL_MATRIX times the six scaled channels
     (https://c3d.org/HTML/Documents/additionalforceplatformparameters.htm: the calibration
-    matrix is the inverse of the sensitivity matrix). Storage order: the manual stores arrays in
-    FORTRAN (first index fastest) order (https://c3d.org/HTML/Documents/parameterarrays1.htm),
-    so CAL_MATRIX(i, j, k) is value number i + 6 j + 36 k. The first index i is the output row
-    (Fx Fy Fz Mx My Mz) and j the input channel: outputs = C @ channels with C[i, j] = value
-    i + 6 j. Decided from the bytes: c3d-samples/sample_10 holds one recording as TYPE-2.C3D
-    (diagonal only) and TYPE-4.C3D (full matrix), and TYPE-2a / TYPE-4a likewise. Read this
-    way the type-4 forces agree with the type-2 ones within 1.6 % of the peak (TYPE-4) and
-    0.3 % (TYPE-4a); read transposed they differ by 100 % (513 N and 321 N at 400-520 N peaks).
-    The same reading puts the large (x1000, N.mm) entries in the moment rows and shows the
-    M = r x F pattern (Fy -> Mx and Fx -> My of opposite sign) in sample_24's matrix. (The
-    sample_10 readme speaks of the moment "columns" being x1000: that is this storage order
-    printed six values to a line, one line per channel.)
+    matrix is the inverse of the sensitivity matrix). Storage order: the manual's CAL_MATRIX
+    page (https://c3d.org/HTML/Documents/forceplatformcalmatrix.htm) says
+    "[CAL_MATRIX] Fmeasured = Fcorrected" with column vectors, "stored in column order":
+    CAL_MATRIX(1,1,1) the first element, CAL_MATRIX(6,1,1) the last element of the first
+    column, CAL_MATRIX(1,2,1) the first of the second column; rows 1-3 force/V, rows 4-6
+    moment/V. So value number i + 6 j + 36 k (0-based, FORTRAN order,
+    https://c3d.org/HTML/Documents/parameterarrays1.htm) is row i (output Fx Fy Fz Mx My Mz),
+    column j (input channel): outputs = C @ (scaled channels), C[i, j] = value i + 6 j.
+    The bytes agree: c3d-samples/sample_10 holds one recording as TYPE-2.C3D (diagonal only)
+    and TYPE-4.C3D (full matrix), and TYPE-2a / TYPE-4a likewise (raw counts identical). Read
+    this way TYPE-4a's forces agree with TYPE-2a's within 0.3 % of the peak; read transposed
+    they differ by 321 N at a 521 N peak (TYPE-4 against TYPE-2: 513 N). The large (N.mm,
+    x1000) entries then sit in the moment rows, and sample_24's matrix shows the M = r x F
+    pattern (Fy -> Mx and Fx -> My of opposite sign). The channels are scaled by SCALE and
+    GEN_SCALE first (the stored SCALE of a type-4 channel is its nominal, "unscaled" one:
+    http://c3d.org/HTML/calmatrix.htm; that is what makes the sample_10 pairs agree).
+    CAL_MATRIX is ignored for types other than 4 (same page).
     Type 3 (Kistler, https://c3d.org/HTML/Documents/type31.htm): channels fx12 fx34 fy14 fy23
     fz1 fz2 fz3 fz4, sensor i at quadrant i, i.e. at (+a,+b), (-a,+b), (-a,-b), (+a,-b) in the
     sensor plane. Summing forces and their moments about the sensor-plane centre O:
@@ -102,8 +107,10 @@ Output frame and units
     (https://c3d.org/HTML/Documents/forceplatformorigin.htm: "All ORIGIN distance units must be
     recorded in POINT:UNITS"), and ANALOG:UNITS "only documents the units of the calculated
     results, changing the parameter does not affect the scaling calculations"
-    (https://c3d.org/HTML/Documents/notesforprogrammersintegeranalogdata.htm, note 6). So the
-    moment channels (and type 1's Px, Py) are taken as N x POINT:UNITS (POINT:UNITS) as scaled,
+    (https://c3d.org/HTML/Documents/notesforprogrammersintegeranalogdata.htm, note 6), and
+    POINT:UNITS "affects the scaling values stored in the CAL_MATRIX, and ANALOG:SCALE
+    parameters" (https://c3d.org/HTML/Documents/pointunits.htm). So the
+    moment channels are taken in N x POINT:UNITS and type 1's Px, Py in POINT:UNITS, as scaled,
     never converted by their ANALOG:UNITS. The bytes agree: c3d-samples/sample_03 labels its
     moment channels "Nm" with POINT:UNITS "mm", yet its values are N.mm (taken as N.m, every
     loaded COP would lie metres off the plate; taken as N.mm all lie on it). A plate whose
@@ -111,14 +118,20 @@ Output frame and units
 
 ZERO (not applied by default; --zero-baseline applies it)
     FORCE_PLATFORM:ZERO holds a first and last point frame (1-based; [0, 0] = none) of a
-    range whose mean of each plate channel is subtracted before the plate maths. Frame 1 is
-    the first frame stored in the file. The range is clipped to the stored frames.
+    range whose mean of each plate channel is subtracted before the plate maths (the manual's
+    index lists FORCE_PLATFORM:ZERO, https://www.c3d.org/HTML/C3D%20User%20Guide-toc.htm;
+    its use as a baseline range: https://wiki.has-motion.com/doku.php?do=export_xhtml&id=visual3d%3Adocumentation%3Apipeline%3Aforce_commands%3Afp_baselines).
+    Frame 1 is the first frame stored in the file; the range is clipped to the stored frames
+    (a first frame of 0, as in [0, 10], is read as 1).
 
 Kistler COP correction polynomial
     The C3D manual defines no parameter carrying it (FORCE_PLATFORM holds USED, TYPE, ZERO,
     CORNERS, ORIGIN, CHANNEL, CAL_MATRIX; https://c3d.org/HTML/Documents/forceplatformused1.htm
     and the manual's index https://www.c3d.org/HTML/C3D%20User%20Guide-indexlist.htm); the
     polynomial is Kistler's own (https://www.easymanua.ls/kistler/9287c-series/manual?p=39).
+    (A user in https://github.com/pyomeca/ezc3d/issues/253 quotes the 2008 C3D User Guide as
+    naming FORCE_PLATFORM:FPCOPPOLY, a 2 x 6 matrix of correction factors; the manual pages
+    at hand do not, so it is not taken as the manual's rule.)
     One corpus file carries it in a vendor parameter: FORCE_PLATFORM:FPCOPPOLY (6, 2, USED) =
     P1..P6 for x then y, per plate (c3d-more/qualisys__...FunctionalKnee_GaitFB2.c3d; the values
     are the ones Kistler's manual lists for a 9281E). It is NOT applied to "cop"; where a plate
@@ -151,7 +164,8 @@ SIG = 6
 
 # CAL_MATRIX(i, j, k) (value number i + 6 j + 36 k): "row_first" means i is the output row
 # (Fx..Mz) and j the input channel, so value number i + 6 j multiplies channel j into output i.
-# Decided from the bytes of c3d-samples/sample_10 (see the module's docstring, Type 4).
+# The manual's CAL_MATRIX page and the bytes of c3d-samples/sample_10 (see the module's
+# docstring, Type 4).
 # "col_first" is kept only so that the other reading can be shown to fail.
 CAL_ORDER = "row_first"
 
@@ -264,12 +278,7 @@ class File:
         used = int(used_p[0]) if used_p else 0
         if used <= 0:
             raise ValueError("ANALOG:USED is 0 or missing")
-        if self.analog_words % used != 0:
-            raise ValueError(
-                f"header analog words per frame {self.analog_words} not a multiple of "
-                f"ANALOG:USED {used}"
-            )
-        spf = self.analog_words // used
+        spf = self.analog_words // used if self.analog_words % used == 0 else 0
         # Header word 3 holds the analog words per frame; ANALOG:RATE / POINT:RATE says the same
         # thing. When they disagree, the one whose data section ends in the file's last
         # 512-byte block is taken (some writers put the channel count in word 3; the bytes then
@@ -282,6 +291,7 @@ class File:
             ratio = arate[0] / prate
             spf_p = int(round(ratio))
             if spf_p >= 1 and abs(ratio - spf_p) < 1e-6 and spf_p != spf:
+                # (spf is 0 here when word 3 is not a multiple of ANALOG:USED)
                 word = 4 if self.is_float else 2
                 base = (self.data_start - 1) * 512
 
@@ -289,7 +299,7 @@ class File:
                     end = base + self.frames * (4 * self.npoints + n * used) * word
                     return 0 <= len(self.data) - end < 512
 
-                if ends_in_last_block(spf_p) and not ends_in_last_block(spf):
+                if ends_in_last_block(spf_p) and (spf == 0 or not ends_in_last_block(spf)):
                     self.layout_note = (
                         f"header word 3 says {self.analog_words} analog words per frame; "
                         f"ANALOG:RATE/POINT:RATE = {spf_p} samples of {used} channels fit the file"
@@ -297,7 +307,10 @@ class File:
                     spf = spf_p
                     self.analog_words = spf * used
         if spf == 0:
-            raise ValueError("no analog samples per frame")
+            raise ValueError(
+                f"header analog words per frame {self.analog_words} not a positive multiple of "
+                f"ANALOG:USED {used}, and ANALOG:RATE / POINT:RATE does not fit the file either"
+            )
         fmt = (self.text("ANALOG", "FORMAT") or [""])[0].upper()
         unsigned = fmt == "UNSIGNED"
         scale = self.num("ANALOG", "SCALE") or []
