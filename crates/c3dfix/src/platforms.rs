@@ -220,6 +220,10 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
     let point_mm = length_mm(&point_units).unwrap_or(1.0);
     let analog_units = c.analog_units();
     let cal = c.analog_calibration();
+    // How many channels ANALOG:SCALE and OFFSET really describe (the calibration pads the
+    // rest with 1 and 0, which is no calibration for a force channel).
+    let described = |name: &str| c.param("ANALOG", name).map_or(0, |p| p.value.len());
+    let (scaled, offset_known) = (described("SCALE"), described("OFFSET"));
     let analog = c.analog();
     let nch = analog.channels();
     let samples = analog.samples();
@@ -290,14 +294,31 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
             continue;
         }
         let used = &p.channels[..kind.channels()];
+        if let Some(&k) = used.iter().find(|&&k| k > scaled || k > offset_known) {
+            let (name, n) = if k > scaled {
+                ("SCALE", scaled)
+            } else {
+                ("OFFSET", offset_known)
+            };
+            out.warnings.push(PlateWarning {
+                plate: p.index,
+                parameter: format!("ANALOG:{name}"),
+                message: format!(
+                    "has {n} entries, none for the plate's channel {k}: plate left out"
+                ),
+            });
+            continue;
+        }
         // Channels in physical units; the baseline and the filter act on them (both linear,
         // so it is the same as acting on forces and moments).
         let mut ch: Vec<Vec<f64>> = used
             .iter()
             .map(|&k| {
                 let c0 = k - 1;
+                let (offset, scale) = (cal.offset[c0] as f64, cal.scale[c0] as f64);
+                let gen = cal.gen_scale as f64;
                 (0..samples)
-                    .map(|s| cal.physical(c0, analog.raw[s * nch + c0]) as f64)
+                    .map(|s| (analog.raw[s * nch + c0] as f64 - offset) * scale * gen)
                     .collect()
             })
             .collect();
@@ -352,43 +373,36 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
                 }
             }
         }
-        // Unit factors from the channels' ANALOG:UNITS.
+        // Units. The manual has every distance of a file in POINT:UNITS ("POINT:UNITS …
+        // affects the scaling values stored in the CAL_MATRIX, and ANALOG:SCALE"), so plate
+        // moments are N × POINT:UNITS and type 1's COP is in POINT:UNITS. ANALOG:UNITS is a
+        // label, and the bytes show it can be wrong: sample_03's moment channels say "Nm" in
+        // a mm file, yet only N·mm puts their COP on the plate. A label naming another length
+        // is therefore reported, not applied.
         let unit_of = |k: usize| analog_units.get(k - 1).map(|s| s.trim()).unwrap_or("");
-        let mut moment_scale = 1.0;
-        let mut cop_scale = 1.0;
-        let moment_channel = match kind {
-            kinetics::PlateKind::Type1 => Some(used[5]),
-            kinetics::PlateKind::Type2 | kinetics::PlateKind::Type4 => Some(used[3]),
-            kinetics::PlateKind::Type3 => None,
-        };
-        if let Some(k) = moment_channel {
-            match moment_length_mm(unit_of(k)) {
-                Some(mm) => moment_scale = mm / point_mm,
-                None if kind == kinetics::PlateKind::Type4 => {}
-                None => warn(
-                    &mut out,
-                    p.index,
-                    "CHANNEL",
-                    format!(
-                        "moment channel {k}'s unit {:?} names no moment: read as N{point_units}",
-                        unit_of(k)
-                    ),
-                ),
+        let labelled = match kind {
+            kinetics::PlateKind::Type1 => vec![
+                (used[3], length_mm(unit_of(used[3]))),
+                (used[5], moment_length_mm(unit_of(used[5]))),
+            ],
+            kinetics::PlateKind::Type2 | kinetics::PlateKind::Type4 => {
+                vec![(used[3], moment_length_mm(unit_of(used[3])))]
             }
-        }
-        if kind == kinetics::PlateKind::Type1 {
-            let k = used[3];
-            match length_mm(unit_of(k)) {
-                Some(mm) => cop_scale = mm / point_mm,
-                None => warn(
-                    &mut out,
-                    p.index,
-                    "CHANNEL",
-                    format!(
-                        "COP channel {k}'s unit {:?} names no length: read as {point_units}",
-                        unit_of(k)
-                    ),
-                ),
+            kinetics::PlateKind::Type3 => Vec::new(),
+        };
+        for (k, mm) in labelled {
+            if let Some(mm) = mm {
+                if (mm / point_mm - 1.0).abs() > 1e-9 {
+                    warn(
+                        &mut out,
+                        p.index,
+                        "CHANNEL",
+                        format!(
+                            "channel {k} is labelled {:?} (ANALOG:UNITS), but the manual has every length in POINT:UNITS: read in {point_units}",
+                            unit_of(k)
+                        ),
+                    );
+                }
             }
         }
         let spec = PlateSpec {
@@ -397,8 +411,8 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
             origin,
             cal_matrix: p.cal_matrix.as_deref(),
             cop_poly: p.cop_poly,
-            moment_scale,
-            cop_scale,
+            moment_scale: 1.0,
+            cop_scale: 1.0,
             mm_per_unit: point_mm,
         };
         let refs: Vec<&[f64]> = ch.iter().map(|v| v.as_slice()).collect();
