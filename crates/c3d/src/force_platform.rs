@@ -51,8 +51,9 @@ pub struct PlateProblem {
 #[derive(Debug, Clone, PartialEq, Default, Serialize)]
 pub struct PlatformParams {
     pub plates: Vec<PlateParams>,
-    /// FORCE_PLATFORM:ZERO: 1-based first and last frame of the baseline; `None` for none
-    /// (absent, or [0, 0] as the manual says).
+    /// FORCE_PLATFORM:ZERO: 1-based first and last frame of the baseline, counted from the
+    /// trial's first stored frame; `None` for none (absent, [0, 0], or a range that ends
+    /// before it starts, such as Vicon's [1, 0]).
     pub zero: Option<[usize; 2]>,
     pub problems: Vec<PlateProblem>,
 }
@@ -199,7 +200,9 @@ pub fn platform_params(ps: &Parameters, analog_channels: usize) -> PlatformParam
         .get("FORCE_PLATFORM", "ZERO")
         .map(|p| p.as_i32s())
         .and_then(|z| match z.as_slice() {
-            [a, b, ..] if *a > 0 && *b >= *a => Some([*a as usize, *b as usize]),
+            // [0, 0] is none; a first frame of 0 means the first frame (files write [0, 10]
+            // for the first ten frames); a last frame before the first is none.
+            [a, b, ..] if *b >= 1 && *b >= (*a).max(1) => Some([(*a).max(1) as usize, *b as usize]),
             _ => None,
         });
     out

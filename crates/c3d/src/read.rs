@@ -74,6 +74,7 @@ fn read_stream(mut r: impl std::io::Read) -> Result<Vec<u8>> {
     let bounds = SectionBounds {
         start: param_start,
         end: param_end.min(buf.len()),
+        reach: param_end.min(buf.len()),
     };
     let Ok((ps, _)) = parameters::parse(&buf, bounds, processor, &mut Vec::new()) else {
         return Ok(buf);
@@ -212,6 +213,11 @@ fn read_bytes(bytes: Bytes) -> Result<C3d> {
         SectionBounds {
             start: param_start,
             end,
+            reach: if hdr_data_start > pb {
+                end.max((hdr_data_start - 1) * BLOCK)
+            } else {
+                end
+            },
         },
         processor,
         &mut warnings,

@@ -217,7 +217,7 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
             u.trim().to_string()
         }
     };
-    let point_mm = length_mm(&point_units).unwrap_or(1.0);
+    let point_mm = c3d::mm_per_unit(&point_units);
     let analog_units = c.analog_units();
     let cal = c.analog_calibration();
     // How many channels ANALOG:SCALE and OFFSET really describe (the calibration pads the
@@ -343,6 +343,21 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
                 format!("analog data hold {bad} samples that are not finite: those samples give no force"),
             );
         }
+        // A channel that holds one value all through a trial in which the plate is loaded
+        // recorded nothing (btkdata_parameterOverflow's moment channels): its COP is then
+        // an artefact, and the user should know.
+        let loaded = ch.iter().flatten().any(|v| v.is_finite() && v.abs() > 0.0);
+        for (k, v) in used.iter().zip(&ch) {
+            let first = v.iter().copied().find(|x| x.is_finite());
+            if loaded && samples > 1 && first.is_some_and(|f| v.iter().all(|&x| x == f)) {
+                warn(
+                    &mut out,
+                    p.index,
+                    "CHANNEL",
+                    format!("channel {k} holds one value throughout: it recorded nothing, so what depends on it (moments, COP) is not measured"),
+                );
+            }
+        }
         let mut filtered = None;
         if let Some((spec, iir)) = &filter {
             if !finite {
@@ -420,7 +435,9 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
             Ok(r) => r,
             Err(e) => {
                 let parameter = match e {
-                    kinetics::Error::ZeroArea | kinetics::Error::CornersNotFinite => "CORNERS",
+                    kinetics::Error::ZeroArea
+                    | kinetics::Error::NotAPlate
+                    | kinetics::Error::CornersNotFinite => "CORNERS",
                     kinetics::Error::NoCalMatrix | kinetics::Error::CalMatrixSize(_) => {
                         "CAL_MATRIX"
                     }
@@ -451,6 +468,20 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
                     "z is {} but must be negative (the plate's origin lies below its surface, z down): read as {}",
                     short(origin[2]),
                     triple(r.origin.used)
+                ),
+            );
+        }
+        if kind == kinetics::PlateKind::Type3
+            && (r.origin.used[0] == 0.0 || r.origin.used[1] == 0.0)
+        {
+            warn(
+                &mut out,
+                p.index,
+                "ORIGIN",
+                format!(
+                    "gives the sensors' distances a = {}, b = {}: with a zero the moments about that axis vanish and the COP cannot leave the plate's centre line",
+                    short(r.origin.used[0]),
+                    short(r.origin.used[1])
                 ),
             );
         }

@@ -44,6 +44,24 @@ impl PlateFrame {
         let ez = scale(z, 1.0 / norm(z));
         let ey = cross(ez, ex);
         let centre = scale(add(add(c1, c2), add(c3, c4)), 0.25);
+        // Four numbers that are no plate (a corrupt parameter) must not become a frame: the
+        // corners must make a parallelogram (opposite sides equal) and lie in one plane,
+        // within 5 % of the longer side — far looser than any surveyed plate, far tighter
+        // than garbage.
+        let (s12, s43) = (sub(c1, c2), sub(c4, c3));
+        let (s14, s23) = (sub(c1, c4), sub(c2, c3));
+        let side = norm(s12).max(norm(s14));
+        let dot = |a: V3, b: V3| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let flat = corners
+            .iter()
+            .map(|&c| dot(sub(c, centre), ez).abs())
+            .fold(0.0, f64::max);
+        if norm(sub(s12, s43)) > 0.05 * side
+            || norm(sub(s14, s23)) > 0.05 * side
+            || flat > 0.05 * side
+        {
+            return Err(Error::NotAPlate);
+        }
         Ok(PlateFrame {
             rotation: [ex, ey, ez],
             centre,
@@ -100,6 +118,26 @@ mod tests {
         let v = [1.0, 2.0, 3.0];
         let back = f.to_plate(f.to_lab(v));
         assert!(back.iter().zip(v).all(|(a, b)| (a - b).abs() < 1e-12));
+    }
+
+    #[test]
+    fn corners_that_are_no_plate_have_no_frame() {
+        // A kite (sides unequal) and a folded quadrilateral (one corner 100 mm off the plane
+        // of a 500 mm plate).
+        let kite = [
+            [1.0, 1.0, 0.0],
+            [-1.0, 1.0, 0.0],
+            [-1.0, -3.0, 0.0],
+            [1.0, -1.0, 0.0],
+        ];
+        assert_eq!(PlateFrame::from_corners(kite), Err(Error::NotAPlate));
+        let folded = [
+            [250.0, 250.0, 100.0],
+            [-250.0, 250.0, 0.0],
+            [-250.0, -250.0, 0.0],
+            [250.0, -250.0, 0.0],
+        ];
+        assert_eq!(PlateFrame::from_corners(folded), Err(Error::NotAPlate));
     }
 
     #[test]

@@ -33,6 +33,8 @@ pub enum Error {
     Channels { kind: i32, need: usize, got: usize },
     #[error("FORCE_PLATFORM:CORNERS enclose no area (the corners coincide or lie on a line)")]
     ZeroArea,
+    #[error("FORCE_PLATFORM:CORNERS describe no plate (opposite sides differ, or the corners are not in one plane, by over 5 % of a side)")]
+    NotAPlate,
     #[error("FORCE_PLATFORM:CORNERS are not finite")]
     CornersNotFinite,
     #[error("FORCE_PLATFORM:CAL_MATRIX is missing; a type-4 plate needs its 6 x 6 matrix")]

@@ -140,6 +140,7 @@ mod tests {
             let bounds = SectionBounds {
                 start: BLOCK,
                 end: file.len(),
+                reach: file.len(),
             };
             let (back, _) = parse(&file, bounds, p, &mut w).unwrap();
             assert!(w.is_empty(), "{w:?}");

@@ -13,6 +13,11 @@ pub(crate) struct SectionBounds {
     pub start: usize,
     /// End declared by the prelude's block count (or by the data start when the count is 0).
     pub end: usize,
+    /// How far a chain of records that runs over `end` may still be followed: the data start
+    /// when it lies beyond `end`, else `end`. Some writers count the section's blocks short
+    /// (sample_15's FP files declare 3 blocks and write 4, with FORCE_PLATFORM in the fourth);
+    /// stopping at the declared end would lose whole groups that the file does hold.
+    pub reach: usize,
 }
 
 /// Parse the section at `bounds` from the whole file.
@@ -22,7 +27,7 @@ pub(crate) fn parse(
     p: Processor,
     warnings: &mut Vec<Warning>,
 ) -> Result<(Parameters, usize)> {
-    let SectionBounds { start, end } = bounds;
+    let SectionBounds { start, end, reach } = bounds;
     let sec = Section::Parameters;
     if start + 4 > file.len() {
         return Err(Error::malformed(
@@ -46,14 +51,34 @@ pub(crate) fn parse(
     // The furthest byte any record used: the section's extent when records overflow `end`.
     let mut extent = end;
     let mut terminated = false;
-    while pos + 2 <= end {
+    let reach = reach.min(file.len()).max(end);
+    let mut followed_past_end = false;
+    loop {
+        if pos + 2 > end {
+            // Past the declared end, go on only along a chain of records that already ran
+            // over it, and only while what follows reads as a record.
+            if !(extent > end && pos + 2 <= reach && plausible_record(file, pos, reach)) {
+                break;
+            }
+            if !followed_past_end {
+                followed_past_end = true;
+                warnings.push(Warning::new(
+                    sec,
+                    Some(pos),
+                    format!(
+                        "parameter records go on past the section's declared end (byte {end}); read up to the data (byte {reach})"
+                    ),
+                ));
+            }
+        }
         let name_len = file[pos] as i8;
         if name_len == 0 {
             terminated = true;
             break;
         }
         let id = file[pos + 1] as i8;
-        match parse_record(file, pos, end, p, records.len(), warnings)? {
+        let limit = if pos + 2 > end { reach } else { end };
+        match parse_record(file, pos, limit, p, records.len(), warnings)? {
             Some((record, next, used_to)) => {
                 extent = extent.max(used_to);
                 if id == 0 {
