@@ -10,6 +10,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
 
+mod platforms;
+
 pyo3::create_exception!(
     c3dfix,
     C3dError,
@@ -245,6 +247,36 @@ impl PyC3d {
         py.allow_threads(|| c3dfix::save(&self.inner, &path, &opts))
             .map(|_| ())
             .map_err(err)
+    }
+
+    /// force_platforms(threshold=10.0, zero_baseline=False, lowpass=None) -> list[dict]
+    ///
+    /// Every force plate of the trial (FORCE_PLATFORM, plate types 1-4), at the analog rate,
+    /// in the lab frame: `force` (N), `moment` about the centre of the working surface
+    /// (N x POINT:UNITS), `cop` (POINT:UNITS) and `free_moment` (the torque about the COP,
+    /// along the plate's normal), each (samples, 3) float64; `cop` and `free_moment` are NaN
+    /// where |Fz| < threshold N. Also `index` (1-based), `type`, `rate`, `channels`
+    /// (1-based), `corners` (4, 3), `centre`, `origin` (as used), `origin_corrected`,
+    /// `peak_force`, `contacts` (foot-strike to foot-off, frames and samples),
+    /// `zero_applied`, `filtered` and `units` {force, moment, position}. zero_baseline
+    /// subtracts each channel's mean over FORCE_PLATFORM:ZERO's frames; lowpass is a
+    /// zero-phase "butterworth:ORDER:CUTOFF_HZ" or "cheby2:ORDER:CUTOFF_HZ:ATTEN_DB" filter of
+    /// the channels. A plate that cannot be computed is left out with a UserWarning naming
+    /// the plate and the parameter.
+    #[pyo3(signature = (threshold=c3dfix::platforms::DEFAULT_THRESHOLD_N, zero_baseline=false, lowpass=None))]
+    fn force_platforms(
+        &self,
+        py: Python<'_>,
+        threshold: f64,
+        zero_baseline: bool,
+        lowpass: Option<String>,
+    ) -> PyResult<PyObject> {
+        let opts = c3dfix::ForceOptions {
+            threshold,
+            zero_baseline,
+            lowpass,
+        };
+        platforms::force_platforms(py, &self.inner, &self.name().display().to_string(), &opts)
     }
 
     fn __repr__(&self) -> String {

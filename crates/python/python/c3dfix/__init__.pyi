@@ -48,6 +48,20 @@ class C3d:
     def events(self) -> List[Dict[str, Any]]: ...
     @property
     def warnings(self) -> List[str]: ...
+    def force_platforms(
+        self,
+        threshold: float = 10.0,
+        zero_baseline: bool = False,
+        lowpass: Optional[str] = None,
+    ) -> List[Dict[str, Any]]:
+        """Every force plate (types 1-4), lab frame, at the analog rate: `force` (N),
+        `moment` about the working surface's centre (N x POINT:UNITS), `cop` (POINT:UNITS,
+        NaN where |Fz| < threshold N), `free_moment`, each (samples, 3) float64; with
+        `index`, `type`, `rate`, `channels`, `corners` (4, 3), `centre`, `origin`,
+        `origin_corrected`, `peak_force`, `contacts`, `zero_applied`, `filtered` and
+        `units` {force, moment, position}. Plates that cannot be computed are left out
+        with a UserWarning naming the plate and the parameter."""
+        ...
     def write(self, path: _Path) -> None:
         """Write atomically; byte-identical when nothing changed."""
 
