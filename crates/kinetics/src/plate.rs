@@ -5,7 +5,8 @@ use crate::frame::PlateFrame;
 use crate::wrench::{Origin, PlateKind, WrenchMaker};
 use crate::{Error, Result, V3};
 
-/// What a plate is, as FORCE_PLATFORM describes it, with the unit factors its channels need.
+/// What a plate is, as FORCE_PLATFORM describes it. Every length is in one unit, the
+/// points' (the manual's rule), and moments in N × that unit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlateSpec<'a> {
     /// FORCE_PLATFORM:TYPE.
@@ -18,10 +19,6 @@ pub struct PlateSpec<'a> {
     pub cal_matrix: Option<&'a [f64]>,
     /// FORCE_PLATFORM:FPCOPPOLY (Kistler's COP correction); used by type 3 only.
     pub cop_poly: Option<[f64; 12]>,
-    /// Channel moments to N × position units (e.g. 1000 for N·m channels and mm points).
-    pub moment_scale: f64,
-    /// Type 1's COP channels to position units.
-    pub cop_scale: f64,
     /// Millimetres per position unit (Kistler's correction works in mm).
     pub mm_per_unit: f64,
 }
@@ -63,13 +60,7 @@ pub fn compute(spec: &PlateSpec, channels: &[&[f64]], threshold: f64) -> Result<
     }
     let frame = PlateFrame::from_corners(spec.corners)?;
     let origin = Origin::from_stored(kind, spec.origin)?;
-    let maker = WrenchMaker::new(
-        kind,
-        origin,
-        spec.cal_matrix,
-        spec.moment_scale,
-        spec.cop_scale,
-    )?;
+    let maker = WrenchMaker::new(kind, origin, spec.cal_matrix)?;
     let correction = match (kind, spec.cop_poly) {
         (PlateKind::Type3, Some(poly)) => Some(CopCorrection {
             poly,
@@ -162,8 +153,6 @@ mod tests {
             origin,
             cal_matrix: None,
             cop_poly: None,
-            moment_scale: 1.0,
-            cop_scale: 1.0,
             mm_per_unit: 1.0,
         };
         let out = compute(&spec, &refs, 10.0).expect("plate");
@@ -200,8 +189,6 @@ mod tests {
             origin: [0.0; 3],
             cal_matrix: None,
             cop_poly: None,
-            moment_scale: 1.0,
-            cop_scale: 1.0,
             mm_per_unit: 1.0,
         };
         let z = [0.0];

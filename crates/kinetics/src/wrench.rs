@@ -118,10 +118,6 @@ pub struct WrenchMaker {
     pub origin: Origin,
     /// Row-major 6 × 6 (type 4 only).
     cal: Option<[f64; 36]>,
-    /// Channel moments (types 1, 2, 4) to N × position units.
-    moment_scale: f64,
-    /// Type 1's COP channels to position units.
-    cop_scale: f64,
 }
 
 /// Force (N) and moment about the working surface's centre (N × position units), plate
@@ -134,15 +130,8 @@ pub struct Wrench {
 
 impl WrenchMaker {
     /// `cal` is the plate's CAL_MATRIX row-major (needed by type 4, ignored by the others,
-    /// as the manual says); `moment_scale` and `cop_scale` convert the channels' moment and
-    /// length units to N × position units and position units.
-    pub fn new(
-        kind: PlateKind,
-        origin: Origin,
-        cal: Option<&[f64]>,
-        moment_scale: f64,
-        cop_scale: f64,
-    ) -> Result<WrenchMaker> {
+    /// as the manual says).
+    pub fn new(kind: PlateKind, origin: Origin, cal: Option<&[f64]>) -> Result<WrenchMaker> {
         let cal = match kind {
             PlateKind::Type4 => {
                 let m = cal.ok_or(Error::NoCalMatrix)?;
@@ -151,13 +140,7 @@ impl WrenchMaker {
             }
             _ => None,
         };
-        Ok(WrenchMaker {
-            kind,
-            origin,
-            cal,
-            moment_scale,
-            cop_scale,
-        })
+        Ok(WrenchMaker { kind, origin, cal })
     }
 
     /// The wrench of one sample; `ch` holds the type's channels in the manual's order.
@@ -168,15 +151,11 @@ impl WrenchMaker {
                 let f = [ch[0], ch[1], ch[2]];
                 // The COP relative to the surface's centre: the channels give it from the
                 // plate's origin, which ORIGIN's x and y place relative to the centre.
-                let r = [
-                    ch[3] * self.cop_scale - c[0],
-                    ch[4] * self.cop_scale - c[1],
-                    0.0,
-                ];
+                let r = [ch[3] - c[0], ch[4] - c[1], 0.0];
                 let m = cross(r, f);
                 Wrench {
                     force: f,
-                    moment: [m[0], m[1], m[2] + ch[5] * self.moment_scale],
+                    moment: [m[0], m[1], m[2] + ch[5]],
                 }
             }
             PlateKind::Type2 | PlateKind::Type4 => {
@@ -189,11 +168,7 @@ impl WrenchMaker {
                     v = out;
                 }
                 let f = [v[0], v[1], v[2]];
-                let mo = [
-                    v[3] * self.moment_scale,
-                    v[4] * self.moment_scale,
-                    v[5] * self.moment_scale,
-                ];
+                let mo = [v[3], v[4], v[5]];
                 Wrench {
                     force: f,
                     moment: sub(mo, cross(c, f)),
@@ -261,8 +236,6 @@ mod tests {
             PlateKind::Type2,
             Origin::from_stored(PlateKind::Type2, c).expect("o"),
             None,
-            1.0,
-            1.0,
         )
         .expect("maker");
         let w = t2.wrench(&[load[0], load[1], load[2], mo[0], mo[1], mo[2]]);
@@ -277,8 +250,6 @@ mod tests {
             PlateKind::Type4,
             Origin::from_stored(PlateKind::Type4, c).expect("o"),
             Some(&cal),
-            1.0,
-            1.0,
         )
         .expect("maker");
         let half: Vec<f64> = [load[0], load[1], load[2], mo[0], mo[1], mo[2]]
@@ -293,8 +264,6 @@ mod tests {
             PlateKind::Type1,
             Origin::from_stored(PlateKind::Type1, [0.0; 3]).expect("o"),
             None,
-            1.0,
-            1.0,
         )
         .expect("maker");
         let w = t1.wrench(&[load[0], load[1], load[2], at[0], at[1], tz]);
@@ -322,8 +291,6 @@ mod tests {
             PlateKind::Type3,
             Origin::from_stored(PlateKind::Type3, [a, b, h]).expect("o"),
             None,
-            1.0,
-            1.0,
         )
         .expect("maker");
         let w = t3.wrench(&[fx12, fx34, fy14, fy23, fz1, fz2, fz3, fz4]);
@@ -336,11 +303,11 @@ mod tests {
     fn type4_needs_its_matrix() {
         let o = Origin::from_stored(PlateKind::Type4, [0.0; 3]).expect("o");
         assert_eq!(
-            WrenchMaker::new(PlateKind::Type4, o, None, 1.0, 1.0),
+            WrenchMaker::new(PlateKind::Type4, o, None),
             Err(Error::NoCalMatrix)
         );
         assert_eq!(
-            WrenchMaker::new(PlateKind::Type4, o, Some(&[1.0; 30]), 1.0, 1.0),
+            WrenchMaker::new(PlateKind::Type4, o, Some(&[1.0; 30])),
             Err(Error::CalMatrixSize(30))
         );
         assert_eq!(PlateKind::from_type(7), Err(Error::UnsupportedType(7)));

@@ -3,12 +3,15 @@
 //!
 //! Analog values are `(raw − OFFSET) × SCALE × GEN_SCALE` per channel
 //! ([`c3d::Calibration`]; OFFSET read as unsigned when ANALOG:FORMAT is "UNSIGNED", as the
-//! bytes are). Units: forces in N; positions in POINT:UNITS; moments in N × POINT:UNITS,
-//! converted from the moment channels' ANALOG:UNITS where those name one ("Nmm", "N.m", …).
+//! manual says). Units: forces in N; positions in POINT:UNITS; moments in N × POINT:UNITS
+//! (see `units` for why ANALOG:UNITS labels are not applied).
 //!
 //! A plate that cannot be computed (an unsupported type, a CHANNEL beyond the analog data,
 //! CORNERS of the wrong size or enclosing no area, a type 4 without CAL_MATRIX) is left out
 //! with a warning naming the plate and the parameter; the others are computed.
+
+mod channels;
+mod units;
 
 use crate::error::{Error, Result};
 use c3d::C3d;
@@ -139,26 +142,6 @@ pub struct ForcePlatforms {
     pub threshold: f64,
 }
 
-/// Millimetres per unit of a length unit's name, or `None` for a name that is no length.
-fn length_mm(unit: &str) -> Option<f64> {
-    match unit.trim().to_ascii_lowercase().as_str() {
-        "mm" => Some(1.0),
-        "m" => Some(1000.0),
-        "cm" => Some(10.0),
-        "dm" => Some(100.0),
-        "in" => Some(25.4),
-        _ => None,
-    }
-}
-
-/// Millimetres per unit of a moment unit's length ("Nmm", "N.m", "N*mm", "N·m", "N-m").
-fn moment_length_mm(unit: &str) -> Option<f64> {
-    let u = unit.trim();
-    let rest = u.strip_prefix(['N', 'n'])?;
-    let rest = rest.trim_start_matches(['.', '*', '·', ' ', '-', '\u{b7}']);
-    length_mm(rest)
-}
-
 /// A parameter value as stored (single precision), for messages: `37.84`, not
 /// `37.84000015258789`; no negative zero.
 fn short(v: f64) -> String {
@@ -225,7 +208,6 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
     let described = |name: &str| c.param("ANALOG", name).map_or(0, |p| p.value.len());
     let (scaled, offset_known) = (described("SCALE"), described("OFFSET"));
     let analog = c.analog();
-    let nch = analog.channels();
     let samples = analog.samples();
     let spf = out.samples_per_frame;
     let warn = |out: &mut ForcePlatforms, plate: usize, parameter: &str, message: String| {
@@ -309,33 +291,14 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
             });
             continue;
         }
-        // Channels in physical units; the baseline and the filter act on them (both linear,
-        // so it is the same as acting on forces and moments).
-        let mut ch: Vec<Vec<f64>> = used
-            .iter()
-            .map(|&k| {
-                let c0 = k - 1;
-                let (offset, scale) = (cal.offset[c0] as f64, cal.scale[c0] as f64);
-                let gen = cal.gen_scale as f64;
-                (0..samples)
-                    .map(|s| (analog.raw[s * nch + c0] as f64 - offset) * scale * gen)
-                    .collect()
-            })
-            .collect();
+        let mut ch = channels::physical(analog, &cal, used);
         let mut zero_applied = None;
         if let Some((frames, range)) = &zero {
-            for v in ch.iter_mut() {
-                let base = &v[range.clone()];
-                let mean = base.iter().sum::<f64>() / base.len() as f64;
-                v.iter_mut().for_each(|x| *x -= mean);
-            }
+            channels::subtract_baseline(&mut ch, range);
             zero_applied = Some(*frames);
         }
-        let finite = ch.iter().flatten().all(|v| v.is_finite());
-        if !finite {
-            let bad = (0..samples)
-                .filter(|&s| ch.iter().any(|v| !v[s].is_finite()))
-                .count();
+        let bad = channels::non_finite(&ch);
+        if bad > 0 {
             warn(
                 &mut out,
                 p.index,
@@ -343,82 +306,46 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
                 format!("analog data hold {bad} samples that are not finite: those samples give no force"),
             );
         }
-        // A channel that holds one value all through a trial in which the plate is loaded
-        // recorded nothing (btkdata_parameterOverflow's moment channels): its COP is then
-        // an artefact, and the user should know.
-        let loaded = ch.iter().flatten().any(|v| v.is_finite() && v.abs() > 0.0);
-        for (k, v) in used.iter().zip(&ch) {
-            let first = v.iter().copied().find(|x| x.is_finite());
-            if loaded && samples > 1 && first.is_some_and(|f| v.iter().all(|&x| x == f)) {
-                warn(
-                    &mut out,
-                    p.index,
-                    "CHANNEL",
-                    format!("channel {k} holds one value throughout: it recorded nothing, so what depends on it (moments, COP) is not measured"),
-                );
-            }
+        for i in channels::constant(&ch) {
+            warn(
+                &mut out,
+                p.index,
+                "CHANNEL",
+                format!(
+                    "channel {} holds one value throughout: it recorded nothing, so what depends on it (moments, COP) is not measured",
+                    used[i]
+                ),
+            );
         }
         let mut filtered = None;
         if let Some((spec, iir)) = &filter {
-            if !finite {
+            if bad > 0 {
                 warn(
                     &mut out,
                     p.index,
                     "CHANNEL",
                     format!("not filtered ({spec}): its analog data are not all finite"),
                 );
+            } else if channels::filter(&mut ch, iir) {
+                filtered = Some(spec.clone());
             } else {
-                let mut ok = true;
-                for v in ch.iter_mut() {
-                    if iir.filtfilt(v).is_err() {
-                        ok = false;
-                    }
-                }
-                if ok {
-                    filtered = Some(spec.clone());
-                } else {
-                    warn(
-                        &mut out,
-                        p.index,
-                        "CHANNEL",
-                        format!(
-                            "not filtered ({spec}): {samples} samples are too few for its padding"
-                        ),
-                    );
-                }
+                warn(
+                    &mut out,
+                    p.index,
+                    "CHANNEL",
+                    format!("not filtered ({spec}): {samples} samples are too few for its padding"),
+                );
             }
         }
-        // Units. The manual has every distance of a file in POINT:UNITS ("POINT:UNITS …
-        // affects the scaling values stored in the CAL_MATRIX, and ANALOG:SCALE"), so plate
-        // moments are N × POINT:UNITS and type 1's COP is in POINT:UNITS. ANALOG:UNITS is a
-        // label, and the bytes show it can be wrong: sample_03's moment channels say "Nm" in
-        // a mm file, yet only N·mm puts their COP on the plate. A label naming another length
-        // is therefore reported, not applied.
-        let unit_of = |k: usize| analog_units.get(k - 1).map(|s| s.trim()).unwrap_or("");
-        let labelled = match kind {
-            kinetics::PlateKind::Type1 => vec![
-                (used[3], length_mm(unit_of(used[3]))),
-                (used[5], moment_length_mm(unit_of(used[5]))),
-            ],
-            kinetics::PlateKind::Type2 | kinetics::PlateKind::Type4 => {
-                vec![(used[3], moment_length_mm(unit_of(used[3])))]
-            }
-            kinetics::PlateKind::Type3 => Vec::new(),
-        };
-        for (k, mm) in labelled {
-            if let Some(mm) = mm {
-                if (mm / point_mm - 1.0).abs() > 1e-9 {
-                    warn(
-                        &mut out,
-                        p.index,
-                        "CHANNEL",
-                        format!(
-                            "channel {k} is labelled {:?} (ANALOG:UNITS), but the manual has every length in POINT:UNITS: read in {point_units}",
-                            unit_of(k)
-                        ),
-                    );
-                }
-            }
+        for (k, label) in units::mislabelled(kind, used, &analog_units, point_mm) {
+            warn(
+                &mut out,
+                p.index,
+                "CHANNEL",
+                format!(
+                    "channel {k} is labelled {label:?} (ANALOG:UNITS), but the manual has every length in POINT:UNITS: read in {point_units}"
+                ),
+            );
         }
         let spec = PlateSpec {
             kind: p.kind,
@@ -426,8 +353,6 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
             origin,
             cal_matrix: p.cal_matrix.as_deref(),
             cop_poly: p.cop_poly,
-            moment_scale: 1.0,
-            cop_scale: 1.0,
             mm_per_unit: point_mm,
         };
         let refs: Vec<&[f64]> = ch.iter().map(|v| v.as_slice()).collect();
@@ -526,19 +451,4 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
         });
     }
     Ok(out)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn moment_units() {
-        assert_eq!(moment_length_mm("Nmm"), Some(1.0));
-        assert_eq!(moment_length_mm("N.m"), Some(1000.0));
-        assert_eq!(moment_length_mm("N*mm"), Some(1.0));
-        assert_eq!(moment_length_mm("Nm"), Some(1000.0));
-        assert_eq!(moment_length_mm("V"), None);
-        assert_eq!(moment_length_mm("N"), None);
-    }
 }
