@@ -560,3 +560,47 @@ fn a_low_pass_filter_smooths_the_channels() {
         "a cutoff above half the analog rate (480 Hz) is refused"
     );
 }
+
+/// Damaged FORCE_PLATFORM and ANALOG parameters (bytes of the parameter section of real
+/// plate files overwritten at random, 400 times each): the plates compute or are left out
+/// with warnings, never a panic.
+#[test]
+fn damaged_plate_parameters_never_panic() {
+    let mut files = Vec::new();
+    if let Some(d) = testkit::c3d_samples() {
+        files.push(d.join("sample_10/TYPE-3.c3d"));
+        files.push(d.join("sample_10/TYPE-4a.c3d"));
+    }
+    if let Some(d) = testkit::c3d_more() {
+        files.push(d.join("qualisys__cgm2-web-report-uploader__FunctionalKnee_GaitFB2.c3d"));
+        files.push(d.join("pyomeca__ezc3d-testFiles__FP_Type1.c3d"));
+    }
+    // SplitMix64, seeded: the same damage every run.
+    let mut state = 0x5EED_F00D_u64;
+    let mut next = move || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    let (mut read, mut computed) = (0, 0);
+    for f in files {
+        let bytes = std::fs::read(&f).expect("corpus file");
+        let start = (bytes[0] as usize).saturating_sub(1) * 512;
+        let end = (start + bytes[start + 2] as usize * 512).min(bytes.len());
+        for _ in 0..400 {
+            let mut b = bytes.clone();
+            for _ in 0..1 + next() % 4 {
+                let at = start + 4 + (next() as usize) % (end - start - 4);
+                b[at] = next() as u8;
+            }
+            let Ok(c) = c3d::read(b) else { continue };
+            read += 1;
+            let fp = force_platforms(&c, &ForceOptions::default()).expect("options");
+            computed += fp.platforms.len();
+            serde_json::to_string(&fp).expect("serialises");
+        }
+    }
+    eprintln!("{read} damaged files read, {computed} plates computed");
+}

@@ -1,6 +1,7 @@
 //! What the `repair` fuzz target checks, shared with the test that replays what it found.
 //!
-//! For any bytes that read as a C3D file with points: `c3dfix repair` (run in memory, with
+//! For any bytes that read as a C3D file: the force plates compute without a panic (a bad
+//! plate is a warning) and serialise. For those with points: `c3dfix repair` (run in memory, with
 //! options picked from the input's last byte) either fails with an error or gives bytes that
 //! read back with the same shape, that `info` can describe, and in which every sample the
 //! repair left alone (residual above 0 afterwards) and every analog value is as it was.
@@ -49,6 +50,9 @@ pub fn check(data: &[u8]) {
     };
     let input = Path::new("fuzz-input.c3d");
     serde_json::to_string(&describe(&c, input)).expect("info on the input serialises");
+    let plates = c3dfix::force_platforms(&c, &c3dfix::ForceOptions::default())
+        .expect("the default force options are valid");
+    serde_json::to_string(&plates).expect("the plates serialise");
     if c.points().count() == 0 {
         return;
     }
