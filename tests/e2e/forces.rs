@@ -472,3 +472,66 @@ fn plot_forces_draws_the_vertical_force_and_the_cop_over_the_plates() {
     ]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn mot_export_of_every_plate_type_in_the_corpora_is_complete_and_finite() {
+    let (Some(samples), Some(extra)) = (testkit::c3d_samples(), testkit::c3d_extra()) else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let files = [
+        samples.join("sample_10").join("TYPE-2a.c3d"),
+        samples.join("sample_10").join("TYPE-4a.c3d"),
+        samples.join("sample_10").join("TYPE-3.c3d"),
+        extra.join("btkdata_Gait.c3d"),
+    ];
+    let mut types = std::collections::BTreeSet::new();
+    for file in &files {
+        let v = forces_json(file);
+        let plates = v["platforms"].as_array().unwrap();
+        assert!(!plates.is_empty(), "{}", file.display());
+        let mot = dir.path().join("out.mot");
+        let out = c3dfix(&[
+            "export",
+            s(file),
+            "--format",
+            "mot",
+            "--axes",
+            "x,z,-y",
+            "--force",
+            "-o",
+            s(&mot),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let (header, columns, rows) = read_mot(&mot);
+        let samples = plates[0]["force"].as_array().unwrap().len();
+        assert_eq!(columns.len(), 1 + 9 * plates.len(), "{}", file.display());
+        assert_eq!(header[2], format!("nRows={samples}"));
+        assert_eq!(header[3], format!("nColumns={}", columns.len()));
+        assert_eq!(rows.len(), samples);
+        assert!(rows
+            .iter()
+            .all(|r| r.len() == columns.len() && r.iter().all(|x| x.is_finite())));
+        for (k, p) in plates.iter().enumerate() {
+            types.insert(p["type"].as_i64().unwrap());
+            assert_eq!(
+                columns[1 + 9 * k],
+                format!("ground_force_{}_vx", p["index"])
+            );
+            // The vertical force (OpenSim's y) at the plate's peak matches forces' lab z.
+            let fz: Vec<f64> = p["force"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|f| f[2].as_f64().unwrap_or(0.0))
+                .collect();
+            let i = (0..fz.len())
+                .max_by(|&a, &b| fz[a].abs().total_cmp(&fz[b].abs()))
+                .unwrap();
+            if p["cop"][i][0].is_number() {
+                assert!(close(rows[i][2 + 9 * k], fz[i], 1e-5), "{}", file.display());
+            }
+        }
+    }
+    assert_eq!(types.into_iter().collect::<Vec<_>>(), [2, 3, 4]);
+}

@@ -14,7 +14,8 @@ pub enum ExportFormat {
     Csv,
     Trc,
     Json,
-    /// OpenSim's ground reaction motion file: force, point and free torque per plate.
+    /// OpenSim's ground reaction motion file: per plate force (N), point (m) and free torque
+    /// (N·m), one row per analog sample, time from 0; unloaded rows are 0 at the plate centre.
     Mot,
 }
 

@@ -62,7 +62,16 @@ pub fn run(a: Args) -> Result<i32> {
         None => sticks::plug_in_gait(&c.point_labels()),
     };
     // Plates when FORCE_PLATFORM names some: a file without them has no analog decoded.
-    let plates = if c.platform_params().plates.is_empty() {
+    let params = c.platform_params();
+    let plates = if params.plates.is_empty() {
+        for p in &params.problems {
+            let w = c3dfix::PlateWarning {
+                plate: p.plate,
+                parameter: p.parameter.clone(),
+                message: p.message.clone(),
+            };
+            crate::console::errln!("c3dfix: warning: {}: {w}", a.file.display());
+        }
         None
     } else {
         let fp = crate::plates::compute(&c)?;
