@@ -67,7 +67,8 @@ pub struct PlateFrames {
     /// has no analog sample.
     pub samples: Vec<u8>,
     /// Data units per newton: the largest force of the trial is drawn 1.5 times as long as
-    /// the largest plate side, so the arrow reads at any zoom and in any unit.
+    /// a plate's side (the median plate's longest), so the arrow reads at any zoom and in
+    /// any unit.
     pub scale: f64,
 }
 
@@ -85,15 +86,23 @@ pub fn plate_frames(fp: &c3dfix::ForcePlatforms, frames: usize) -> PlateFrames {
         .collect();
     let mut samples = Vec::with_capacity(frames * fp.platforms.len() * 24);
     let mut peak: f64 = 0.0;
-    let mut side: f64 = 0.0;
-    for p in &fp.platforms {
-        for k in 0..4 {
-            let (a, b) = (p.corners[k], p.corners[(k + 1) % 4]);
-            side = side.max(
-                ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt(),
-            );
-        }
-    }
+    // The median of the plates' longest sides: one plate with corrupt CORNERS (some vendor
+    // test files hold 1e10 there) does not blow every arrow up.
+    let mut sides: Vec<f64> = fp
+        .platforms
+        .iter()
+        .map(|p| {
+            (0..4)
+                .map(|k| {
+                    let (a, b) = (p.corners[k], p.corners[(k + 1) % 4]);
+                    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+                })
+                .fold(0.0, f64::max)
+        })
+        .filter(|s| s.is_finite())
+        .collect();
+    sides.sort_by(f64::total_cmp);
+    let side = sides.get(sides.len() / 2).copied().unwrap_or(0.0);
     for f in 0..frames {
         for p in &fp.platforms {
             let at = crate::plates::frame_sample(fp, f, p.force.len());
