@@ -485,3 +485,60 @@ fn view_draws_a_bvh_skeleton_against_its_keyframed_rebuild() {
     assert_eq!(r["ok"], true, "{r}");
     screenshot(&bin, &html, &dir.path().join("profile"), "viewer_bvh.png");
 }
+
+#[test]
+fn the_viewer_draws_the_plates_and_the_ground_reaction() {
+    let Some(corpus) = testkit::c3d_samples() else {
+        return;
+    };
+    let file = corpus.join("sample_10").join("TYPE-2a.c3d");
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("grf.html");
+    let out = c3dfix(&["view", s(&file), "-o", s(&page)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&page).unwrap();
+    assert_offline(&text);
+    // Both plates' outlines, as FORCE_PLATFORM:CORNERS gives them (mm).
+    assert!(
+        text.contains("\"plates\":[{\"index\":1,\"corners\":[[482.6,486.0,0.0],"),
+        "plate 1 missing"
+    );
+    assert!(text.contains("{\"index\":2,\"corners\":[[533.4,71.0,0.0],"));
+    assert!(text.contains("<script id=\"forces\" type=\"text/plain\">"));
+    // A file without plates carries none.
+    let walk = dir.path().join("walk.html");
+    let out = c3dfix(&["view", s(&sample("walk_int.c3d")), "-o", s(&walk)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let walk_text = std::fs::read_to_string(&walk).unwrap();
+    assert!(walk_text.contains("\"plates\":[]"));
+
+    let Some(bin) = chromium() else { return };
+    let r = selftest(&bin, &page, &dir.path().join("profile"));
+    assert_eq!(r["errors"], serde_json::json!([]), "{r}");
+    assert_eq!(r["plates"], 2, "{r}");
+    assert_eq!(r["plates_drawn"], 2, "{r}");
+    // The first frame whose first analog sample has a COP on some plate (as `forces` says)
+    // shows an arrow; frame 0, where neither plate is loaded, shows none.
+    let out = c3dfix(&["forces", "--json", s(&file)]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let loaded = (0..360)
+        .find(|f| {
+            v["platforms"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|p| p["cop"][f * 16][0].is_number())
+        })
+        .unwrap();
+    assert_eq!(r["loaded_frame"], loaded, "{r}");
+    assert!(r["arrows_drawn"].as_u64().unwrap() >= 1, "{r}");
+    assert_eq!(r["unloaded_frame"], 0, "{r}");
+    assert_eq!(r["arrows_unloaded"], 0, "{r}");
+    assert_eq!(r["ok"], true, "{r}");
+    screenshot(
+        &bin,
+        &page,
+        &dir.path().join("profile"),
+        "viewer_plates.png",
+    );
+}

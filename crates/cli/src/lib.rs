@@ -5,6 +5,7 @@
 pub mod commands;
 pub mod console;
 pub mod output;
+pub mod plates;
 pub mod plot;
 pub mod ranges;
 pub mod view;

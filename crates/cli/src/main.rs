@@ -20,14 +20,16 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Header, formats, counts, rates, gaps per marker, parameter groups, warnings.
+    /// Header, formats, counts, rates, gaps per marker, force plates, parameter groups,
+    /// warnings.
     Info(commands::info::Args),
     /// Rewrite files (byte-identical by default), or convert their processor/number format:
     /// one file to -o, or many (folders recursively) in place or into a folder, in parallel.
     Convert(commands::convert::Args),
     /// Compare two files: header, parameters, point and analog data (exit 1 if different).
     Diff(commands::diff::Args),
-    /// Export point (and analog) data as CSV, TRC or JSON.
+    /// Export point (and analog) data as CSV, TRC or JSON, or the force plates as an OpenSim
+    /// MOT file.
     Export(commands::export::Args),
     /// List every gap of every marker.
     Gaps(commands::gaps::Args),
@@ -42,9 +44,11 @@ enum Command {
     Evaluate(commands::evaluate::Args),
     /// Reduce a BVH motion to key frames; rebuild it by interpolation and report the error.
     Keyframes(commands::keyframes::Args),
-    /// Draw marker x, y, z against time (optionally over the original) as SVG or PNG.
+    /// Draw marker x, y, z against time (optionally over the original), or the force plates,
+    /// as SVG or PNG.
     Plot(commands::plot::Args),
-    /// Write a self-contained HTML page that plays the trial in 3D (offline, no network).
+    /// Write a self-contained HTML page that plays the trial in 3D, with its force plates
+    /// (offline, no network).
     View(commands::view::Args),
 }
 

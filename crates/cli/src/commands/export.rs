@@ -1,9 +1,11 @@
-//! `c3dfix export`: point data (and analog) as CSV, TRC or JSON.
+//! `c3dfix export`: point data (and analog) as CSV, TRC or JSON; the force plates' ground
+//! reaction as an OpenSim motion file (MOT).
 
 use crate::commands::info::read_c3d;
 use crate::console::{errln, out, outln};
 use crate::output::{refuse_input, write_all, write_atomic, Content, Output};
-use anyhow::Result;
+use crate::plates::{metres_per, Axes};
+use anyhow::{bail, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -12,6 +14,9 @@ pub enum ExportFormat {
     Csv,
     Trc,
     Json,
+    /// OpenSim's ground reaction motion file: per plate force (N), point (m) and free torque
+    /// (N·m), one row per analog sample, time from 0; unloaded rows are 0 at the plate centre.
+    Mot,
 }
 
 #[derive(clap::Args)]
@@ -26,12 +31,22 @@ pub struct Args {
     /// Replace existing output files.
     #[arg(long)]
     pub force: bool,
+    /// The lab axes as the output's X,Y,Z (TRC and MOT only), a rotation: e.g. `x,z,-y` for
+    /// OpenSim's Y-up frame from a Z-up lab (X = lab x, Y = lab z, Z = −lab y). Default: the
+    /// lab's axes as they are.
+    #[arg(long)]
+    pub axes: Option<String>,
 }
 
 pub fn run(a: Args) -> Result<i32> {
     if let Some(out) = &a.output {
         refuse_input(out, &[&a.file], "output")?;
     }
+    let axes = match (&a.axes, a.format) {
+        (None, _) => Axes::default(),
+        (Some(spec), ExportFormat::Trc | ExportFormat::Mot) => Axes::parse(spec)?,
+        (Some(_), _) => bail!("--axes applies to --format trc and mot only"),
+    };
     let c = read_c3d(&a.file)?;
     match a.format {
         ExportFormat::Csv => {
@@ -65,13 +80,21 @@ pub fn run(a: Args) -> Result<i32> {
             }
         }
         ExportFormat::Trc => {
-            let (text, changed) = trc(&c, &a.file);
+            let (text, changed) = trc(&c, &a.file, &axes);
             emit(&a.output, text, a.force)?;
             for l in changed {
                 errln!("c3dfix: warning: {}: label {l:?} holds a tab or line break, which TRC cannot; written with spaces", a.file.display());
             }
         }
         ExportFormat::Json => emit(&a.output, json(&c)?, a.force)?,
+        ExportFormat::Mot => {
+            let fp = crate::plates::compute(&c)?;
+            for w in &fp.warnings {
+                errln!("c3dfix: warning: {}: {w}", a.file.display());
+            }
+            let text = mot(&fp, &a.file, &axes)?;
+            emit(&a.output, text, a.force)?;
+        }
     }
     Ok(0)
 }
@@ -179,7 +202,7 @@ fn analog_csv(c: &c3d::C3d) -> String {
 
 /// The Motion Analysis TRC text format (PathFileType 4, X/Y/Z); invalid samples are empty.
 /// Also the labels that had to be changed to fit it.
-fn trc(c: &c3d::C3d, path: &Path) -> (String, Vec<String>) {
+fn trc(c: &c3d::C3d, path: &Path, axes: &Axes) -> (String, Vec<String>) {
     let p = c.points();
     let labels = c.point_labels();
     let rate = c.point_rate();
@@ -217,7 +240,7 @@ fn trc(c: &c3d::C3d, path: &Path) -> (String, Vec<String>) {
         let _ = write!(s, "{}\t{:.6}", first + f, time_of(c, f));
         for i in 0..p.count() {
             if p.is_valid(f, i) {
-                let [x, y, z] = p.xyz[p.index(f, i)];
+                let [x, y, z] = axes.apply_f32(p.xyz[p.index(f, i)]);
                 let _ = write!(s, "\t{x}\t{y}\t{z}");
             } else {
                 s.push_str("\t\t\t");
@@ -267,4 +290,90 @@ fn json(c: &c3d::C3d) -> Result<String> {
         "events": c.events(),
     });
     Ok(serde_json::to_string(&v)? + "\n")
+}
+
+/// OpenSim's ground reaction motion file (the `.mot` its ExternalLoads read): `time`, then per
+/// plate K (numbered as FORCE_PLATFORM numbers it) `ground_force_K_v{x,y,z}` in N,
+/// `ground_force_K_p{x,y,z}` (the COP) in m and `ground_torque_K_{x,y,z}` (the free moment)
+/// in N·m, one row per analog sample, time from 0 at ANALOG:RATE.
+///
+/// OpenSim takes no NaN: where a plate carries less than the threshold the COP is undefined,
+/// and the row says "no load" — force and torque 0, the point at the plate's centre, so that
+/// a force applied there is nothing.
+fn mot(fp: &c3dfix::ForcePlatforms, path: &Path, axes: &Axes) -> Result<String> {
+    let Some(first) = fp.platforms.first() else {
+        bail!(
+            "{}: no force platforms{}: nothing to write as MOT",
+            path.display(),
+            if fp.warnings.is_empty() {
+                ""
+            } else {
+                " could be computed (see the warnings)"
+            }
+        );
+    };
+    let rate = first.rate;
+    if !(rate > 0.0 && rate.is_finite()) {
+        bail!(
+            "{}: ANALOG:RATE is {rate}: MOT needs a time for each sample",
+            path.display()
+        );
+    }
+    let mut scales = Vec::new();
+    for p in &fp.platforms {
+        let m = match metres_per(&p.units.position) {
+            Some(m) => m,
+            None => bail!(
+                "{}: POINT:UNITS {:?} is no length unit c3dfix knows (mm, cm, dm, m, in): cannot write metres",
+                path.display(),
+                p.units.position
+            ),
+        };
+        scales.push(m);
+    }
+    let rows = fp
+        .platforms
+        .iter()
+        .map(|p| p.force.len())
+        .max()
+        .unwrap_or(0);
+    let columns = 1 + 9 * fp.platforms.len();
+    let stem = path
+        .file_stem()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let mut s = format!(
+        "name {}\nversion=1\nnRows={rows}\nnColumns={columns}\ninDegrees=yes\nendheader\ntime",
+        trc_label(&stem).0
+    );
+    for p in &fp.platforms {
+        let k = p.index;
+        for q in ["vx", "vy", "vz", "px", "py", "pz"] {
+            write!(s, "\tground_force_{k}_{q}")?;
+        }
+        for q in ["x", "y", "z"] {
+            write!(s, "\tground_torque_{k}_{q}")?;
+        }
+    }
+    s.push('\n');
+    for i in 0..rows {
+        write!(s, "{:.6}", i as f64 / rate)?;
+        for (p, &m) in fp.platforms.iter().zip(&scales) {
+            let at = |v: &[[f64; 3]]| v.get(i).copied().unwrap_or([f64::NAN; 3]);
+            let (force, cop, torque) = (at(&p.force), at(&p.cop), at(&p.free_moment));
+            let loaded = [force, cop, torque].iter().flatten().all(|x| x.is_finite());
+            let (force, point, torque) = if loaded {
+                (force, cop.map(|x| x * m), torque.map(|x| x * m))
+            } else {
+                ([0.0; 3], p.centre.map(|x| x * m), [0.0; 3])
+            };
+            for v in [force, point, torque] {
+                for x in axes.apply(v) {
+                    // A rotated 0 may be a negative zero: written as 0.
+                    write!(s, "\t{:.6}", x + 0.0)?;
+                }
+            }
+        }
+        s.push('\n');
+    }
+    Ok(s)
 }

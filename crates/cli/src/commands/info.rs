@@ -22,6 +22,21 @@ struct MarkerInfo {
     longest_gap: usize,
 }
 
+/// A force plate as `info` lists it; `c3dfix forces` gives every sample.
+#[derive(Serialize)]
+struct PlateInfo {
+    index: usize,
+    #[serde(rename = "type")]
+    kind: i32,
+    channels: Vec<usize>,
+    /// The centre of the corners, POINT:UNITS.
+    centre: [f64; 3],
+    /// Largest |Fz| over the trial (N).
+    peak_force: f64,
+    /// Stretches carrying at least the threshold.
+    contacts: usize,
+}
+
 #[derive(Serialize)]
 struct GroupInfo {
     id: u8,
@@ -57,6 +72,9 @@ pub struct Report<'a> {
     groups: Vec<GroupInfo>,
     header_events: Vec<c3d::HeaderEvent>,
     events: Vec<c3d::Event>,
+    force_platforms: Vec<PlateInfo>,
+    /// Plates left out or parameters not used ("plate K: FORCE_PLATFORM:PARAM message").
+    force_platform_warnings: Vec<String>,
     warnings: Vec<String>,
 }
 
@@ -123,6 +141,7 @@ pub fn describe<'a>(c: &'a c3d::C3d, file: &Path) -> Report<'a> {
     let origin_samples = v.at_origin;
     let frames = c.frames();
     let rate = c.point_rate();
+    let (force_platforms, force_platform_warnings) = plates(c);
     Report {
         file: file.display().to_string(),
         bytes: c.source_bytes().map_or(0, |b| b.len()),
@@ -156,7 +175,47 @@ pub fn describe<'a>(c: &'a c3d::C3d, file: &Path) -> Report<'a> {
         groups,
         header_events: c.header_events(),
         events: c.events(),
+        force_platforms,
+        force_platform_warnings,
         warnings: c.warnings().iter().map(|w| w.to_string()).collect(),
+    }
+}
+
+/// The plates of `c` and their warnings. FORCE_PLATFORM is read first, so a file without
+/// plates never has its analog data decoded: `info` stays as fast as it was.
+fn plates(c: &c3d::C3d) -> (Vec<PlateInfo>, Vec<String>) {
+    let params = c.platform_params();
+    if params.plates.is_empty() {
+        let warnings = params
+            .problems
+            .into_iter()
+            .map(|p| {
+                c3dfix::PlateWarning {
+                    plate: p.plate,
+                    parameter: p.parameter,
+                    message: p.message,
+                }
+                .to_string()
+            })
+            .collect();
+        return (Vec::new(), warnings);
+    }
+    match crate::plates::compute(c) {
+        Ok(fp) => (
+            fp.platforms
+                .iter()
+                .map(|p| PlateInfo {
+                    index: p.index,
+                    kind: p.kind,
+                    channels: p.channels.clone(),
+                    centre: p.centre,
+                    peak_force: p.peak_force,
+                    contacts: p.contacts.len(),
+                })
+                .collect(),
+            fp.warnings.iter().map(|w| w.to_string()).collect(),
+        ),
+        Err(e) => (Vec::new(), vec![e.to_string()]),
     }
 }
 
@@ -243,6 +302,37 @@ fn print_text(r: &Report) -> Result<()> {
                 format!("  — {}", g.description)
             }
         )?;
+    }
+    if !r.force_platforms.is_empty() || !r.force_platform_warnings.is_empty() {
+        outln!(
+            "  plates       {} force platform{} (COP where |Fz| >= {} N)",
+            r.force_platforms.len(),
+            if r.force_platforms.len() == 1 {
+                ""
+            } else {
+                "s"
+            },
+            c3dfix::platforms::DEFAULT_THRESHOLD_N
+        )?;
+        for p in &r.force_platforms {
+            let channels: Vec<String> = p.channels.iter().map(|c| c.to_string()).collect();
+            outln!(
+                "    plate {}  type {}  channels {}  centre ({:.1}, {:.1}, {:.1}) {}  peak |Fz| {:.1} N  {} contact{}",
+                p.index,
+                p.kind,
+                channels.join(","),
+                p.centre[0],
+                p.centre[1],
+                p.centre[2],
+                r.point_units,
+                p.peak_force,
+                p.contacts,
+                if p.contacts == 1 { "" } else { "s" }
+            )?;
+        }
+        for w in &r.force_platform_warnings {
+            outln!("    - {w}")?;
+        }
     }
     if !r.header_events.is_empty() || !r.events.is_empty() {
         outln!("  events")?;

@@ -1,5 +1,5 @@
 //! `c3dfix plot`: marker coordinates against time, optionally over the original they were
-//! repaired from, as SVG or PNG.
+//! repaired from, or the force plates (`--forces`), as SVG or PNG.
 
 use crate::commands::info::read_c3d;
 use crate::output::write_atomic;
@@ -12,8 +12,12 @@ pub struct Args {
     /// The C3D file to plot (the repaired one when comparing).
     pub file: PathBuf,
     /// Marker label(s), comma-separated; a "Subject:" prefix and case are ignored.
-    #[arg(long, value_delimiter = ',', required = true)]
+    #[arg(long, value_delimiter = ',', required_unless_present = "forces")]
     pub marker: Vec<String>,
+    /// Draw the force plates instead: each plate's vertical ground reaction against time, and
+    /// the centres of pressure over the plates' outlines seen from above.
+    #[arg(long, conflicts_with_all = ["marker", "against", "analog"])]
+    pub forces: bool,
     /// The original file: drawn beside FILE, with its gaps shaded and the repairs marked.
     #[arg(long)]
     pub against: Option<PathBuf>,
@@ -36,6 +40,15 @@ pub fn run(a: Args) -> Result<i32> {
         .collect();
     crate::output::refuse_input(&a.output, &inputs, "output")?;
     let c = read_c3d(&a.file)?;
+    if a.forces {
+        let fp = crate::plates::compute(&c)?;
+        for w in &fp.warnings {
+            crate::console::errln!("c3dfix: warning: {}: {w}", a.file.display());
+        }
+        let bytes = crate::plot::render_forces(&fp, &crate::output::file_name(&a.file), format)?;
+        write_atomic(&a.output, &bytes, a.force)?;
+        return Ok(0);
+    }
     let orig = a.against.as_deref().map(read_c3d).transpose()?;
     let (fname, oname) = (
         crate::output::file_name(&a.file),

@@ -61,7 +61,31 @@ pub fn run(a: Args) -> Result<i32> {
         }
         None => sticks::plug_in_gait(&c.point_labels()),
     };
-    let html = page((&c, &fname), orig.as_ref().zip(oname.as_deref()), pairs)?;
+    // Plates when FORCE_PLATFORM names some: a file without them has no analog decoded.
+    let params = c.platform_params();
+    let plates = if params.plates.is_empty() {
+        for p in &params.problems {
+            let w = c3dfix::PlateWarning {
+                plate: p.plate,
+                parameter: p.parameter.clone(),
+                message: p.message.clone(),
+            };
+            crate::console::errln!("c3dfix: warning: {}: {w}", a.file.display());
+        }
+        None
+    } else {
+        let fp = crate::plates::compute(&c)?;
+        for w in &fp.warnings {
+            crate::console::errln!("c3dfix: warning: {}: {w}", a.file.display());
+        }
+        Some(fp)
+    };
+    let html = page(
+        (&c, &fname),
+        orig.as_ref().zip(oname.as_deref()),
+        pairs,
+        plates.as_ref(),
+    )?;
     write_atomic(&a.output, html.as_bytes(), a.force)?;
     Ok(0)
 }

@@ -82,16 +82,21 @@ pub fn render(plot: &Plot, format: Format) -> Result<Vec<u8>> {
                 draw(plot, &root)?;
                 root.present().map_err(|e| anyhow!("drawing failed: {e}"))?;
             }
-            let mut out = Vec::new();
-            let mut enc = png::Encoder::new(&mut out, w, h);
-            enc.set_color(png::ColorType::Rgb);
-            enc.set_depth(png::BitDepth::Eight);
-            let mut wr = enc.write_header()?;
-            wr.write_image_data(&px)?;
-            wr.finish()?;
-            Ok(out)
+            png_bytes(&px, w, h)
         }
     }
+}
+
+/// An RGB pixel buffer of `w` × `h` as PNG bytes.
+pub(super) fn png_bytes(px: &[u8], w: u32, h: u32) -> Result<Vec<u8>> {
+    let mut out = Vec::new();
+    let mut enc = png::Encoder::new(&mut out, w, h);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut wr = enc.write_header()?;
+    wr.write_image_data(px)?;
+    wr.finish()?;
+    Ok(out)
 }
 
 /// The range of the valid values in `sets`, padded so lines do not touch the frame.

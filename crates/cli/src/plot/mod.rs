@@ -8,7 +8,9 @@
 
 pub mod decimate;
 mod draw;
+mod forces;
 mod gather;
 
 pub use draw::{render, render_keyframe_curves, Format};
+pub use forces::render_forces;
 pub use gather::{marker_index, KeyframeCurves, Plot};

@@ -36,6 +36,10 @@ struct Meta<'a> {
     traced: Vec<usize>,
     /// Whether to draw the sticks' shadow on the floor.
     shadow: bool,
+    /// The force plates' outlines; their samples per frame are in the FORCES block.
+    plates: Vec<pack::PlateOutline>,
+    /// Data units per newton for the ground reaction arrows.
+    force_scale: f64,
 }
 
 /// One trial as the page shows it, whichever format it came from.
@@ -72,6 +76,8 @@ pub struct Style {
     pub traced: Vec<usize>,
     /// Draw the sticks' shadow on the floor.
     pub shadow: bool,
+    /// Force plates with their ground reaction per frame.
+    pub plates: Option<pack::PlateFrames>,
 }
 
 /// The axis along which markers spread most within a frame: a standing body is taller than it
@@ -134,6 +140,7 @@ pub fn page(
     file: (&C3d, &str),
     original: Option<(&C3d, &str)>,
     sticks: Vec<(usize, usize)>,
+    plates: Option<&c3dfix::ForcePlatforms>,
 ) -> Result<String> {
     let (c, name) = file;
     let labels = c.point_labels();
@@ -155,6 +162,9 @@ pub fn page(
         sticks,
         traced: Vec::new(),
         shadow: false,
+        plates: plates
+            .filter(|fp| !fp.platforms.is_empty())
+            .map(|fp| pack::plate_frames(fp, c.frames())),
     };
     render(Trial::c3d(c, name), orig, style)
 }
@@ -196,6 +206,11 @@ pub fn render(
         sticks: style.sticks,
         traced: style.traced,
         shadow: style.shadow,
+        plates: style
+            .plates
+            .as_ref()
+            .map_or_else(Vec::new, |p| p.outlines.clone()),
+        force_scale: style.plates.as_ref().map_or(0.0, |p| p.scale),
     };
     let fields = [
         ("TITLE", escape_html(&title)),
@@ -206,6 +221,13 @@ pub fn render(
         (
             "ORIG",
             orig.map_or_else(String::new, |o| pack::base64(&o.xyz)),
+        ),
+        (
+            "FORCES",
+            style
+                .plates
+                .as_ref()
+                .map_or_else(String::new, |p| pack::base64(&p.samples)),
         ),
     ];
     Ok(fill(TEMPLATE, &fields))

@@ -49,6 +49,92 @@ pub fn pack(points: &Points, order: &[Option<usize>], frames: usize) -> Packed {
     Packed { xyz, flags }
 }
 
+/// A force plate's outline as the page draws it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct PlateOutline {
+    /// 1-based, as FORCE_PLATFORM numbers it.
+    pub index: usize,
+    /// The four corners, lab frame, POINT:UNITS.
+    pub corners: [[f32; 3]; 4],
+}
+
+/// The plates' ground reaction at each point frame, for the page's arrows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlateFrames {
+    pub outlines: Vec<PlateOutline>,
+    /// Little-endian f32, `(frame * plates + plate) * 6`: the COP (x, y, z), then the force
+    /// (x, y, z) in N; all NaN where the COP is undefined (the plate unloaded) or the frame
+    /// has no analog sample.
+    pub samples: Vec<u8>,
+    /// Data units per newton: the largest force of the trial is drawn 1.5 times as long as
+    /// a plate's side (the median plate's longest), so the arrow reads at any zoom and in
+    /// any unit.
+    pub scale: f64,
+}
+
+/// Each plate of `fp` at each of `frames` point frames, from the first analog sample of the
+/// frame ([`crate::plates::frame_sample`]): the arrow shows what the plate measured as the
+/// markers were captured, not an average over the frame's samples.
+pub fn plate_frames(fp: &c3dfix::ForcePlatforms, frames: usize) -> PlateFrames {
+    let outlines = fp
+        .platforms
+        .iter()
+        .map(|p| PlateOutline {
+            index: p.index,
+            corners: p.corners.map(|c| c.map(|x| x as f32)),
+        })
+        .collect();
+    let mut samples = Vec::with_capacity(frames * fp.platforms.len() * 24);
+    let mut peak: f64 = 0.0;
+    // The median of the plates' longest sides: one plate with corrupt CORNERS (some vendor
+    // test files hold 1e10 there) does not blow every arrow up.
+    let mut sides: Vec<f64> = fp
+        .platforms
+        .iter()
+        .map(|p| {
+            (0..4)
+                .map(|k| {
+                    let (a, b) = (p.corners[k], p.corners[(k + 1) % 4]);
+                    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+                })
+                .fold(0.0, f64::max)
+        })
+        .filter(|s| s.is_finite())
+        .collect();
+    sides.sort_by(f64::total_cmp);
+    let side = sides.get(sides.len() / 2).copied().unwrap_or(0.0);
+    for f in 0..frames {
+        for p in &fp.platforms {
+            let at = crate::plates::frame_sample(fp, f, p.force.len());
+            let v = match at {
+                Some(i) => {
+                    let (cop, force) = (p.cop[i], p.force[i]);
+                    if cop.iter().chain(&force).all(|x| x.is_finite()) {
+                        peak = peak.max(force.iter().map(|x| x * x).sum::<f64>().sqrt());
+                        [cop, force]
+                    } else {
+                        [[f64::NAN; 3]; 2]
+                    }
+                }
+                None => [[f64::NAN; 3]; 2],
+            };
+            for x in v.iter().flatten() {
+                samples.extend_from_slice(&(*x as f32).to_le_bytes());
+            }
+        }
+    }
+    let scale = if peak > 0.0 && side > 0.0 {
+        1.5 * side / peak
+    } else {
+        0.0
+    };
+    PlateFrames {
+        outlines,
+        samples,
+        scale,
+    }
+}
+
 /// The floats of a packed coordinate array: the inverse of the packing, for tests.
 #[cfg(test)]
 pub fn unpack(bytes: &[u8]) -> Vec<f32> {

@@ -77,6 +77,7 @@ pub fn page(file: (&bvh::Bvh, &str), against: Option<(&bvh::Bvh, &str)>) -> Resu
         sticks: pos.bones.clone(),
         traced: pos.end_sites.clone(),
         shadow: true,
+        plates: None,
     };
     let trial = Trial {
         name,

@@ -28,6 +28,11 @@
   const oxyz = origBytes.length ? new Float32Array(origBytes.buffer) : null;
   const N = meta.frames, M = meta.count;
   const FILLED = 2;
+  // Force plates: outlines, and per frame and plate the COP then the force (NaN: unloaded).
+  const plates = meta.plates || [];
+  const P = plates.length;
+  const forceBytes = bytes('forces');
+  const fdata = forceBytes.length ? new Float32Array(forceBytes.buffer) : null;
 
   // Data axes → view axes (view z is up); a cyclic permutation keeps the handedness.
   const perm = meta.up === 2 ? [0, 1, 2] : meta.up === 1 ? [2, 0, 1] : [1, 2, 0];
@@ -36,6 +41,15 @@
     const i = (f * M + m) * 3;
     out[0] = arr[i + perm[0]]; out[1] = arr[i + perm[1]]; out[2] = arr[i + perm[2]];
     return out[0] === out[0];
+  }
+
+  const plateCorners = plates.map((p) => p.corners.map((c) => [c[perm[0]], c[perm[1]], c[perm[2]]]));
+  // Plate k at frame f into cop and force (view axes); false where the COP is undefined.
+  function plateAt(f, k, cop, force) {
+    if (!fdata) return false;
+    const i = (f * P + k) * 6;
+    for (let a = 0; a < 3; a++) { cop[a] = fdata[i + perm[a]]; force[a] = fdata[i + 3 + perm[a]]; }
+    return cop[0] === cop[0] && force[0] === force[0];
   }
 
   // Last valid frame of each marker at each frame (-1: none yet): where gaps are ghosted.
@@ -118,6 +132,7 @@
 
   let frame = 0, playing = false, dir = 1, speed = 1, acc = 0, last = null;
   let showLabels = false, showSticks = true, showOrig = true, follow = false, hover = -1;
+  let showPlates = true, platesDrawn = 0, arrowsDrawn = 0;
   // Zoom to the subject's own size (the extent of the current frame's points).
   function frameSize() {
     const a = [Infinity, Infinity, Infinity], b = [-Infinity, -Infinity, -Infinity], p = [0, 0, 0];
@@ -134,7 +149,7 @@
   const isEnd = skeleton ? new Set(meta.traced || []) : new Set();
   let drawn = 0, screen = [];
 
-  const COL = { end: '#9467bd', shadow: 'rgba(0,0,0,0.12)', marker: '#1f77b4', filled: '#ff7f0e', orig: '#2ca02c', err: '#d62728', ghost: '#999', stick: '#555' };
+  const COL = { plate: '#8c564b', plateFill: 'rgba(140,86,75,0.10)', grf: '#e377c2', end: '#9467bd', shadow: 'rgba(0,0,0,0.12)', marker: '#1f77b4', filled: '#ff7f0e', orig: '#2ca02c', err: '#d62728', ghost: '#999', stick: '#555' };
 
   function drawGrid() {
     ctx.lineWidth = 1;
@@ -153,6 +168,38 @@
       ctx.beginPath(); line(o, e); ctx.stroke();
       const p = project(e);
       if (p) { ctx.fillStyle = cols[a]; ctx.fillText(axisNames[perm[a]], p[0] + 3, p[1] - 3); }
+    }
+  }
+
+  // Each plate's outline, and the ground reaction as an arrow from the COP along the force,
+  // meta.force_scale data units per newton; no arrow where the plate is unloaded.
+  function drawPlates(f) {
+    platesDrawn = 0; arrowsDrawn = 0;
+    if (!P || !showPlates) return;
+    ctx.lineWidth = 1.5; ctx.strokeStyle = COL.plate; ctx.fillStyle = COL.plateFill;
+    for (const corners of plateCorners) {
+      const q = corners.map(project);
+      if (q.some((p) => !p)) continue;
+      ctx.beginPath(); ctx.moveTo(q[0][0], q[0][1]);
+      for (let k = 1; k < 4; k++) ctx.lineTo(q[k][0], q[k][1]);
+      ctx.closePath(); ctx.fill(); ctx.stroke();
+      platesDrawn++;
+    }
+    const cop = [0, 0, 0], force = [0, 0, 0];
+    ctx.strokeStyle = COL.grf; ctx.fillStyle = COL.grf; ctx.lineWidth = 2.5;
+    for (let k = 0; k < P; k++) {
+      if (!plateAt(f, k, cop, force)) continue;
+      const s = meta.force_scale;
+      const a = project(cop), b = project([cop[0] + force[0] * s, cop[1] + force[1] * s, cop[2] + force[2] * s]);
+      if (!a || !b) continue;
+      ctx.beginPath(); ctx.moveTo(a[0], a[1]); ctx.lineTo(b[0], b[1]); ctx.stroke();
+      const t = Math.atan2(b[1] - a[1], b[0] - a[0]), h = 9;
+      ctx.beginPath(); ctx.moveTo(b[0], b[1]);
+      ctx.lineTo(b[0] - h * Math.cos(t - 0.4), b[1] - h * Math.sin(t - 0.4));
+      ctx.lineTo(b[0] - h * Math.cos(t + 0.4), b[1] - h * Math.sin(t + 0.4));
+      ctx.closePath(); ctx.fill();
+      ctx.beginPath(); ctx.arc(a[0], a[1], 3, 0, 2 * Math.PI); ctx.fill();
+      arrowsDrawn++;
     }
   }
 
@@ -190,6 +237,7 @@
     }
     setupCamera();
     drawGrid();
+    drawPlates(f);
     drawTraces();
     // The sticks' shadow on the floor, straight down: shows stance and where the feet are.
     if (showSticks && meta.shadow) {
@@ -288,6 +336,10 @@
       h += '<span class="k" style="background:' + COL.filled + '"></span>filled (residual 0)';
       h += '<span class="k" style="border:1px dashed ' + COL.ghost + '"></span>missing (last seen)';
     }
+    if (P) {
+      h += '<br><span class="k" style="border:2px solid ' + COL.plate + ';border-radius:0"></span>' + P + ' force plate' + (P === 1 ? '' : 's');
+      h += '<span class="k" style="background:' + COL.grf + '"></span>ground reaction (from the COP)';
+    }
     if (oxyz) {
       h += '<span class="k" style="border:2px solid ' + COL.orig + '"></span>original';
       h += '<br>mean error this frame: <b id="err"></b>';
@@ -354,6 +406,8 @@
     draw();
   };
   if (!oxyz) $('origwrap').style.display = 'none';
+  if (!P) $('plateswrap').style.display = 'none';
+  $('plates').onchange = (e) => { showPlates = e.target.checked; draw(); };
   $('reset').onclick = () => { cam = home(); draw(); };
 
   // Marker list for traces.
@@ -459,11 +513,16 @@
     pause: pause,
     setFrame: setFrame,
     drawn: () => drawn,
+    platesDrawn: () => platesDrawn,
+    arrowsDrawn: () => arrowsDrawn,
   };
   resize();
 
   // ?follow=1 opens the page following the subject (for links and screenshots).
   if (/[?&]follow=1\b/.test(location.search)) $('follow').click();
+  // ?frame=K opens the page at the file's frame K (numbered as the file numbers frames).
+  const at = /[?&]frame=(\d+)/.exec(location.search);
+  if (at) setFrame(Number(at[1]) - meta.first_frame);
 
   // Self-test (?selftest=1): plays, moves the slider and reports into the page, for the
   // project's browser test.
@@ -496,8 +555,23 @@
         setTimeout(() => {
           r.reversed_to = frame;
           pause();
+          // The plates: every outline drawn; an arrow on the first loaded frame, none on a
+          // frame where no plate is loaded.
+          const cop = [0, 0, 0], force = [0, 0, 0];
+          const loaded = (f) => { for (let k = 0; k < P; k++) if (plateAt(f, k, cop, force)) return true; return false; };
+          r.plates = P;
+          r.loaded_frame = -1; r.unloaded_frame = -1;
+          for (let f = 0; f < N && (r.loaded_frame < 0 || r.unloaded_frame < 0); f++) {
+            if (loaded(f)) { if (r.loaded_frame < 0) r.loaded_frame = f; } else if (r.unloaded_frame < 0) r.unloaded_frame = f;
+          }
+          if (r.loaded_frame >= 0) { setFrame(r.loaded_frame); r.plates_drawn = platesDrawn; r.arrows_drawn = arrowsDrawn; }
+          if (r.unloaded_frame >= 0) { setFrame(r.unloaded_frame); r.arrows_unloaded = arrowsDrawn; }
+          const platesOk = P === 0 || (r.plates_drawn === P && r.arrows_drawn > 0 && !(r.arrows_unloaded > 0));
+          // Markers at a third of the trial as well: a trial may begin with every marker
+          // missing (the c3d.org plate samples do), which is no fault of the page.
           setFrame(Math.floor(N / 3));
-          r.ok = errors.length === 0 && r.painted_pixels > 500 && r.markers_drawn > 0 &&
+          r.markers_drawn_later = drawn;
+          r.ok = platesOk && errors.length === 0 && r.painted_pixels > 500 && Math.max(r.markers_drawn, r.markers_drawn_later) > 0 &&
             r.played_to > 0 && r.slider_frame === target && r.reversed_to !== target;
           out.textContent = JSON.stringify(r);
           document.body.appendChild(out);

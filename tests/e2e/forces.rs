@@ -1,0 +1,537 @@
+//! Force plates on the command line: `forces`, and the plates in `info`, the OpenSim MOT
+//! export (with `--axes`, which TRC takes too) and `plot --forces`. The reference trial is
+//! the c3d.org sample `sample_10/TYPE-2a.c3d`: two AMTI (type 2) plates at 960 Hz, 16
+//! samples per 60 Hz frame, positions in mm.
+
+use super::{c3dfix, s, sample, stderr, stdout};
+use c3d::Value;
+use serde_json::Value as Json;
+use std::path::{Path, PathBuf};
+
+/// `sample_10/TYPE-2a.c3d` of the c3d.org corpus, or `None` (after saying so) without it.
+fn type2a() -> Option<PathBuf> {
+    Some(
+        testkit::c3d_samples()?
+            .join("sample_10")
+            .join("TYPE-2a.c3d"),
+    )
+}
+
+fn forces_json(file: &Path) -> Json {
+    let out = c3dfix(&["forces", "--json", s(file)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    serde_json::from_slice(&out.stdout).expect("forces --json is JSON")
+}
+
+fn xyz(v: &Json) -> [f64; 3] {
+    let a = v.as_array().expect("a triple");
+    [0, 1, 2].map(|k| a[k].as_f64().expect("a number"))
+}
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol * (1.0 + b.abs())
+}
+
+#[test]
+fn forces_reports_both_plates_of_the_amti_sample() {
+    let Some(file) = type2a() else { return };
+    let out = c3dfix(&["forces", s(&file)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let t = stdout(&out);
+    assert!(
+        t.contains("2 force platforms (COP where |Fz| >= 10 N)"),
+        "{t}"
+    );
+    assert!(
+        t.contains("plate 1  type 2  channels 1,2,3,4,5,6  960 Hz  peak |Fz| 521.6 N"),
+        "{t}"
+    );
+    assert!(
+        t.contains("plate 2  type 2  channels 7,8,9,10,11,12"),
+        "{t}"
+    );
+    // Plate 1's stance: frames 108-139, samples 1726-2213 (16 samples per frame).
+    assert!(
+        t.contains("contact frames 108-139 (samples 1726-2213, 1.798-2.305 s), peak 521.6 N"),
+        "{t}"
+    );
+    assert!(t.contains("contact frames 134-164"), "{t}");
+
+    let v = forces_json(&file);
+    let plates = v["platforms"].as_array().unwrap();
+    assert_eq!(plates.len(), 2);
+    for key in [
+        "index",
+        "type",
+        "rate",
+        "channels",
+        "corners",
+        "centre",
+        "origin",
+        "force",
+        "moment",
+        "cop",
+        "free_moment",
+        "peak_force",
+        "contacts",
+        "units",
+    ] {
+        assert!(plates[0].get(key).is_some(), "{key} missing");
+    }
+    assert_eq!(plates[0]["type"], 2);
+    assert_eq!(plates[1]["index"], 2);
+    assert_eq!(plates[0]["rate"], 960.0);
+    assert_eq!(plates[0]["units"]["moment"], "Nmm");
+    assert_eq!(plates[0]["force"].as_array().unwrap().len(), 360 * 16);
+    assert_eq!(xyz(&plates[0]["centre"]), [254.0, 232.0, 0.0]);
+    let c = &plates[0]["contacts"][0];
+    assert_eq!(
+        [&c["first_frame"], &c["last_frame"]],
+        [&Json::from(108), &Json::from(139)]
+    );
+    assert_eq!(plates[1]["contacts"].as_array().unwrap().len(), 8);
+    // Unloaded: the COP and free moment are undefined, written as null; the force is not.
+    assert_eq!(plates[0]["cop"][0], serde_json::json!([null, null, null]));
+    assert_eq!(
+        plates[0]["free_moment"][0],
+        serde_json::json!([null, null, null])
+    );
+    assert!(plates[0]["force"][0][2].is_number());
+    // Mid-stance on plate 1: the lab's Z is up, so the reaction's z is the body's weight share.
+    let f = xyz(&plates[0]["force"][2000]);
+    assert!(close(f[2], 415.315, 1e-5), "{f:?}");
+    let cop = xyz(&plates[0]["cop"][2000]);
+    assert!(
+        close(cop[0], 382.125, 1e-5) && close(cop[1], 368.725, 1e-5),
+        "{cop:?}"
+    );
+    assert_eq!(v["warnings"], serde_json::json!([]));
+}
+
+#[test]
+fn forces_on_a_file_without_plates_says_so() {
+    let out = c3dfix(&["forces", s(&sample("walk_int.c3d"))]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(stdout(&out).contains("walk_int.c3d: no force platforms"));
+    let out = c3dfix(&["forces", "--json", s(&sample("walk_int.c3d"))]);
+    let v: Json = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["platforms"], serde_json::json!([]));
+}
+
+/// A copy of `file` in `dir` with FORCE_PLATFORM changed by `edit`.
+fn modified(file: &Path, dir: &Path, name: &str, edit: impl FnOnce(&mut c3d::C3d)) -> PathBuf {
+    let mut c = c3d::read_file(file).unwrap();
+    edit(&mut c);
+    let out = dir.join(name);
+    std::fs::write(&out, c.to_bytes().unwrap()).unwrap();
+    out
+}
+
+#[test]
+fn a_bad_plate_is_left_out_with_a_warning_and_the_other_computed() {
+    let Some(file) = type2a() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let channel = modified(&file, dir.path(), "channel.c3d", |c| {
+        let p = c.parameters.get("FORCE_PLATFORM", "CHANNEL").unwrap();
+        let dims = p.dims.clone();
+        let mut v: Vec<i16> = p.as_i32s().iter().map(|&x| x as i16).collect();
+        v[6] = 99; // plate 2's first channel, beyond the file's 20
+        c.parameters
+            .set("FORCE_PLATFORM", "CHANNEL", dims, Value::Int(v))
+            .unwrap();
+    });
+    let corners = modified(&file, dir.path(), "corners.c3d", |c| {
+        let v = c
+            .parameters
+            .get("FORCE_PLATFORM", "CORNERS")
+            .unwrap()
+            .as_f32s();
+        // Room for one plate's corners while USED says 2.
+        c.parameters
+            .set(
+                "FORCE_PLATFORM",
+                "CORNERS",
+                vec![3, 4, 1],
+                Value::Float(v[..12].to_vec()),
+            )
+            .unwrap();
+    });
+    let cal = modified(&file, dir.path(), "cal.c3d", |c| {
+        c.parameters
+            .set("FORCE_PLATFORM", "TYPE", vec![2], Value::Int(vec![4, 2]))
+            .unwrap();
+        assert!(c.parameters.remove("FORCE_PLATFORM", "CAL_MATRIX"));
+    });
+    for (path, plate, parameter, kept) in [
+        (&channel, 2, "FORCE_PLATFORM:CHANNEL", 1),
+        (&corners, 2, "FORCE_PLATFORM:CORNERS", 1),
+        (&cal, 1, "FORCE_PLATFORM:CAL_MATRIX", 2),
+    ] {
+        let out = c3dfix(&["forces", s(path)]);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        let err = stderr(&out);
+        assert!(
+            err.contains(&format!("warning: {}: plate {plate}: {parameter}", s(path))),
+            "{err}"
+        );
+        let t = stdout(&out);
+        assert!(t.contains("1 force platform "), "{t}");
+        assert!(t.contains(&format!("plate {kept}  type 2")), "{t}");
+        // The plate kept is computed as in the untouched file.
+        let v = forces_json(path);
+        let plates = v["platforms"].as_array().unwrap();
+        assert_eq!(plates.len(), 1);
+        assert_eq!(plates[0]["index"], kept);
+        let w = v["warnings"].as_array().unwrap();
+        assert!(
+            w.iter().any(|w| w
+                .as_str()
+                .unwrap()
+                .starts_with(&format!("plate {plate}: {parameter}"))),
+            "{w:?}"
+        );
+        let peak = plates[0]["peak_force"].as_f64().unwrap();
+        let want = if kept == 1 { 521.6 } else { 582.8 };
+        assert!((peak - want).abs() < 0.05, "{peak}");
+        // info names the same plate and parameter.
+        let out = c3dfix(&["info", s(path)]);
+        assert!(
+            stdout(&out).contains(&format!("- plate {plate}: {parameter}")),
+            "{}",
+            stdout(&out)
+        );
+    }
+}
+
+#[test]
+fn info_lists_the_plates() {
+    let Some(file) = type2a() else { return };
+    let out = c3dfix(&["info", s(&file)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let t = stdout(&out);
+    assert!(t.contains("plates       2 force platforms"), "{t}");
+    assert!(
+        t.contains("plate 1  type 2  channels 1,2,3,4,5,6  centre (254.0, 232.0, 0.0) mm  peak |Fz| 521.6 N  2 contacts"),
+        "{t}"
+    );
+    assert!(t.contains("plate 2  type 2  channels 7,8,9,10,11,12  centre (762.0, 325.0, 0.0) mm  peak |Fz| 582.8 N  8 contacts"), "{t}");
+    let out = c3dfix(&["info", "--json", s(&file)]);
+    let v: Json = serde_json::from_slice(&out.stdout).unwrap();
+    let p = v["force_platforms"].as_array().unwrap();
+    assert_eq!(p.len(), 2);
+    assert_eq!(p[0]["type"], 2);
+    assert_eq!(p[0]["channels"], serde_json::json!([1, 2, 3, 4, 5, 6]));
+    assert_eq!(p[1]["contacts"], 8);
+    assert_eq!(xyz(&p[1]["centre"]), [762.0, 325.0, 0.0]);
+    assert_eq!(v["force_platform_warnings"], serde_json::json!([]));
+    // A file without plates lists none (and says nothing of plates in text).
+    let out = c3dfix(&["info", "--json", s(&sample("walk_int.c3d"))]);
+    let v: Json = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["force_platforms"], serde_json::json!([]));
+    let out = c3dfix(&["info", s(&sample("walk_int.c3d"))]);
+    assert!(!stdout(&out).contains("plates "));
+}
+
+/// A MOT file's header lines, column names and rows.
+fn read_mot(path: &Path) -> (Vec<String>, Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .by_ref()
+        .take_while(|l| *l != "endheader")
+        .map(String::from)
+        .collect();
+    let columns: Vec<String> = lines
+        .next()
+        .unwrap()
+        .split('\t')
+        .map(String::from)
+        .collect();
+    let rows = lines
+        .map(|l| {
+            l.split('\t')
+                .map(|x| x.parse::<f64>().unwrap_or_else(|_| panic!("{x:?} in {l}")))
+                .collect::<Vec<f64>>()
+        })
+        .collect();
+    (header, columns, rows)
+}
+
+#[test]
+fn mot_export_is_opensim_ground_reaction_in_si_units() {
+    let Some(file) = type2a() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let mot = dir.path().join("grf.mot");
+    let out = c3dfix(&["export", s(&file), "--format", "mot", "-o", s(&mot)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let (header, columns, rows) = read_mot(&mot);
+    assert_eq!(
+        header,
+        [
+            "name TYPE-2a",
+            "version=1",
+            "nRows=5760",
+            "nColumns=19",
+            "inDegrees=yes"
+        ]
+    );
+    assert_eq!(columns.len(), 19);
+    assert_eq!(
+        &columns[..10],
+        [
+            "time",
+            "ground_force_1_vx",
+            "ground_force_1_vy",
+            "ground_force_1_vz",
+            "ground_force_1_px",
+            "ground_force_1_py",
+            "ground_force_1_pz",
+            "ground_torque_1_x",
+            "ground_torque_1_y",
+            "ground_torque_1_z"
+        ]
+    );
+    assert_eq!(columns[18], "ground_torque_2_z");
+    assert_eq!(rows.len(), 5760);
+    assert!(rows
+        .iter()
+        .all(|r| r.len() == 19 && r.iter().all(|x| x.is_finite())));
+    // Time from 0 at the analog rate.
+    assert_eq!(rows[0][0], 0.0);
+    assert!(close(rows[960][0], 1.0, 1e-9));
+
+    let v = forces_json(&file);
+    let p1 = &v["platforms"][0];
+    // Loaded (sample 2000 on plate 1): force in N, COP mm → m, free moment N·mm → N·m.
+    let (f, cop, tz) = (
+        xyz(&p1["force"][2000]),
+        xyz(&p1["cop"][2000]),
+        xyz(&p1["free_moment"][2000]),
+    );
+    let r = &rows[2000];
+    for k in 0..3 {
+        assert!(close(r[1 + k], f[k], 1e-5), "{r:?} {f:?}");
+        assert!(close(r[4 + k], cop[k] / 1000.0, 1e-5), "{r:?} {cop:?}");
+        assert!((r[7 + k] - tz[k] / 1000.0).abs() < 2e-6, "{r:?} {tz:?}");
+    }
+    assert!(close(r[9], 2.42175, 1e-4), "{r:?}");
+    // Unloaded (sample 0 on plate 1, COP null in JSON): no force or torque, at the centre.
+    assert!(p1["cop"][0][0].is_null());
+    assert_eq!(&rows[0][1..4], [0.0, 0.0, 0.0]);
+    assert_eq!(&rows[0][4..7], [0.254, 0.232, 0.0]);
+    assert_eq!(&rows[0][7..10], [0.0, 0.0, 0.0]);
+
+    // --axes x,z,-y: OpenSim's Y is the lab's z (up), its Z the lab's −y.
+    let yup = dir.path().join("yup.mot");
+    let out = c3dfix(&[
+        "export",
+        s(&file),
+        "--format",
+        "mot",
+        "--axes",
+        "x,z,-y",
+        "-o",
+        s(&yup),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let (_, _, turned) = read_mot(&yup);
+    let (a, b) = (&rows[2000], &turned[2000]);
+    for base in [1, 4, 7] {
+        assert_eq!(b[base], a[base]);
+        assert_eq!(b[base + 1], a[base + 2]);
+        assert_eq!(b[base + 2], -a[base + 1] + 0.0);
+    }
+    assert!(b[2] > 400.0, "the vertical force is OpenSim's y: {b:?}");
+}
+
+#[test]
+fn axes_must_be_a_rotation_and_mot_needs_plates() {
+    let walk = sample("walk_int.c3d");
+    let dir = tempfile::tempdir().unwrap();
+    for (axes, why) in [
+        ("x,y,-z", "not a rotation"),
+        ("x,z,y", "not a rotation"),
+        ("x,x,z", "used twice"),
+        ("x,y", "expected three lab axes"),
+        ("x,y,w", "is no lab axis"),
+    ] {
+        let out_path = dir.path().join("out.trc");
+        let out = c3dfix(&[
+            "export",
+            s(&walk),
+            "--format",
+            "trc",
+            "--axes",
+            axes,
+            "-o",
+            s(&out_path),
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{axes}");
+        assert!(stderr(&out).contains(why), "{axes}: {}", stderr(&out));
+        assert!(!out_path.exists());
+    }
+    let out = c3dfix(&["export", s(&walk), "--format", "csv", "--axes", "x,z,-y"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("--axes applies to --format trc and mot only"));
+
+    let mot = dir.path().join("walk.mot");
+    let out = c3dfix(&["export", s(&walk), "--format", "mot", "-o", s(&mot)]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("walk_int.c3d: no force platforms: nothing to write as MOT"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!mot.exists());
+}
+
+#[test]
+fn trc_export_turns_the_markers_with_axes() {
+    let walk = sample("walk_int.c3d");
+    let plain = c3dfix(&["export", s(&walk), "--format", "trc"]);
+    let turned = c3dfix(&["export", s(&walk), "--format", "trc", "--axes", "x,z,-y"]);
+    assert!(turned.status.success(), "{}", stderr(&turned));
+    let (a, b) = (stdout(&plain), stdout(&turned));
+    let (a, b): (Vec<&str>, Vec<&str>) = (a.lines().collect(), b.lines().collect());
+    assert_eq!(a.len(), b.len());
+    // Five header lines and a blank one, the same either way.
+    assert_eq!(a[..6], b[..6]);
+    let mut compared = 0;
+    for (ra, rb) in a[6..].iter().zip(&b[6..]) {
+        let (fa, fb): (Vec<&str>, Vec<&str>) = (ra.split('\t').collect(), rb.split('\t').collect());
+        assert_eq!(fa[..2], fb[..2]);
+        for m in 0..(fa.len() - 2) / 3 {
+            let (x, y, z) = (fa[2 + 3 * m], fa[3 + 3 * m], fa[4 + 3 * m]);
+            if x.is_empty() {
+                assert!(fb[2 + 3 * m..5 + 3 * m].iter().all(|v| v.is_empty()));
+                continue;
+            }
+            let num = |t: &str| t.parse::<f32>().unwrap();
+            assert_eq!(num(fb[2 + 3 * m]), num(x));
+            assert_eq!(num(fb[3 + 3 * m]), num(z));
+            assert_eq!(num(fb[4 + 3 * m]), -num(y));
+            compared += 1;
+        }
+    }
+    assert!(compared > 10_000, "{compared}");
+}
+
+#[test]
+fn plot_forces_draws_the_vertical_force_and_the_cop_over_the_plates() {
+    let Some(file) = type2a() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("grf.svg");
+    let out = c3dfix(&["plot", s(&file), "--forces", "-o", s(&svg)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg") && text.trim_end().ends_with("</svg>"));
+    for want in [
+        "TYPE-2a.c3d: force plates",
+        "vertical ground reaction (lab Z)",
+        "Fz (N)",
+        "Time (s)",
+        "centre of pressure, seen from above",
+        "lab X (mm)",
+        "lab Y (mm)",
+        "plate 1",
+        "plate 2",
+    ] {
+        assert!(text.contains(want), "{want} missing");
+    }
+    // One filled outline per plate.
+    assert_eq!(text.matches("<polygon").count(), 2);
+    let png = dir.path().join("grf.png");
+    let out = c3dfix(&["plot", s(&file), "--forces", "-o", s(&png)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+
+    // No plates: refused, nothing written; --forces draws no markers.
+    let none = dir.path().join("none.svg");
+    let out = c3dfix(&[
+        "plot",
+        s(&sample("walk_int.c3d")),
+        "--forces",
+        "-o",
+        s(&none),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("no force platforms"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!none.exists());
+    let out = c3dfix(&[
+        "plot",
+        s(&file),
+        "--forces",
+        "--marker",
+        "RKNE",
+        "-o",
+        s(&none),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn mot_export_of_every_plate_type_in_the_corpora_is_complete_and_finite() {
+    let (Some(samples), Some(extra)) = (testkit::c3d_samples(), testkit::c3d_extra()) else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let files = [
+        samples.join("sample_10").join("TYPE-2a.c3d"),
+        samples.join("sample_10").join("TYPE-4a.c3d"),
+        samples.join("sample_10").join("TYPE-3.c3d"),
+        extra.join("btkdata_Gait.c3d"),
+    ];
+    let mut types = std::collections::BTreeSet::new();
+    for file in &files {
+        let v = forces_json(file);
+        let plates = v["platforms"].as_array().unwrap();
+        assert!(!plates.is_empty(), "{}", file.display());
+        let mot = dir.path().join("out.mot");
+        let out = c3dfix(&[
+            "export",
+            s(file),
+            "--format",
+            "mot",
+            "--axes",
+            "x,z,-y",
+            "--force",
+            "-o",
+            s(&mot),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let (header, columns, rows) = read_mot(&mot);
+        let samples = plates[0]["force"].as_array().unwrap().len();
+        assert_eq!(columns.len(), 1 + 9 * plates.len(), "{}", file.display());
+        assert_eq!(header[2], format!("nRows={samples}"));
+        assert_eq!(header[3], format!("nColumns={}", columns.len()));
+        assert_eq!(rows.len(), samples);
+        assert!(rows
+            .iter()
+            .all(|r| r.len() == columns.len() && r.iter().all(|x| x.is_finite())));
+        for (k, p) in plates.iter().enumerate() {
+            types.insert(p["type"].as_i64().unwrap());
+            assert_eq!(
+                columns[1 + 9 * k],
+                format!("ground_force_{}_vx", p["index"])
+            );
+            // The vertical force (OpenSim's y) at the plate's peak matches forces' lab z.
+            let fz: Vec<f64> = p["force"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|f| f[2].as_f64().unwrap_or(0.0))
+                .collect();
+            let i = (0..fz.len())
+                .max_by(|&a, &b| fz[a].abs().total_cmp(&fz[b].abs()))
+                .unwrap();
+            if p["cop"][i][0].is_number() {
+                assert!(close(rows[i][2 + 9 * k], fz[i], 1e-5), "{}", file.display());
+            }
+        }
+    }
+    assert_eq!(types.into_iter().collect::<Vec<_>>(), [2, 3, 4]);
+}
