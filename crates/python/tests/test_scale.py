@@ -342,3 +342,18 @@ def test_dask_workers_repair_the_corpus_as_the_command_does(tmp_path):
         run_cli("repair", f, "-o", cli_out, "--force")
         assert out.read_bytes() == cli_out.read_bytes(), f
         assert r["file"] == str(f)
+
+
+# 5. The wheel.
+
+
+def test_the_package_under_test_is_the_installed_abi3_wheel():
+    import importlib.metadata as md
+    import json
+
+    d = md.distribution("c3dfix")
+    assert "site-packages" in Path(c3dfix.__file__).parts, c3dfix.__file__
+    assert "Tag: cp39-abi3-" in (d.read_text("WHEEL") or "")
+    url = d.read_text("direct_url.json")
+    if url:
+        assert not json.loads(url).get("dir_info", {}).get("editable", False), url
