@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Every test: the Rust workspace, then the Python package, installed with pip into a virtual
-# environment (target/venv, or $C3DFIX_VENV) as a user would install it, and its pytest suite.
+# Every test: the Rust workspace, then the Python package's wheel, built with maturin and
+# installed with pip into a virtual environment (target/venv, or $C3DFIX_VENV) as a user would
+# install it, and its pytest suite (with Dask, for the run across worker processes).
 # A fresh machine needs only cargo, python3 and the package registries.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -10,8 +11,12 @@ venv="${C3DFIX_VENV:-$root/target/venv}"
 if [ ! -x "$venv/bin/python" ]; then
   python3 -m venv "$venv"
 fi
-"$venv/bin/python" -m pip install -q --disable-pip-version-check numpy pytest ezc3d
-"$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps ./crates/python
-# The installed package is tested, not the source tree.
+"$venv/bin/python" -m pip install -q --disable-pip-version-check numpy pytest ezc3d maturin 'dask[distributed]'
+# The wheel users get (abi3, release), built once into a fresh folder and installed as a user
+# installs it; the installed package is tested, not the source tree.
+wheels="$root/target/wheels-test"
+rm -rf "$wheels"
+"$venv/bin/maturin" build --release --locked -m crates/python/Cargo.toml --out "$wheels"
+"$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps "$wheels"/c3dfix-*.whl
 cd crates/python/tests
 C3DFIX_BIN="${C3DFIX_BIN:-$root/target/release/c3dfix}" "$venv/bin/python" -m pytest -q -p no:cacheprovider .

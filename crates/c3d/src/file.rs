@@ -255,11 +255,8 @@ impl C3d {
         let n = self.point_chunks().min(states.len());
         let states = states.into_iter().take(n).enumerate();
         if self.layout.data_bytes() > crate::data::PARALLEL_SCAN_BYTES {
-            states
-                .collect::<Vec<_>>()
-                .into_par_iter()
-                .map(visit)
-                .collect()
+            let states: Vec<_> = states.collect();
+            crate::pool::install(|| states.into_par_iter().map(visit).collect())
         } else {
             states.map(visit).collect()
         }

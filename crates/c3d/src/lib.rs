@@ -17,6 +17,7 @@ mod header;
 mod memory;
 mod parameters;
 mod points;
+pub mod pool;
 mod processor;
 mod read;
 mod text;

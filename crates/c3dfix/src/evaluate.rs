@@ -168,10 +168,12 @@ pub fn evaluate(
             seed: opts.seed,
             ..EvalConfig::default()
         };
-        let ev = repair::evaluate(&t, &cfg).map_err(|source| Error::Repair {
-            path: f.clone(),
-            source,
-        })?;
+        // In the process's own pool, so that a forked process evaluates too (see c3d::pool).
+        let ev =
+            c3d::pool::install(|| repair::evaluate(&t, &cfg)).map_err(|source| Error::Repair {
+                path: f.clone(),
+                source,
+            })?;
         for s in &ev.scores {
             let e = pooled
                 .entry((s.gap_len, method_name(s.method)))

@@ -6,7 +6,8 @@
 //! (plain arrays and masks). This crate is the bridge between them: which points are markers
 //! ([`markers`]), trajectories in and repaired samples back with the C3D manual's flags
 //! ([`trial`]), options as people write them ([`RepairOptions`]), reports, and atomic
-//! writing ([`save()`], [`mod@save`]).
+//! writing ([`save()`], [`mod@save`]); a file in and a file out, as the command does, in
+//! [`files`].
 //!
 //! ```no_run
 //! use c3dfix::{RepairOptions, SaveOptions};
@@ -21,6 +22,7 @@
 
 mod error;
 pub mod evaluate;
+pub mod files;
 mod gaps;
 pub mod markers;
 mod options;

@@ -116,10 +116,14 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
     let only = opts.markers.as_ref().map(|m| select(c, m)).transpose()?;
     let points = marker_indices(c);
     let mut trial = to_trial(c, &points, opts.zero_invalid)?;
-    let report = repair::repair_trial(&mut trial, &cfg).map_err(|source| Error::Repair {
-        path: name.to_path_buf(),
-        source,
-    })?;
+    // In the process's own pool, so that a forked process repairs too (see c3d::pool).
+    let report =
+        c3d::pool::install(|| repair::repair_trial(&mut trial, &cfg)).map_err(|source| {
+            Error::Repair {
+                path: name.to_path_buf(),
+                source,
+            }
+        })?;
     let labels = c.point_labels();
     let row_label = |row: usize| labels[points[row]].clone();
     let in_scope = |row: usize| only.as_ref().is_none_or(|o| o.contains(&points[row]));

@@ -11,6 +11,8 @@ use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
 
 mod platforms;
+mod files;
+mod pickling;
 
 pyo3::create_exception!(
     c3dfix,
@@ -277,6 +279,32 @@ impl PyC3d {
             lowpass,
         };
         platforms::force_platforms(py, &self.inner, &self.name().display().to_string(), &opts)
+    /// C3d(data, path=None): a trial read from the bytes of a C3D file (`path` names it in
+    /// messages). Pickling and copying go through it (see pickling.rs).
+    #[new]
+    #[pyo3(signature = (data, path=None))]
+    fn new(py: Python<'_>, data: &[u8], path: Option<PathBuf>) -> PyResult<Self> {
+        pickling::from_bytes(py, data, path)
+    }
+
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, pyo3::types::PyTuple>)> {
+        pickling::reduce(py, self)
+    }
+
+    fn __copy__(&self) -> Self {
+        self.clone()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.clone()
+    }
+
+    /// Equal when both would write the same bytes.
+    fn __eq__(&self, py: Python<'_>, other: PyRef<'_, Self>) -> PyResult<bool> {
+        pickling::equal(py, self, &other)
     }
 
     fn __repr__(&self) -> String {
@@ -446,6 +474,8 @@ fn _c3dfix(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(gaps, m)?)?;
     m.add_function(wrap_pyfunction!(repair, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;
+    m.add_function(wrap_pyfunction!(files::repair_file, m)?)?;
+    m.add_function(wrap_pyfunction!(files::convert_file, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

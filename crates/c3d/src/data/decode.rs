@@ -49,13 +49,20 @@ impl CodecFn<Points> for DecodePoints<'_> {
                 l.frames.max(1)
             };
             let per = chunk * l.points;
-            xyz.par_chunks_mut(per)
-                .zip(residual.par_chunks_mut(per))
-                .zip(camera_mask.par_chunks_mut(per))
-                .zip(self.bytes[..l.frames * fb].par_chunks(chunk * fb))
-                .for_each(|(((x, r), m), b)| {
-                    decode_points::<C>(l, b, x, r, m);
+            let bytes = &self.bytes[..l.frames * fb];
+            if chunk >= l.frames {
+                decode_points::<C>(l, bytes, &mut xyz, &mut residual, &mut camera_mask);
+            } else {
+                crate::pool::install(|| {
+                    xyz.par_chunks_mut(per)
+                        .zip(residual.par_chunks_mut(per))
+                        .zip(camera_mask.par_chunks_mut(per))
+                        .zip(bytes.par_chunks(chunk * fb))
+                        .for_each(|(((x, r), m), b)| {
+                            decode_points::<C>(l, b, x, r, m);
+                        });
                 });
+            }
         }
         Points {
             frames: l.frames,

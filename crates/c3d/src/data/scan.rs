@@ -88,10 +88,12 @@ impl CodecFn<ScanNotes> for Scan<'_> {
         };
         let data = &self.bytes[..l.frames * fb];
         if data.len() > PARALLEL_SCAN_BYTES {
-            data.par_chunks(chunk * fb)
-                .enumerate()
-                .map(scan)
-                .reduce(ScanNotes::default, merge)
+            crate::pool::install(|| {
+                data.par_chunks(chunk * fb)
+                    .enumerate()
+                    .map(scan)
+                    .reduce(ScanNotes::default, merge)
+            })
         } else {
             data.chunks(chunk * fb)
                 .enumerate()

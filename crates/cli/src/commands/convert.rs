@@ -5,13 +5,11 @@
 //! into place, so stopping the process at any moment leaves every file either as it was or
 //! fully converted. A file that fails is reported and left untouched; the others go on.
 
-use crate::commands::info::read_c3d;
 use crate::commands::parallel::run_each;
 use crate::commands::targets::{plan, TargetArgs};
 use crate::console::{errln, outln};
-use anyhow::{bail, Context, Result};
-use c3dfix::save::{check_destination, new_backup, replacing, write_all};
-use serde::Serialize;
+use anyhow::{bail, Result};
+use c3dfix::files::{convert_to, Conversion, Converted};
 use std::path::{Path, PathBuf};
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -47,75 +45,8 @@ pub struct Args {
     pub scale: Option<f32>,
 }
 
-/// The formats asked for; `None` keeps each file's own.
-#[derive(Clone, Copy)]
-struct Wanted {
-    processor: Option<c3d::Processor>,
-    format: Option<c3d::NumberFormat>,
-    scale: Option<f32>,
-}
-
-/// What converting one file did.
-#[derive(Debug, Clone, Serialize)]
-pub struct Converted {
-    pub output: String,
-    pub processor: &'static str,
-    pub format: &'static str,
-    pub bytes: usize,
-    /// In place: the file already was what was asked for, byte for byte, and was not rewritten.
-    pub unchanged: bool,
-    /// What the reader noticed about the input (format rule breaks it read around).
-    pub warnings: Vec<String>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub backup: Option<String>,
-}
-
-/// Convert `input` into `output`. With `in_place`, a file that would not change is left alone
-/// (not even its time stamp moves); with `backup`, the original is kept first as FILE.bak.
-fn convert_one(
-    input: &Path,
-    output: &Path,
-    want: Wanted,
-    in_place: bool,
-    backup: bool,
-    overwrite: bool,
-) -> Result<Converted> {
-    let c = read_c3d(input)?;
-    let processor = want.processor.unwrap_or(c.processor());
-    let format = want.format.unwrap_or(c.format());
-    let bytes = c
-        .converted(processor, format, want.scale)
-        .with_context(|| format!("converting {}", input.display()))?;
-    let mut done = Converted {
-        output: output.display().to_string(),
-        processor: processor.name(),
-        format: format.name(),
-        bytes: bytes.len(),
-        unchanged: false,
-        warnings: c.warnings().iter().map(|w| w.to_string()).collect(),
-        backup: None,
-    };
-    if in_place && c.source_bytes() == Some(&bytes[..]) {
-        done.unchanged = true;
-        return Ok(done);
-    }
-    check_destination(output, overwrite)?;
-    // In place the output is the file itself (by its canonical path, so a backup of a file
-    // reached through a link sits beside the file, as `c3dfix::save` puts it).
-    let backup_to = if backup && output.exists() {
-        new_backup(output)
-    } else {
-        None
-    };
-    done.backup = backup_to.as_ref().map(|b| b.display().to_string());
-    let outs = replacing(output, &bytes, overwrite, backup_to.as_deref());
-    // The backup and the converted file land together, or neither does.
-    write_all(&outs)?;
-    Ok(done)
-}
-
 pub fn run(a: Args) -> Result<i32> {
-    let want = Wanted {
+    let want = Conversion {
         processor: a.processor.map(|p| match p {
             ProcessorArg::Intel => c3d::Processor::Intel,
             ProcessorArg::Dec => c3d::Processor::Dec,
@@ -134,7 +65,7 @@ pub fn run(a: Args) -> Result<i32> {
 }
 
 /// `convert IN -o OUT`: one file; any error is the command's error (exit 2).
-fn one(t: &TargetArgs, output: &Path, want: Wanted) -> Result<i32> {
+fn one(t: &TargetArgs, output: &Path, want: Conversion) -> Result<i32> {
     let [input] = t.paths.as_slice() else {
         bail!("-o OUT takes one input file; for several, give --out-dir DIR or --in-place");
     };
@@ -147,7 +78,7 @@ fn one(t: &TargetArgs, output: &Path, want: Wanted) -> Result<i32> {
     if t.backup {
         bail!("--backup goes with --in-place");
     }
-    let done = convert_one(input, output, want, false, false, t.force)?;
+    let done = convert_to(input, output, &want, false, false, t.force)?;
     if t.json {
         let line =
             serde_json::json!({"file": input.display().to_string(), "ok": true, "result": done});
@@ -168,7 +99,7 @@ fn one(t: &TargetArgs, output: &Path, want: Wanted) -> Result<i32> {
 }
 
 /// Many files, in place or into a folder; exit 1 if any failed.
-fn many(t: &TargetArgs, want: Wanted) -> Result<i32> {
+fn many(t: &TargetArgs, want: Conversion) -> Result<i32> {
     let dest = t.destination()?;
     let plan = plan(&t.named_paths()?, dest, t.shard)?;
     if plan.listed == 0 {
@@ -181,14 +112,14 @@ fn many(t: &TargetArgs, want: Wanted) -> Result<i32> {
         t.json,
         |job| {
             job.prepare_output(overwrite)?;
-            convert_one(
+            Ok(convert_to(
                 &job.input,
                 &job.output,
-                want,
+                &want,
                 t.in_place,
                 t.backup,
                 overwrite,
-            )
+            )?)
         },
         "result",
     )?;

@@ -1,13 +1,10 @@
 //! `c3dfix repair`: spikes → fill → filter on one file, written back as a valid C3D, through
 //! the library ([`c3dfix::repair`]).
 
-use crate::commands::info::read_c3d;
 use crate::commands::repair_io::{self, RepairArgs};
 use crate::console::outln;
-use crate::output::{
-    check_destination, new_backup, refuse_input, replacing, write_all, Content, Output,
-};
-use anyhow::{Context, Result};
+use anyhow::Result;
+use c3dfix::files::Destination;
 use c3dfix::Summary;
 use std::path::{Path, PathBuf};
 
@@ -64,40 +61,20 @@ pub fn repair_c3d(
 }
 
 pub fn run(a: Args) -> Result<i32> {
-    let out = repair_io::output_path(&a.input, &a.output, a.in_place)?;
+    // The flags that go together are checked here to name them as the command line does;
+    // the library checks them again, with everything else (see c3dfix::files).
+    repair_io::output_path(&a.input, &a.output, a.in_place)?;
     if a.backup && !a.in_place {
         anyhow::bail!("--backup goes with --in-place");
     }
-    a.repair.check()?;
-    let overwrite = a.force || a.in_place;
-    // Every destination is checked before the work, and written together after it.
-    check_destination(&out, overwrite)?;
-    if let Some(r) = &a.report {
-        refuse_input(r, &[&a.input, &out], "--report")?;
-        check_destination(r, a.force)?;
-    }
-    let backup = if a.backup { new_backup(&a.input) } else { None };
-    let mut c = read_c3d(&a.input)?;
-    let r = repair_c3d(&mut c, &a.input, &out, &a.repair, backup.as_deref())?;
-    let report = match &a.report {
-        Some(_) => serde_json::to_string_pretty(&r.report)?,
-        None => String::new(),
+    let dest = Destination {
+        output: a.output.clone(),
+        in_place: a.in_place,
+        backup: a.backup,
+        force: a.force,
     };
-    let bytes = c
-        .encoded()
-        .with_context(|| format!("writing the repaired {}", a.input.display()))?;
-    // With --backup (in place), the input as it is on disk: the trial in memory holds the
-    // repaired samples.
-    let mut outs = replacing(&out, &bytes, overwrite, backup.as_deref());
-    if let Some(path) = &a.report {
-        outs.push(Output {
-            path,
-            bytes: Content::Bytes(report.as_bytes()),
-            replace: a.force,
-        });
-    }
-    write_all(&outs)?;
-    let s = r.summary;
+    let done = c3dfix::files::repair(&a.input, &dest, &a.repair.options(), a.report.as_deref())?;
+    let s = done.summary;
     if a.json {
         outln!("{}", serde_json::to_string_pretty(&s)?)?;
     } else {

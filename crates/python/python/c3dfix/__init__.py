@@ -6,10 +6,34 @@
     fixed, report = c3dfix.repair(c, fill="auto", lowpass="butterworth:4:6")
     fixed.write("walk_repaired.c3d")    # atomic; unchanged samples keep their bytes
 
+To scale over many files (multiprocessing, joblib, Dask, Ray), send paths to the workers and
+call repair_file / convert_file there: path in, path out, the command's bytes. Trials pickle
+too (as the bytes they would write), and a process forked after c3dfix ran works normally.
+
 The same library as the `c3dfix` command: the same rule for missing samples, the same
 options and reports, the same errors (raised as C3dError, a ValueError).
 """
 
-from ._c3dfix import C3d, C3dError, __version__, evaluate, gaps, read, repair
+from ._c3dfix import (
+    C3d,
+    C3dError,
+    __version__,
+    convert_file,
+    evaluate,
+    gaps,
+    read,
+    repair,
+    repair_file,
+)
 
-__all__ = ["C3d", "C3dError", "evaluate", "gaps", "read", "repair", "__version__"]
+__all__ = [
+    "C3d",
+    "C3dError",
+    "convert_file",
+    "evaluate",
+    "gaps",
+    "read",
+    "repair",
+    "repair_file",
+    "__version__",
+]

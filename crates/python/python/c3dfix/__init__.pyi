@@ -14,7 +14,16 @@ class C3dError(ValueError):
     """A file that cannot be read or written, or options that make no sense."""
 
 class C3d:
-    """A C3D file in memory, written back losslessly."""
+    """A C3D file in memory, written back losslessly. Pickles and copies (copy.copy,
+    copy.deepcopy) as the bytes it would write, so a copy writes exactly what it would."""
+
+    def __init__(self, data: bytes, path: Optional[_Path] = None) -> None:
+        """A trial read from the bytes of a C3D file; path names it in messages."""
+    def __reduce__(self) -> Tuple[Any, Tuple[bytes, Optional[str]]]: ...
+    def __copy__(self) -> "C3d": ...
+    def __deepcopy__(self, memo: Any) -> "C3d": ...
+    def __eq__(self, other: object) -> bool:
+        """Equal when both would write the same bytes."""
 
     @property
     def points(self) -> npt.NDArray[np.float64]:
@@ -97,3 +106,39 @@ def evaluate(
     seed: int = 1,
 ) -> Dict[str, Any]:
     """Fill accuracy on knocked-out known data, per file and pooled (mm)."""
+
+def repair_file(
+    input: _Path,
+    output: Optional[_Path] = None,
+    *,
+    in_place: bool = False,
+    backup: bool = False,
+    force: bool = False,
+    report: Optional[_Path] = None,
+    fill: str = "auto",
+    spikes: Optional[str] = None,
+    lowpass: Optional[str] = None,
+    max_gap: int = 200,
+    max_expected_error: Optional[float] = 20.0,
+    spike_mode: str = "gap",
+    spike_min_mm: float = 5.0,
+    spike_classic: bool = False,
+    markers: Optional[Sequence[str]] = None,
+    zero_invalid: bool = False,
+) -> Dict[str, Any]:
+    """`c3dfix repair` on one file, path in and path out: the command's bytes, written
+    atomically (no overwrite without force, never over a device); returns the report."""
+
+def convert_file(
+    input: _Path,
+    output: Optional[_Path] = None,
+    *,
+    in_place: bool = False,
+    backup: bool = False,
+    force: bool = False,
+    processor: Optional[str] = None,
+    format: Optional[str] = None,
+    scale: Optional[float] = None,
+) -> Dict[str, Any]:
+    """`c3dfix convert` on one file (processor "intel", "dec" or "sgi"; format "int" or
+    "float"): the command's bytes, written atomically; returns what was done."""

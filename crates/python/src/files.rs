@@ -1,0 +1,114 @@
+//! Path in, path out: `repair_file` and `convert_file`, the entry points to send to worker
+//! processes (Dask, Ray, multiprocessing) instead of trials. Both call the library function
+//! the `c3dfix repair` and `c3dfix convert` commands call ([`c3dfix::files`]), so the same
+//! options write the same bytes, with the same checks and refusals; the GIL is released for
+//! the whole call.
+
+use crate::{err, to_python};
+use c3dfix::files::{Conversion, Destination};
+use pyo3::prelude::*;
+use std::path::{Path, PathBuf};
+
+/// A library error as `C3dError`, naming `input` when the message does not (option errors
+/// say what is wrong, not with which call), and naming the keyword where the command's
+/// message names its flag.
+fn file_err(input: &Path, e: c3dfix::Error) -> PyErr {
+    match e {
+        c3dfix::Error::Options(m) => err(format!("{}: {m}", input.display())),
+        other => err(other.to_string().replace("use --force", "pass force=True")),
+    }
+}
+
+/// repair_file(input, output=None, *, in_place=False, backup=False, force=False, report=None,
+///             fill="auto", spikes=None, lowpass=None, max_gap=200, max_expected_error=20.0,
+///             spike_mode="gap", spike_min_mm=5.0, spike_classic=False, markers=None,
+///             zero_invalid=False) -> dict
+///
+/// `c3dfix repair INPUT -o OUTPUT` (or `--in-place`) from Python: reads the file, repairs it
+/// and writes exactly the bytes the command writes with the same options; returns the report
+/// (the one `--report` writes, also written to `report` when given). The write is atomic; an
+/// existing output is replaced only with force (or in place, where backup keeps the original
+/// as FILE.bak), a device or folder never; the report never replaces the input or the output.
+/// Repair options as for `repair`. Raises C3dError naming the file.
+#[pyfunction]
+#[pyo3(signature = (input, output=None, *, in_place=false, backup=false, force=false, report=None, fill="auto", spikes=None, lowpass=None, max_gap=200, max_expected_error=Some(c3dfix::DEFAULT_MAX_EXPECTED_ERROR_MM), spike_mode="gap", spike_min_mm=5.0, spike_classic=false, markers=None, zero_invalid=false))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn repair_file(
+    py: Python<'_>,
+    input: PathBuf,
+    output: Option<PathBuf>,
+    in_place: bool,
+    backup: bool,
+    force: bool,
+    report: Option<PathBuf>,
+    fill: &str,
+    spikes: Option<String>,
+    lowpass: Option<String>,
+    max_gap: usize,
+    max_expected_error: Option<f64>,
+    spike_mode: &str,
+    spike_min_mm: f64,
+    spike_classic: bool,
+    markers: Option<Vec<String>>,
+    zero_invalid: bool,
+) -> PyResult<PyObject> {
+    let dest = Destination {
+        output,
+        in_place,
+        backup,
+        force,
+    };
+    let opts = c3dfix::RepairOptions {
+        fill: fill.to_string(),
+        max_gap,
+        max_expected_error_mm: max_expected_error,
+        spikes,
+        spike_mode: spike_mode.to_string(),
+        spike_min_mm,
+        spike_classic,
+        lowpass,
+        markers,
+        zero_invalid,
+    };
+    let done = py
+        .allow_threads(|| c3dfix::files::repair(&input, &dest, &opts, report.as_deref()))
+        .map_err(|e| file_err(&input, e))?;
+    to_python(py, &done.report())
+}
+
+/// convert_file(input, output=None, *, in_place=False, backup=False, force=False,
+///              processor=None, format=None, scale=None) -> dict
+///
+/// `c3dfix convert INPUT -o OUTPUT` (or `--in-place`) from Python: rewrites the file in
+/// another processor ("intel", "dec", "sgi") or number format ("int", "float"), each
+/// defaulting to the file's own; scale is POINT:SCALE for integer output. Writes exactly the
+/// bytes the command writes, atomically, with the same refusals as repair_file; in place, a
+/// file that is already as asked is not rewritten (unchanged is True). Returns output,
+/// processor, format, bytes, unchanged, warnings and, with a backup, backup. Raises C3dError
+/// naming the file.
+#[pyfunction]
+#[pyo3(signature = (input, output=None, *, in_place=false, backup=false, force=false, processor=None, format=None, scale=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn convert_file(
+    py: Python<'_>,
+    input: PathBuf,
+    output: Option<PathBuf>,
+    in_place: bool,
+    backup: bool,
+    force: bool,
+    processor: Option<&str>,
+    format: Option<&str>,
+    scale: Option<f64>,
+) -> PyResult<PyObject> {
+    let want = Conversion::parse(processor, format, scale).map_err(|e| file_err(&input, e))?;
+    let dest = Destination {
+        output,
+        in_place,
+        backup,
+        force,
+    };
+    let done = py
+        .allow_threads(|| c3dfix::files::convert(&input, &dest, &want))
+        .map_err(|e| file_err(&input, e))?;
+    to_python(py, &serde_json::to_value(&done).map_err(err)?)
+}
