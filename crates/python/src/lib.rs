@@ -10,9 +10,9 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
 
-mod platforms;
 mod files;
 mod pickling;
+mod platforms;
 
 pyo3::create_exception!(
     c3dfix,
@@ -279,6 +279,8 @@ impl PyC3d {
             lowpass,
         };
         platforms::force_platforms(py, &self.inner, &self.name().display().to_string(), &opts)
+    }
+
     /// C3d(data, path=None): a trial read from the bytes of a C3D file (`path` names it in
     /// messages). Pickling and copying go through it (see pickling.rs).
     #[new]
