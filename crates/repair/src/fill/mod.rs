@@ -123,6 +123,38 @@ pub struct FillOptions {
     /// Gaps whose expected error (in the data's units) is above this are left unfilled
     /// and reported as `uncertain`; `None` fills every gap a method can fill.
     pub max_expected_error: Option<f64>,
+    /// How the file will store the fills: every fill is held to the step rule (see
+    /// [`STEP_FACTOR`]) as stored, since rounding can take a fill checked at the limit above
+    /// it. A property of the file, not a setting, so it is not reported.
+    #[serde(skip)]
+    pub storage: Storage,
+}
+
+/// How coordinates are stored: exactly (in memory), as 32-bit floats, or as integers times
+/// a scale (an integer C3D file's POINT:SCALE, in the data's units).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Storage {
+    #[default]
+    Exact,
+    Float32,
+    Integer {
+        scale: f32,
+    },
+}
+
+impl Storage {
+    /// `p` as stored and read back: rounded to the nearest 32-bit float, then for integer
+    /// storage to the nearest multiple of the scale (as the C3D writer rounds x / scale).
+    pub fn stored(self, p: [f64; 3]) -> [f64; 3] {
+        match self {
+            Storage::Exact => p,
+            Storage::Float32 => p.map(|x| f64::from(x as f32)),
+            Storage::Integer { scale } if scale > 0.0 => {
+                p.map(|x| f64::from((x as f32 / scale).round() * scale))
+            }
+            Storage::Integer { .. } => p.map(|x| f64::from(x as f32)),
+        }
+    }
 }
 
 impl Default for FillOptions {
@@ -137,6 +169,7 @@ impl Default for FillOptions {
             pca_window: 250,
             auto_trials: 6,
             max_expected_error: None,
+            storage: Storage::Exact,
         }
     }
 }
@@ -558,6 +591,12 @@ fn fill_planned(t: &Target, span: Span, plan: &Plan, opts: &FillOptions, checked
                 expected_error: e,
                 max_expected_error: max,
             }),
+            // Checked fills are held to the step rule as the file will store them; single
+            // methods in evaluations are measured as the method made them.
+            _ if checked => match auto::steps::as_stored(t, span, v, opts.storage) {
+                Ok(v) => (Some(v), choice.outcome(), choice.diag),
+                Err(r) => skip(SkipReason::Implausible { step_ratio: r }),
+            },
             _ => (Some(v), choice.outcome(), choice.diag),
         },
         Err(r) => skip(r),

@@ -23,7 +23,7 @@
 
 mod holes;
 mod model;
-mod steps;
+pub(super) mod steps;
 
 use super::skeleton::Skeleton;
 use super::{
