@@ -326,6 +326,7 @@ fn main() {
     .collect();
     let methods = a.methods.clone().unwrap_or_else(|| {
         let mut m = SINGLES.to_vec();
+        m.push(FillMethod::Gloersen);
         m.push(FillMethod::Auto);
         m
     });
@@ -436,6 +437,7 @@ fn table(title: &str, recs: &[&Rec]) {
         let mut auto = format!("| {name} | auto mean (max) |");
         let mut best = format!("| {name} | best single |");
         let mut ratio = format!("| {name} | auto / best |");
+        let mut gf = format!("| {name} | published PCA (auto / it) |");
         for len in LENGTHS {
             let am = cell(FillMethod::Auto, len, false);
             let ax = cell(FillMethod::Auto, len, true);
@@ -453,8 +455,10 @@ fn table(title: &str, recs: &[&Rec]) {
             auto += &format!(" {am:.2} ({ax:.0}) |");
             best += &format!(" {bm:.2} {} |", format!("{bn:?}").to_lowercase());
             ratio += &format!(" {:.2} |", am / bm);
+            let g = cell(FillMethod::Gloersen, len, false);
+            gf += &format!(" {g:.2} ({:.2}) |", am / g);
         }
-        println!("{auto}\n{best}\n{ratio}");
+        println!("{auto}\n{best}\n{ratio}\n{gf}");
     }
 }
 
@@ -820,6 +824,47 @@ fn held_apart(recs: &[Rec]) {
             }
         }
     }
+    // Per lab: auto against Gløersen & Federolf's published PCA.
+    println!("\n### held apart, per lab: auto / the published PCA (Gløersen & Federolf 2016)\n");
+    println!("| lab | set | markers | 5 | 10 | 20 | 40 | 80 |");
+    println!("|---|---|---|---|---|---|---|---|");
+    let mut losses = Vec::new();
+    for lab in &labs {
+        for set in ["walking", "fullbody"] {
+            let v: Vec<&Rec> = held
+                .iter()
+                .copied()
+                .filter(|r| r.lab == *lab && r.set == set)
+                .collect();
+            if v.is_empty() {
+                continue;
+            }
+            for group in [1, 2] {
+                let name = if group == 1 { "one" } else { "2–3" };
+                let mut row = format!("| {lab} | {set} | {name} |");
+                for len in LENGTHS {
+                    let a = cell_mean(&v, group, len, FillMethod::Auto);
+                    let g = cell_mean(&v, group, len, FillMethod::Gloersen);
+                    row += &format!(" {:.2} |", a / g);
+                    if len >= 40 && a > g {
+                        losses.push(format!(
+                            "{lab} {set} {name} {len}: {a:.2} against {g:.2} mm"
+                        ));
+                    }
+                }
+                println!("{row}");
+            }
+        }
+    }
+    println!(
+        "\nCells of 40 and 80 frames where auto loses to the published PCA: {}{}",
+        losses.len(),
+        if losses.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", losses.join("; "))
+        }
+    );
     println!("\n### held apart, spread over labs of auto / the lab's best single method: min / median / max (labs above 1)\n");
     println!("| set | markers | 5 | 10 | 20 | 40 | 80 |");
     println!("|---|---|---|---|---|---|---|");

@@ -4,6 +4,7 @@
 
 mod anchor;
 mod auto;
+mod gloersen;
 mod kalman;
 mod linear;
 mod pattern;
@@ -48,6 +49,9 @@ pub enum FillMethod {
     Kalman,
     /// Per gap, the best method (or blend of up to three) judged on artificial gaps.
     Auto,
+    /// Gløersen & Federolf's PCA exactly as published: the whole trial, every marker, their
+    /// distance weighting and reconstruction, no tie to the anchors (see `gloersen`).
+    Gloersen,
     /// The one valid sample next to a gap at the trial's edge, held: `auto`'s last resort
     /// there when every donor fill moves the marker implausibly fast.
     Hold,
@@ -90,6 +94,7 @@ impl FillMethod {
             "kalman" => FillMethod::Kalman,
             "auto" => FillMethod::Auto,
             "hold" => FillMethod::Hold,
+            "gloersen" => FillMethod::Gloersen,
             _ => return None,
         })
     }
@@ -128,6 +133,9 @@ pub struct FillOptions {
     /// it. A property of the file, not a setting, so it is not reported.
     #[serde(skip)]
     pub storage: Storage,
+    /// Millimetres per unit of the data (the published PCA's distance weighting is in mm).
+    #[serde(skip)]
+    pub mm_per_unit: f64,
 }
 
 /// How coordinates are stored: exactly (in memory), as 32-bit floats, or as integers times
@@ -170,6 +178,7 @@ impl Default for FillOptions {
             auto_trials: 6,
             max_expected_error: None,
             storage: Storage::Exact,
+            mm_per_unit: 1.0,
         }
     }
 }
@@ -498,6 +507,7 @@ pub(crate) fn fill_with(
         }
         FillMethod::Auto => auto::fill(t, span, plan, opts, auto::candidates(span)).map(|(v, _)| v),
         FillMethod::Hold => linear::hold(t, span),
+        FillMethod::Gloersen => gloersen::fill(t, span, opts.mm_per_unit),
     }
 }
 

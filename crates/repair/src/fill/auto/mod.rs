@@ -37,7 +37,7 @@ pub use model::{log_ratio, Diag, FEATURES};
 use steps::slowed;
 
 /// Candidates for gaps with valid data on both sides.
-const INTERIOR: [FillMethod; 8] = [
+const INTERIOR: [FillMethod; 9] = [
     FillMethod::Lagrange5,
     FillMethod::Spline,
     FillMethod::Rigid,
@@ -46,13 +46,15 @@ const INTERIOR: [FillMethod; 8] = [
     FillMethod::Pattern,
     FillMethod::Lagrange2,
     FillMethod::Linear,
+    FillMethod::Gloersen,
 ];
 /// Candidates at the trial's edges (no polynomial extrapolation).
-const EDGE: [FillMethod; 4] = [
+const EDGE: [FillMethod; 5] = [
     FillMethod::Rigid,
     FillMethod::Pca,
     FillMethod::Kalman,
     FillMethod::Pattern,
+    FillMethod::Gloersen,
 ];
 /// Other markers tried at most when the target has too little room.
 pub(super) const OTHER_MARKERS: usize = 4;
@@ -81,6 +83,10 @@ const WIDE_WINDOW: usize = 2000;
 /// 100-marker pipeline bench (gaps of 2–30 frames) took 2.5× as long (user time of one
 /// run, 4.6 s against 1.9 s); from 40 frames it adds 3 % there.
 const KALMAN_FROM: usize = WIDE_FROM;
+/// Gap length from which Gløersen & Federolf's published PCA is a candidate (the lengths
+/// where a model of the whole trial carries most, and the pipeline bench's gaps of 2–30
+/// frames never pay for it). Not chosen on any lab: it is the wide model's.
+const GLOERSEN_FROM: usize = WIDE_FROM;
 /// Gap length from which each fill is also held to the skeleton. From 20 frames instead,
 /// on the corpus evaluation, walking gaps of 20 frames were 2–4 % better and full-body ones
 /// 3 % worse (at 175 and 240 Hz the skeleton's distance ranges nearby miss the poses in the
@@ -255,6 +261,11 @@ pub(super) fn fill_checked(
     for &m in cands {
         // `auto` weighs the smoother on long gaps only; asked for alone, it fills any.
         if m == FillMethod::Kalman && len < KALMAN_FROM && cands.len() > 1 {
+            continue;
+        }
+        // Gløersen & Federolf's whole-trial model, from the same length as the wide PCA
+        // model: two eigen-decompositions of every marker's coordinates per artificial gap.
+        if m == FillMethod::Gloersen && len < GLOERSEN_FROM && cands.len() > 1 {
             continue;
         }
         if m.is_donor() {
