@@ -890,6 +890,7 @@ fn held_apart(recs: &[Rec]) {
             println!("{row}");
         }
     }
+    worst_per_cell(&held);
     // The shipped expected-error model was fitted on the tuned corpora only.
     println!("\n### held apart: auto's expected error (the shipped model)\n");
     for set in ["all", "walking", "fullbody"] {
@@ -916,4 +917,47 @@ fn held_apart(recs: &[Rec]) {
     let wild = auto.iter().filter(|g| g.step_ratio > 1.5).count();
     let worst = auto.iter().map(|g| g.step_ratio).fold(0.0, f64::max);
     println!("\n### held apart: plausibility\n\nauto fills with a step above 1.5x the marker's largest recorded step: {wild} of {} (largest ratio {worst:.2})", auto.len());
+}
+
+/// The largest error of `auto` in each cell (set, markers, length): the lab, the method
+/// its fill came from, its expected error and what that was made from (score on the
+/// artificial gaps, the two best candidates' spread on the real gap): the fills a user
+/// is most misled by when the estimate is small.
+fn worst_per_cell(recs: &[&Rec]) {
+    println!("\n### held apart: auto's largest error per cell\n");
+    println!("| set | markers | frames | lab | mean (max) mm | method | expected | scored | spread | refilled |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for set in ["walking", "fullbody"] {
+        for group in [1, 2] {
+            for len in LENGTHS {
+                let worst = recs
+                    .iter()
+                    .filter(|r| {
+                        r.set == set
+                            && r.group == group
+                            && r.g.gap_len == len
+                            && r.g.method == FillMethod::Auto
+                    })
+                    .max_by(|a, b| a.g.mean.total_cmp(&b.g.mean));
+                let Some(r) = worst else {
+                    continue;
+                };
+                let name = if group == 1 { "one" } else { "2–3" };
+                let m =
+                    r.g.chosen
+                        .map_or("–".to_string(), |m| format!("{m:?}").to_lowercase());
+                let e = r.g.evidence;
+                println!(
+                    "| {set} | {name} | {len} | {} | {:.1} ({:.0}) | {m} | {:.1} | {:.2} | {:.1} | {} |",
+                    r.lab,
+                    r.g.mean,
+                    r.g.max,
+                    r.g.expected.unwrap_or(f64::NAN),
+                    e.map_or(f64::NAN, |d| d.scored),
+                    e.map_or(f64::NAN, |d| d.spread),
+                    e.is_some_and(|d| d.refilled)
+                );
+            }
+        }
+    }
 }
