@@ -87,6 +87,20 @@ const KALMAN_FROM: usize = WIDE_FROM;
 /// where a model of the whole trial carries most, and the pipeline bench's gaps of 2–30
 /// frames never pay for it). Not chosen on any lab: it is the wide model's.
 const GLOERSEN_FROM: usize = WIDE_FROM;
+/// Largest frames × (3 × markers)² of a trial on which `auto` weighs the published PCA: its
+/// covariance of every coordinate over the whole trial and two eigen-decompositions, per
+/// artificial gap, grow with it. A cost cap, not an accuracy choice: every trial of the
+/// evaluation's corpora is below it (the largest, 4 921 frames × 64 markers, is 1.8 × 10⁸),
+/// and the pipeline bench's 10 000 frames × 100 markers (9 × 10⁸), whose few gaps that
+/// merge to 40 frames or more took it from 0.6 s to 7.7 s, is above it.
+const GLOERSEN_BUDGET: f64 = 2.5e8;
+
+/// The size of the published PCA's model on the target's trial (see [`GLOERSEN_BUDGET`]).
+fn gloersen_cost(t: &Target) -> f64 {
+    let cols = 3.0 * t.data.xyz.len() as f64;
+    t.data.frames as f64 * cols * cols
+}
+
 /// Gap length from which each fill is also held to the skeleton. From 20 frames instead,
 /// on the corpus evaluation, walking gaps of 20 frames were 2–4 % better and full-body ones
 /// 3 % worse (at 175 and 240 Hz the skeleton's distance ranges nearby miss the poses in the
@@ -265,7 +279,10 @@ pub(super) fn fill_checked(
         }
         // Gløersen & Federolf's whole-trial model, from the same length as the wide PCA
         // model: two eigen-decompositions of every marker's coordinates per artificial gap.
-        if m == FillMethod::Gloersen && len < GLOERSEN_FROM && cands.len() > 1 {
+        if m == FillMethod::Gloersen
+            && cands.len() > 1
+            && (len < GLOERSEN_FROM || gloersen_cost(t) > GLOERSEN_BUDGET)
+        {
             continue;
         }
         if m.is_donor() {
