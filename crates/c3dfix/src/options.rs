@@ -104,6 +104,7 @@ impl RepairOptions {
             method: fill_method(&self.fill)?,
             max_gap: Some(self.max_gap),
             max_expected_error: self.max_expected_error_mm.map(|mm| mm / mm_per_unit(units)),
+            mm_per_unit: mm_per_unit(units),
             ..FillOptions::default()
         };
         let spikes = self
@@ -127,7 +128,7 @@ impl RepairOptions {
 pub fn fill_method(name: &str) -> Result<FillMethod> {
     FillMethod::from_name(&name.to_ascii_lowercase()).ok_or_else(|| {
         Error::options(format!(
-            "unknown fill method {name:?} (expected auto, linear, lagrange2, lagrange5, spline, rigid, pattern, pca, kalman or none)"
+            "unknown fill method {name:?} (expected auto, linear, lagrange2, lagrange5, spline, rigid, pattern, pca, kalman, gloersen or none)"
         ))
     })
 }

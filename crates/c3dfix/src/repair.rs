@@ -112,7 +112,14 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
             what: "the file has no points to repair".into(),
         });
     }
-    let cfg = opts.config(&c.point_units())?;
+    // Fills are held to the step rule as this file will store them.
+    let storage = match c.format() {
+        c3d::NumberFormat::Integer => repair::Storage::Integer {
+            scale: c.layout().point_scale,
+        },
+        c3d::NumberFormat::Float => repair::Storage::Float32,
+    };
+    let cfg = opts.config(&c.point_units())?.with_storage(storage);
     let only = opts.markers.as_ref().map(|m| select(c, m)).transpose()?;
     let points = marker_indices(c);
     let mut trial = to_trial(c, &points, opts.zero_invalid)?;

@@ -395,7 +395,7 @@ fn gaps(py: Python<'_>, path: PathBuf, zero_invalid: bool) -> PyResult<PyObject>
 /// The `c3dfix repair` pipeline (spikes -> fill -> filter) on a copy of `c3d`; returns the
 /// repaired copy and the report `c3dfix repair --report` writes. Options as on the command
 /// line: fill is a method name (auto, linear, lagrange2, lagrange5, spline, rigid, pattern,
-/// pca, kalman, none), spikes "hampel[:K[:NSIGMA]]", lowpass "butterworth:ORDER:CUTOFF_HZ" or
+/// pca, kalman, gloersen, none), spikes "hampel[:K[:NSIGMA]]", lowpass "butterworth:ORDER:CUTOFF_HZ" or
 /// "cheby2:ORDER:CUTOFF_HZ:ATTEN_DB", markers a list of labels to repair; gaps whose expected
 /// fill error is above max_expected_error mm are left (reason "uncertain"), None fills all.
 #[pyfunction]

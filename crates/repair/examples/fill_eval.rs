@@ -14,7 +14,7 @@
 
 mod corpus;
 
-use corpus::load;
+use corpus::{load, load_recorded};
 use repair::{calibration, evaluate, EvalConfig, FillMethod, GapScore};
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -102,7 +102,132 @@ const FILES: &[(&str, &str, &str, &str)] = &[
         "sample_20/phasespace_sample.c3d",
     ),
     ("fullbody", "optitrack", "extra", "btkdata_mocap36.c3d"),
+    // `../c3d-more`: one lab per source, except the CMU trials (the lab of `cmu` above).
+    // Its other labs chose nothing: they are the held-apart labs.
+    (
+        "walking",
+        "cmu",
+        "more",
+        "EmbodiedCognition__pagoda__cooper-motion.c3d",
+    ),
+    (
+        "walking",
+        "HansUniVie",
+        "more",
+        "HansUniVie__MuscleLength__test.c3d",
+    ),
+    (
+        "fullbody",
+        "PhilD001",
+        "more",
+        "PhilD001__biomechZoo__hockey_wristshot009.c3d",
+    ),
+    (
+        "fullbody",
+        "PhilD001",
+        "more",
+        "PhilD001__biomechZoo__ti003.c3d",
+    ),
+    (
+        "walking",
+        "cadop",
+        "more",
+        "cadop__pyCGM__Movement_trial.c3d",
+    ),
+    (
+        "fullbody",
+        "keenon",
+        "more",
+        "keenon__nimblephysics__JA1Gait35.c3d",
+    ),
+    (
+        "fullbody",
+        "cmu",
+        "more",
+        "keenon__nimblephysics__cmu_02_05.c3d",
+    ),
+    (
+        "fullbody",
+        "cmu",
+        "more",
+        "keenon__nimblephysics__cmu_dribble_shoot_basketball.c3d",
+    ),
+    (
+        "fullbody",
+        "keenon",
+        "more",
+        "keenon__nimblephysics__nick_freeform_001.c3d",
+    ),
+    (
+        "fullbody",
+        "keenon",
+        "more",
+        "keenon__nimblephysics__squat.c3d",
+    ),
+    (
+        "walking",
+        "martinfelis",
+        "more",
+        "martinfelis__puppeteer__testdata.c3d",
+    ),
+    (
+        "fullbody",
+        "opensim",
+        "more",
+        "opensim-org__opensim-core__doubleLegLanding.c3d",
+    ),
+    (
+        "walking",
+        "opensim",
+        "more",
+        "opensim-org__opensim-core__walking2.c3d",
+    ),
+    (
+        "walking",
+        "pyomeca",
+        "more",
+        "pyomeca__ezc3d-testFiles__FP_Type1.c3d",
+    ),
+    (
+        "walking",
+        "pyomeca",
+        "more",
+        "pyomeca__ezc3d-testFiles__Qualisys.c3d",
+    ),
+    (
+        "walking",
+        "qualisys",
+        "more",
+        "qualisys__cgm2-web-report-uploader__ClinicalGait_Gait1.c3d",
+    ),
+    (
+        "walking",
+        "qualisys",
+        "more",
+        "qualisys__cgm2-web-report-uploader__FunctionalKnee_GaitFB2.c3d",
+    ),
+    (
+        "walking",
+        "tsalemink",
+        "more",
+        "tsalemink__C3D-parser__AUC_CB_Dynamic0003.c3d",
+    ),
+    (
+        "walking",
+        "tsalemink",
+        "more",
+        "tsalemink__C3D-parser__FMC_MH0222_BP15.c3d",
+    ),
+    (
+        "walking",
+        "tsalemink",
+        "more",
+        "tsalemink__C3D-parser__RBWH_bfnd_w1.c3d",
+    ),
 ];
+
+/// The corpora every constant, candidate set and model weight of `auto` was chosen on.
+const TUNED: [&str; 3] = ["samples", "extra", "fullbody"];
 
 const LENGTHS: [usize; 5] = [5, 10, 20, 40, 80];
 const SINGLES: [FillMethod; 8] = [
@@ -170,7 +295,12 @@ fn args() -> Result<Args, String> {
 }
 
 /// One gap record with where it came from.
+#[derive(Clone)]
 struct Rec {
+    /// From a lab nothing was chosen on (see [`TUNED`]).
+    held: bool,
+    /// From the corpora everything was chosen on.
+    tuned: bool,
     set: &'static str,
     lab: &'static str,
     rate: u32,
@@ -190,17 +320,25 @@ fn main() {
         ("samples", testkit::c3d_samples()),
         ("extra", testkit::c3d_extra()),
         ("fullbody", testkit::c3d_fullbody()),
+        ("more", testkit::c3d_more()),
     ]
     .into_iter()
     .collect();
     let methods = a.methods.clone().unwrap_or_else(|| {
         let mut m = SINGLES.to_vec();
+        m.push(FillMethod::Gloersen);
         m.push(FillMethod::Auto);
         m
     });
     let mut recs: Vec<Rec> = Vec::new();
     let t0 = std::time::Instant::now();
+    let tuned_labs: Vec<&str> = FILES
+        .iter()
+        .filter(|f| TUNED.contains(&f.2))
+        .map(|f| f.1)
+        .collect();
     for &(set, lab, corpus, rel) in FILES {
+        let held = !TUNED.contains(&corpus) && !tuned_labs.contains(&lab);
         if a.set.as_deref().is_some_and(|s| s != set)
             || a.only.as_deref().is_some_and(|o| !rel.contains(o))
         {
@@ -210,7 +348,14 @@ fn main() {
             continue;
         };
         let path = root.join(rel);
-        let trial = match load(&path) {
+        // Trials of `c3d-more` may hold the capture software's fills (residual 0), which
+        // are no truth: where a trial has recorded residuals, they count as missing.
+        let loaded = if corpus == "more" {
+            load_recorded(&path)
+        } else {
+            load(&path)
+        };
+        let trial = match loaded {
             Ok(t) if t.markers() >= 4 => t,
             Ok(_) => {
                 eprintln!("{rel}: fewer than 4 markers, left out");
@@ -235,6 +380,8 @@ fn main() {
             };
             match evaluate(&trial, &cfg) {
                 Ok(ev) => recs.extend(ev.gaps.into_iter().map(|g| Rec {
+                    held,
+                    tuned: TUNED.contains(&corpus),
                     set,
                     lab,
                     rate,
@@ -253,7 +400,11 @@ fn main() {
             writeln!(f, "{v}").expect("write records");
         }
     }
-    report(&recs);
+    // The corpora everything was chosen on, as before; then the labs nothing was chosen on
+    // (the CMU trials of `c3d-more` are in neither: their lab was tuned on).
+    let tuned: Vec<Rec> = recs.iter().filter(|r| r.tuned).map(Rec::clone).collect();
+    report(&tuned);
+    held_apart(&recs);
 }
 
 fn mean(v: impl Iterator<Item = f64>) -> (f64, usize) {
@@ -286,6 +437,7 @@ fn table(title: &str, recs: &[&Rec]) {
         let mut auto = format!("| {name} | auto mean (max) |");
         let mut best = format!("| {name} | best single |");
         let mut ratio = format!("| {name} | auto / best |");
+        let mut gf = format!("| {name} | published PCA (auto / it) |");
         for len in LENGTHS {
             let am = cell(FillMethod::Auto, len, false);
             let ax = cell(FillMethod::Auto, len, true);
@@ -303,8 +455,10 @@ fn table(title: &str, recs: &[&Rec]) {
             auto += &format!(" {am:.2} ({ax:.0}) |");
             best += &format!(" {bm:.2} {} |", format!("{bn:?}").to_lowercase());
             ratio += &format!(" {:.2} |", am / bm);
+            let g = cell(FillMethod::Gloersen, len, false);
+            gf += &format!(" {g:.2} ({:.2}) |", am / g);
         }
-        println!("{auto}\n{best}\n{ratio}");
+        println!("{auto}\n{best}\n{ratio}\n{gf}");
     }
 }
 
@@ -584,5 +738,226 @@ fn calibrate(recs: &[Rec]) {
             m.c1,
             m.c0
         );
+    }
+}
+
+/// Mean error of `m` over the gaps of `recs` of `group` and `len` (NaN without any).
+fn cell_mean(recs: &[&Rec], group: usize, len: usize, m: FillMethod) -> f64 {
+    mean(
+        recs.iter()
+            .filter(|r| r.group == group && r.g.gap_len == len && r.g.method == m)
+            .map(|r| r.g.mean),
+    )
+    .0
+}
+
+/// The lowest mean of a single method in a cell, and the method.
+fn best_single(recs: &[&Rec], group: usize, len: usize) -> (f64, FillMethod) {
+    SINGLES
+        .iter()
+        .map(|&m| (cell_mean(recs, group, len, m), m))
+        .filter(|x| x.0.is_finite())
+        .fold((f64::INFINITY, FillMethod::None), |a, b| {
+            if b.0 < a.0 {
+                b
+            } else {
+                a
+            }
+        })
+}
+
+/// The held-apart evaluation: the labs of `../c3d-more` other than CMU's, on which no
+/// constant, candidate set or model weight of `auto` was chosen (they were chosen on the
+/// corpora in [`TUNED`]), as a new lab meets `auto`: its pooled tables, the spread over
+/// labs, and the shipped expected-error model's calibration there.
+fn held_apart(recs: &[Rec]) {
+    let held: Vec<&Rec> = recs.iter().filter(|r| r.held).collect();
+    if held.is_empty() {
+        return;
+    }
+    let mut labs: Vec<&str> = held.iter().map(|r| r.lab).collect();
+    labs.sort_unstable();
+    labs.dedup();
+    println!(
+        "\n## Held apart: {} labs on which nothing was chosen ({})",
+        labs.len(),
+        labs.join(", ")
+    );
+    for set in ["walking", "fullbody"] {
+        let v: Vec<&Rec> = held.iter().copied().filter(|r| r.set == set).collect();
+        if !v.is_empty() {
+            let mut n: Vec<&str> = v.iter().map(|r| r.lab).collect();
+            n.sort_unstable();
+            n.dedup();
+            table(&format!("held apart: {set} ({} labs)", n.len()), &v);
+        }
+    }
+    println!("\nThresholds: walking one marker 0.7 / 1.4 / 2.8 / 4.2 / 6.5 mm, 2–3 markers 0.9 / 1.3 / 2.5 / 5.8 / 15 mm; full body auto / best ≤ 1 at 5 and 10 frames, ≤ 0.85 from 20.");
+    // Per lab: auto's mean and its ratio to the lab's own best single method per cell.
+    println!("\n### held apart, per lab: auto mean (auto / the lab's best single method)\n");
+    println!("| lab | set | markers | 5 | 10 | 20 | 40 | 80 |");
+    println!("|---|---|---|---|---|---|---|---|");
+    // (set, group, len) -> ratios over labs.
+    let mut spread: BTreeMap<(&str, usize, usize), Vec<f64>> = BTreeMap::new();
+    for lab in &labs {
+        for set in ["walking", "fullbody"] {
+            let v: Vec<&Rec> = held
+                .iter()
+                .copied()
+                .filter(|r| r.lab == *lab && r.set == set)
+                .collect();
+            if v.is_empty() {
+                continue;
+            }
+            for group in [1, 2] {
+                let name = if group == 1 { "one" } else { "2–3" };
+                let mut row = format!("| {lab} | {set} | {name} |");
+                for len in LENGTHS {
+                    let a = cell_mean(&v, group, len, FillMethod::Auto);
+                    let (b, _) = best_single(&v, group, len);
+                    row += &format!(" {a:.2} ({:.2}) |", a / b);
+                    if (a / b).is_finite() {
+                        spread.entry((set, group, len)).or_default().push(a / b);
+                    }
+                }
+                println!("{row}");
+            }
+        }
+    }
+    // Per lab: auto against Gløersen & Federolf's published PCA.
+    println!("\n### held apart, per lab: auto / the published PCA (Gløersen & Federolf 2016)\n");
+    println!("| lab | set | markers | 5 | 10 | 20 | 40 | 80 |");
+    println!("|---|---|---|---|---|---|---|---|");
+    let mut losses = Vec::new();
+    for lab in &labs {
+        for set in ["walking", "fullbody"] {
+            let v: Vec<&Rec> = held
+                .iter()
+                .copied()
+                .filter(|r| r.lab == *lab && r.set == set)
+                .collect();
+            if v.is_empty() {
+                continue;
+            }
+            for group in [1, 2] {
+                let name = if group == 1 { "one" } else { "2–3" };
+                let mut row = format!("| {lab} | {set} | {name} |");
+                for len in LENGTHS {
+                    let a = cell_mean(&v, group, len, FillMethod::Auto);
+                    let g = cell_mean(&v, group, len, FillMethod::Gloersen);
+                    row += &format!(" {:.2} |", a / g);
+                    if len >= 40 && a > g {
+                        losses.push(format!(
+                            "{lab} {set} {name} {len}: {a:.2} against {g:.2} mm"
+                        ));
+                    }
+                }
+                println!("{row}");
+            }
+        }
+    }
+    println!(
+        "\nCells of 40 and 80 frames where auto loses to the published PCA: {}{}",
+        losses.len(),
+        if losses.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", losses.join("; "))
+        }
+    );
+    println!("\n### held apart, spread over labs of auto / the lab's best single method: min / median / max (labs above 1)\n");
+    println!("| set | markers | 5 | 10 | 20 | 40 | 80 |");
+    println!("|---|---|---|---|---|---|---|");
+    for set in ["walking", "fullbody"] {
+        for group in [1, 2] {
+            let name = if group == 1 { "one" } else { "2–3" };
+            let mut row = format!("| {set} | {name} |");
+            for len in LENGTHS {
+                let mut r = spread.get(&(set, group, len)).cloned().unwrap_or_default();
+                if r.is_empty() {
+                    row += " – |";
+                    continue;
+                }
+                r.sort_by(f64::total_cmp);
+                let above = r.iter().filter(|&&x| x > 1.0).count();
+                row += &format!(
+                    " {:.2} / {:.2} / {:.2} ({above}) |",
+                    r[0],
+                    r[r.len() / 2],
+                    r[r.len() - 1]
+                );
+            }
+            println!("{row}");
+        }
+    }
+    worst_per_cell(&held);
+    // The shipped expected-error model was fitted on the tuned corpora only.
+    println!("\n### held apart: auto's expected error (the shipped model)\n");
+    for set in ["all", "walking", "fullbody"] {
+        let v: Vec<GapScore> = held
+            .iter()
+            .filter(|r| r.g.method == FillMethod::Auto && (set == "all" || r.set == set))
+            .map(|r| r.g)
+            .collect();
+        let c = calibration(&v, 0.0);
+        println!(
+            "- {set}: {} gaps, Spearman {:.3}, within 2x {:.1} %, over-confident {:.1} %, under-confident {:.1} %",
+            c.gaps,
+            c.spearman,
+            100.0 * c.within_2x,
+            100.0 * c.over_confident,
+            100.0 * c.under_confident
+        );
+    }
+    let auto: Vec<&GapScore> = held
+        .iter()
+        .filter(|r| r.g.method == FillMethod::Auto)
+        .map(|r| &r.g)
+        .collect();
+    let wild = auto.iter().filter(|g| g.step_ratio > 1.5).count();
+    let worst = auto.iter().map(|g| g.step_ratio).fold(0.0, f64::max);
+    println!("\n### held apart: plausibility\n\nauto fills with a step above 1.5x the marker's largest recorded step: {wild} of {} (largest ratio {worst:.2})", auto.len());
+}
+
+/// The largest error of `auto` in each cell (set, markers, length): the lab, the method
+/// its fill came from, its expected error and what that was made from (score on the
+/// artificial gaps, the two best candidates' spread on the real gap): the fills a user
+/// is most misled by when the estimate is small.
+fn worst_per_cell(recs: &[&Rec]) {
+    println!("\n### held apart: auto's largest error per cell\n");
+    println!("| set | markers | frames | lab | mean (max) mm | method | expected | scored | spread | refilled |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for set in ["walking", "fullbody"] {
+        for group in [1, 2] {
+            for len in LENGTHS {
+                let worst = recs
+                    .iter()
+                    .filter(|r| {
+                        r.set == set
+                            && r.group == group
+                            && r.g.gap_len == len
+                            && r.g.method == FillMethod::Auto
+                    })
+                    .max_by(|a, b| a.g.mean.total_cmp(&b.g.mean));
+                let Some(r) = worst else {
+                    continue;
+                };
+                let name = if group == 1 { "one" } else { "2–3" };
+                let m =
+                    r.g.chosen
+                        .map_or("–".to_string(), |m| format!("{m:?}").to_lowercase());
+                let e = r.g.evidence;
+                println!(
+                    "| {set} | {name} | {len} | {} | {:.1} ({:.0}) | {m} | {:.1} | {:.2} | {:.1} | {} |",
+                    r.lab,
+                    r.g.mean,
+                    r.g.max,
+                    r.g.expected.unwrap_or(f64::NAN),
+                    e.map_or(f64::NAN, |d| d.scored),
+                    e.map_or(f64::NAN, |d| d.spread),
+                    e.is_some_and(|d| d.refilled)
+                );
+            }
+        }
     }
 }

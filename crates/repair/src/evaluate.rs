@@ -92,6 +92,10 @@ pub struct GapScore {
     /// What `expected` was made from (`auto` and checked single methods; see [`Diag`]).
     #[serde(flatten)]
     pub evidence: Option<Diag>,
+    /// The method whose fill was used (for `auto`, the choice or the blend's first
+    /// method).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub chosen: Option<FillMethod>,
 }
 
 /// All scores, method-major within each gap length.
@@ -327,7 +331,15 @@ fn run_group(trial: &Trial, g: &[(usize, usize)], len: usize, cfg: &EvalConfig) 
             let filled = fill_gaps(&mut xyz, &valid, &steps, &gaps, &opts, false);
             for ((&(m, a), gap), got) in g.iter().zip(&gaps).zip(filled) {
                 match got {
-                    (Some(v), FillOutcome::Filled { expected_error, .. }, diag) => {
+                    (
+                        Some(v),
+                        FillOutcome::Filled {
+                            expected_error,
+                            method: chosen,
+                            ..
+                        },
+                        diag,
+                    ) => {
                         let errs: Vec<f64> = v
                             .iter()
                             .enumerate()
@@ -348,6 +360,7 @@ fn run_group(trial: &Trial, g: &[(usize, usize)], len: usize, cfg: &EvalConfig) 
                             expected: expected_error,
                             step_ratio: step_ratio(&t, Span::of(gap, data.frames), &v),
                             evidence: diag,
+                            chosen: Some(chosen),
                         });
                         e.extend(errs);
                     }

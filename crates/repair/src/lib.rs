@@ -46,7 +46,7 @@ pub use error::{RepairError, Result};
 pub use evaluate::{
     calibration, evaluate, Calibration, EvalConfig, Evaluation, GapScore, MethodScore,
 };
-pub use fill::{FillMethod, FillOptions, FillOutcome, SkipReason};
+pub use fill::{FillMethod, FillOptions, FillOutcome, SkipReason, Storage};
 pub use filter::{FilterSpec, Iir};
 pub use gaps::{find_gaps, Gap};
 pub use pipeline::{change, repair_trial, RepairConfig, RepairReport};

@@ -56,6 +56,13 @@ impl RepairConfig {
         self.spikes.as_ref()
     }
 
+    /// This configuration for a file that stores coordinates as `storage` says: fills are
+    /// held to the step rule as stored (see [`FillOptions::storage`]).
+    pub fn with_storage(mut self, storage: crate::fill::Storage) -> Self {
+        self.fill.storage = storage;
+        self
+    }
+
     pub fn fill(&self) -> &FillOptions {
         &self.fill
     }

@@ -2,8 +2,8 @@
 //!
 //! Every crate's tests find the real files through the same rules, so they live here once:
 //! `C3D_SAMPLES` (default `../shared/c3d-samples`, relative to the workspace root), and the
-//! sibling folders `c3d-extra`, `c3d-fullbody` and `bvh-samples` beside it (overridable with
-//! `C3D_EXTRA`, `C3D_FULLBODY`, `C3D_MORE` and `BVH_SAMPLES`). When a corpus is missing, tests skip with a message — unless `CI` is set,
+//! sibling folders `c3d-extra`, `c3d-fullbody`, `c3d-more` and `bvh-samples` beside it (overridable
+//! with `C3D_EXTRA`, `C3D_FULLBODY`, `C3D_MORE` and `BVH_SAMPLES`). When a corpus is missing, tests skip with a message — unless `CI` is set,
 //! in which case a missing corpus is a failure.
 
 use std::path::{Path, PathBuf};
@@ -66,8 +66,8 @@ pub fn c3d_fullbody() -> Option<PathBuf> {
     corpus("C3D_FULLBODY", &default.to_string_lossy())
 }
 
-/// More real trials from ten more labs (gait, running, landing; plates of types 1-4),
-/// beside the sample corpus by default.
+/// More real trials from ten other sources (walking, running, landing, sports; plates of
+/// types 1-4), beside the sample corpus by default: labs nothing was tuned on.
 pub fn c3d_more() -> Option<PathBuf> {
     let default = resolve("C3D_SAMPLES", "../shared/c3d-samples").join("../c3d-more");
     corpus("C3D_MORE", &default.to_string_lossy())

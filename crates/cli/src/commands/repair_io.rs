@@ -8,7 +8,8 @@ use std::path::{Path, PathBuf};
 /// Repair options common to `repair` and `batch`.
 #[derive(clap::Args, Clone)]
 pub struct RepairArgs {
-    /// Fill method: auto, linear, lagrange2, lagrange5, spline, rigid, pattern, pca, kalman, none.
+    /// Fill method: auto, linear, lagrange2, lagrange5, spline, rigid, pattern, pca, kalman,
+    /// gloersen (Gløersen & Federolf's published PCA), none.
     #[arg(long, default_value = "auto")]
     pub fill: String,
     /// Longest gap (frames, 1 or more) to fill; longer ones are left and reported.

@@ -5,16 +5,38 @@ use repair::Trial;
 
 /// The file's markers (points that are not model outputs) as a trial in mm.
 pub fn load(path: &std::path::Path) -> Result<Trial, String> {
+    load_with(path, false)
+}
+
+/// [`load`], with samples of residual 0 (the C3D manual's mark for processed points: the
+/// capture software's fills) counted as missing when the file has any residual above 0.
+#[allow(dead_code)]
+pub fn load_recorded(path: &std::path::Path) -> Result<Trial, String> {
+    load_with(path, true)
+}
+
+fn load_with(path: &std::path::Path, recorded: bool) -> Result<Trial, String> {
     let c = c3d::read_file(path).map_err(|e| e.to_string())?;
     let outputs = c.model_output_labels();
     let k = c3d::mm_per_unit(&c.point_units());
     let p = c.points();
+    let markers: Vec<usize> = (0..c.point_labels().len())
+        .filter(|&i| !outputs.contains(&c.point_labels()[i]))
+        .collect();
+    let drop_processed = recorded
+        && markers.iter().any(|&i| {
+            let r = p.residuals(i);
+            (0..p.frames()).any(|f| p.is_valid(f, i) && r[f] > 0.0)
+        });
     let (mut xyz, mut valid) = (Vec::new(), Vec::new());
     for (i, l) in c.point_labels().iter().enumerate() {
         if outputs.contains(l) {
             continue;
         }
-        let v: Vec<bool> = (0..p.frames()).map(|f| p.is_valid(f, i)).collect();
+        let r = p.residuals(i);
+        let v: Vec<bool> = (0..p.frames())
+            .map(|f| p.is_valid(f, i) && !(drop_processed && r[f] == 0.0))
+            .collect();
         if !v.iter().any(|&x| x) {
             continue;
         }

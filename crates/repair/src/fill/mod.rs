@@ -4,6 +4,7 @@
 
 mod anchor;
 mod auto;
+mod gloersen;
 mod kalman;
 mod linear;
 mod pattern;
@@ -48,6 +49,9 @@ pub enum FillMethod {
     Kalman,
     /// Per gap, the best method (or blend of up to three) judged on artificial gaps.
     Auto,
+    /// Gløersen & Federolf's PCA exactly as published: the whole trial, every marker, their
+    /// distance weighting and reconstruction, no tie to the anchors (see `gloersen`).
+    Gloersen,
     /// The one valid sample next to a gap at the trial's edge, held: `auto`'s last resort
     /// there when every donor fill moves the marker implausibly fast.
     Hold,
@@ -90,6 +94,7 @@ impl FillMethod {
             "kalman" => FillMethod::Kalman,
             "auto" => FillMethod::Auto,
             "hold" => FillMethod::Hold,
+            "gloersen" => FillMethod::Gloersen,
             _ => return None,
         })
     }
@@ -123,6 +128,41 @@ pub struct FillOptions {
     /// Gaps whose expected error (in the data's units) is above this are left unfilled
     /// and reported as `uncertain`; `None` fills every gap a method can fill.
     pub max_expected_error: Option<f64>,
+    /// How the file will store the fills: every fill is held to the step rule (see
+    /// [`STEP_FACTOR`]) as stored, since rounding can take a fill checked at the limit above
+    /// it. A property of the file, not a setting, so it is not reported.
+    #[serde(skip)]
+    pub storage: Storage,
+    /// Millimetres per unit of the data (the published PCA's distance weighting is in mm).
+    #[serde(skip)]
+    pub mm_per_unit: f64,
+}
+
+/// How coordinates are stored: exactly (in memory), as 32-bit floats, or as integers times
+/// a scale (an integer C3D file's POINT:SCALE, in the data's units).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Storage {
+    #[default]
+    Exact,
+    Float32,
+    Integer {
+        scale: f32,
+    },
+}
+
+impl Storage {
+    /// `p` as stored and read back: rounded to the nearest 32-bit float, then for integer
+    /// storage to the nearest multiple of the scale (as the C3D writer rounds x / scale).
+    pub fn stored(self, p: [f64; 3]) -> [f64; 3] {
+        match self {
+            Storage::Exact => p,
+            Storage::Float32 => p.map(|x| f64::from(x as f32)),
+            Storage::Integer { scale } if scale > 0.0 => {
+                p.map(|x| f64::from((x as f32 / scale).round() * scale))
+            }
+            Storage::Integer { .. } => p.map(|x| f64::from(x as f32)),
+        }
+    }
 }
 
 impl Default for FillOptions {
@@ -137,6 +177,8 @@ impl Default for FillOptions {
             pca_window: 250,
             auto_trials: 6,
             max_expected_error: None,
+            storage: Storage::Exact,
+            mm_per_unit: 1.0,
         }
     }
 }
@@ -465,6 +507,7 @@ pub(crate) fn fill_with(
         }
         FillMethod::Auto => auto::fill(t, span, plan, opts, auto::candidates(span)).map(|(v, _)| v),
         FillMethod::Hold => linear::hold(t, span),
+        FillMethod::Gloersen => gloersen::fill(t, span, opts.mm_per_unit),
     }
 }
 
@@ -558,6 +601,12 @@ fn fill_planned(t: &Target, span: Span, plan: &Plan, opts: &FillOptions, checked
                 expected_error: e,
                 max_expected_error: max,
             }),
+            // Checked fills are held to the step rule as the file will store them; single
+            // methods in evaluations are measured as the method made them.
+            _ if checked => match auto::steps::as_stored(t, span, v, opts.storage) {
+                Ok(v) => (Some(v), choice.outcome(), choice.diag),
+                Err(r) => skip(SkipReason::Implausible { step_ratio: r }),
+            },
             _ => (Some(v), choice.outcome(), choice.diag),
         },
         Err(r) => skip(r),

@@ -1,0 +1,23 @@
+//! The step rule through the file: on the `../c3d-more` trials where fills checked at the
+//! limit in memory came out of the file above it (1.50003×: an integer file's rounding to
+//! POINT:SCALE, 32-bit floats elsewhere), every fill as read back steps at most 1.5× the
+//! marker's largest recorded step.
+
+#[path = "../examples/step_check.rs"]
+mod step_check;
+
+#[test]
+fn stored_fills_keep_to_the_step_rule() {
+    let Some(dir) = testkit::c3d_more() else {
+        return;
+    };
+    for (name, fills) in [
+        ("PhilD001__biomechZoo__hockey_wristshot009.c3d", 253),
+        ("martinfelis__puppeteer__testdata.c3d", 570),
+        ("HansUniVie__MuscleLength__test.c3d", 899),
+    ] {
+        let (n, over, worst) = step_check::check(&dir.join(name)).expect(name);
+        assert_eq!((n, over), (fills, 0), "{name}: largest {worst}");
+        assert!(worst <= 1.5, "{name}: {worst}");
+    }
+}

@@ -1,0 +1,500 @@
+//! `auto`: for each gap, every applicable method fills the gap and also artificial gaps of
+//! the same length whose truth is known, and the fill that scores lowest there is used:
+//! one method, or the blend of the best two or three weighted by inverse squared error.
+//! Each donor method (rigid, pattern, PCA) enters twice on gaps up to 40 frames: tied to
+//! the valid samples by the line through its two anchor residuals, and by a spline through
+//! its residuals at several frames on each side (see `anchor`). From 40 frames PCA also
+//! enters with a wide model (more markers, a longer window).
+//!
+//! Artificial gaps are cut first from the same marker, anywhere in the PCA training window
+//! where it and its donors are valid (nearest the real gap first, non-overlapping first),
+//! with the same donors, so scores describe the fill that will be used. When the marker has
+//! too little room (short trials, long gaps), the real gap's frames are knocked out of
+//! other markers valid there (each with its own donors), which tells how hard these frames
+//! are for each method; long gaps are also scored on the marker's own shorter holes (then
+//! among the donor methods only, since short holes flatter polynomials). The PCA model a
+//! trial is scored with never saw the trial's hole.
+//! Without any artificial gap, PCA is used for long gaps and the quintic for short ones.
+//!
+//! The parts live apart: `holes` cuts the artificial gaps and scores each candidate on
+//! them, `model` turns the scores into an expected error, and `steps` slows a fill that
+//! moves the marker faster than it ever does; this file holds the candidates and the
+//! choice among them.
+
+mod holes;
+mod model;
+pub(super) mod steps;
+
+use super::skeleton::Skeleton;
+use super::{
+    dist, fill_raw, fill_with, linear, step_ratio, FillMethod, FillOptions, FillOutcome, Plan,
+    SkipReason, Span, Target, STEP_FACTOR,
+};
+use holes::{other_markers, same_marker, score, Scoring};
+pub(crate) use model::{calibrated, features};
+use model::{deviation, donor_index, drift, prior};
+pub use model::{log_ratio, Diag, FEATURES};
+use steps::slowed;
+
+/// Candidates for gaps with valid data on both sides.
+const INTERIOR: [FillMethod; 9] = [
+    FillMethod::Lagrange5,
+    FillMethod::Spline,
+    FillMethod::Rigid,
+    FillMethod::Pca,
+    FillMethod::Kalman,
+    FillMethod::Pattern,
+    FillMethod::Lagrange2,
+    FillMethod::Linear,
+    FillMethod::Gloersen,
+];
+/// Candidates at the trial's edges (no polynomial extrapolation).
+const EDGE: [FillMethod; 5] = [
+    FillMethod::Rigid,
+    FillMethod::Pca,
+    FillMethod::Kalman,
+    FillMethod::Pattern,
+    FillMethod::Gloersen,
+];
+/// Other markers tried at most when the target has too little room.
+pub(super) const OTHER_MARKERS: usize = 4;
+/// Gap length from which the target's shorter holes stand in for missing room.
+const LONG: usize = 20;
+/// Donor fills are also tied to the samples by a spline through their residuals (see
+/// `anchor`) on gaps up to this many frames; across longer gaps the spline wanders (on the
+/// corpus evaluation it lost at 80 frames).
+const SMOOTH_MAX: usize = 40;
+/// Residuals per side the spline goes through (10 scored the same on the corpus
+/// evaluation, at twice the cost).
+pub(super) const RESID_NODES: usize = 5;
+/// Gap length from which PCA also enters with a wide model: the `WIDE_NEIGHBOURS` nearest
+/// markers over ±`WIDE_WINDOW` frames (towards Gløersen & Federolf's whole-trial model),
+/// which carries long gaps where the nearest markers alone do not. On the corpus
+/// evaluation it took 2–5 % off `auto`'s errors at 40 and 80 frames, and 1–7 % at 20, where
+/// it is not used: a model of 16 markers over 4 000 frames costs more than short gaps are
+/// worth in batch repairs.
+const WIDE_FROM: usize = 40;
+const WIDE_NEIGHBOURS: usize = 16;
+const WIDE_WINDOW: usize = 2000;
+/// Gap length from which the Kalman smoother is a candidate, with the wide PCA model: it
+/// trains a model of its own per group of artificial gaps and runs its covariance recursion
+/// over each, which long gaps are worth and short ones are not. Weighed from 20 frames, it
+/// took 2–4 % off `auto`'s errors at 20 frames on the corpus evaluation, and the
+/// 100-marker pipeline bench (gaps of 2–30 frames) took 2.5× as long (user time of one
+/// run, 4.6 s against 1.9 s); from 40 frames it adds 3 % there.
+const KALMAN_FROM: usize = WIDE_FROM;
+/// Gap length from which Gløersen & Federolf's published PCA is a candidate (the lengths
+/// where a model of the whole trial carries most, and the pipeline bench's gaps of 2–30
+/// frames never pay for it). Not chosen on any lab: it is the wide model's.
+const GLOERSEN_FROM: usize = WIDE_FROM;
+/// Largest frames × (3 × markers)² of a trial on which `auto` weighs the published PCA: its
+/// covariance of every coordinate over the whole trial and two eigen-decompositions, per
+/// artificial gap, grow with it. A cost cap, not an accuracy choice: every trial of the
+/// evaluation's corpora is below it (the largest, 4 921 frames × 64 markers, is 1.8 × 10⁸),
+/// and the pipeline bench's 10 000 frames × 100 markers (9 × 10⁸), whose few gaps that
+/// merge to 40 frames or more took it from 0.6 s to 7.7 s, is above it.
+const GLOERSEN_BUDGET: f64 = 2.5e8;
+
+/// The size of the published PCA's model on the target's trial (see [`GLOERSEN_BUDGET`]).
+fn gloersen_cost(t: &Target) -> f64 {
+    let cols = 3.0 * t.data.xyz.len() as f64;
+    t.data.frames as f64 * cols * cols
+}
+
+/// Gap length from which each fill is also held to the skeleton. From 20 frames instead,
+/// on the corpus evaluation, walking gaps of 20 frames were 2–4 % better and full-body ones
+/// 3 % worse (at 175 and 240 Hz the skeleton's distance ranges nearby miss the poses in the
+/// gap and pull good fills off), and the 100-marker pipeline bench, whose gaps are up to
+/// 30 frames, took 1.3× as long.
+const SKELETON_FROM: usize = 40;
+/// Most candidates blended.
+const BLEND: usize = 3;
+/// Candidates this many times worse than the best after the first third of the trials are
+/// no longer scored.
+pub(super) const PRUNE: f64 = 3.0;
+
+/// `auto`'s candidates for a gap: donor methods only at the trial's edges.
+pub(super) fn candidates(span: Span) -> &'static [FillMethod] {
+    if span.before.is_none() || span.after.is_none() {
+        &EDGE
+    } else {
+        &INTERIOR
+    }
+}
+
+/// What `auto` chose for one gap.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Choice {
+    pub method: FillMethod,
+    /// Methods blended in, with their shares (the first method has the rest).
+    pub second: Option<(FillMethod, f64)>,
+    pub third: Option<(FillMethod, f64)>,
+    pub expected_error: Option<f64>,
+    /// Whether the fill (or a part of the blend) was held to the skeleton.
+    pub skeleton: bool,
+    /// What the expected error was made from (see [`Diag`]).
+    pub diag: Option<Diag>,
+}
+
+impl Choice {
+    fn single(method: FillMethod) -> Choice {
+        Choice {
+            method,
+            second: None,
+            third: None,
+            expected_error: None,
+            skeleton: false,
+            diag: None,
+        }
+    }
+
+    pub fn outcome(&self) -> FillOutcome {
+        FillOutcome::Filled {
+            method: self.method,
+            blended_with: self.second.map(|s| s.0),
+            weight: self.second.map(|s| s.1),
+            blended_with_2: self.third.map(|s| s.0),
+            weight_2: self.third.map(|s| s.1),
+            expected_error: self.expected_error,
+            skeleton: self.skeleton,
+        }
+    }
+}
+
+/// Fills `span` with the best of `cands` (one method, or a blend for `auto`), after
+/// dropping candidates whose fill moves the marker implausibly fast; the choice carries its
+/// expected error, scored on artificial gaps nearby.
+pub(super) fn fill(
+    t: &Target,
+    span: Span,
+    plan: &Plan,
+    opts: &FillOptions,
+    cands: &[FillMethod],
+) -> Result<(Vec<[f64; 3]>, Choice), SkipReason> {
+    fill_checked(t, span, plan, opts, cands, true)
+}
+
+/// [`fill`]; with `estimate` false the first candidate that fills is returned as it is,
+/// unchecked and without an expected error (evaluations of single methods).
+pub(super) fn fill_checked(
+    t: &Target,
+    span: Span,
+    plan: &Plan,
+    opts: &FillOptions,
+    cands: &[FillMethod],
+    estimate: bool,
+) -> Result<(Vec<[f64; 3]>, Choice), SkipReason> {
+    let edge = span.before.is_none() || span.after.is_none();
+    if !estimate {
+        let mut reason = None;
+        for &m in cands {
+            match fill_with(m, t, span, plan, opts) {
+                Ok(v) => return Ok((v, Choice::single(m))),
+                Err(r) => {
+                    reason.get_or_insert(r);
+                }
+            }
+        }
+        return Err(reason.unwrap_or(SkipReason::NoContext));
+    }
+    let len = span.len();
+    // Short gaps: polynomials and donors differ clearly, half the trials tell them apart.
+    let want = if len >= LONG {
+        opts.auto_trials
+    } else {
+        opts.auto_trials.div_ceil(2)
+    };
+    let enough = want.div_ceil(2);
+    let mut trials = same_marker(t, span, plan, len, want, opts);
+    let full = trials.len();
+    let mut plans: Vec<Plan> = Vec::new();
+    let mut shortened = false;
+    if full < enough {
+        // Too little room for the gap's length: the marker's own shorter holes (for long
+        // gaps) say which donors serve it; the real gap's frames in other markers say how
+        // hard these frames are.
+        if len >= LONG {
+            let mut l = len / 2;
+            while l >= 5 && trials.len() < enough {
+                let more = same_marker(t, span, plan, l, want - trials.len(), opts);
+                shortened |= !more.is_empty();
+                trials.extend(more);
+                l /= 2;
+            }
+        }
+        other_markers(t, span, plan, want - full, opts, &mut trials, &mut plans);
+    }
+    // PCA may train one scoring model without several of the target's holes (and fills
+    // the real gap with the model of the nearest ones: see `pca`), so this comes before
+    // the candidates fill the real gap.
+    let _ = plan.exclude.set(
+        trials
+            .iter()
+            .filter(|tr| tr.plan.is_none())
+            .map(|tr| tr.hole)
+            .collect(),
+    );
+    // The wide PCA model's plan (long gaps), scored on the same artificial holes.
+    let wide_opts = FillOptions {
+        pca_neighbours: WIDE_NEIGHBOURS.max(opts.pca_neighbours),
+        pca_window: WIDE_WINDOW.max(opts.pca_window),
+        ..opts.clone()
+    };
+    let wide_plan = (len >= WIDE_FROM && cands.contains(&FillMethod::Pca))
+        .then(|| Plan::build(t, span, &wide_opts))
+        .filter(|w| w.pca.len() > plan.pca.len());
+    if let Some(w) = &wide_plan {
+        let _ = w
+            .exclude
+            .set(plan.exclude.get().cloned().unwrap_or_default());
+    }
+    // wide[c]: candidate c is PCA with the wide model.
+    let mut wide: Vec<bool> = Vec::new();
+    let mut fills: Vec<(FillMethod, Vec<[f64; 3]>)> = Vec::new();
+    // smooth[c]: candidate c is its donor method's prediction tied to the samples by a
+    // spline through the residuals (see `anchor`) instead of the line.
+    let mut smooth: Vec<bool> = Vec::new();
+    let mut reason = None;
+    let mut implausible = f64::INFINITY;
+    // Per donor method (see `donor_index`), its residuals' drift across the real gap.
+    let mut drift_real = [None; 3];
+    let mut keep = |m: FillMethod, v: Vec<[f64; 3]>, sm: bool, wd: bool, fills: &mut Vec<_>| {
+        let r = step_ratio(t, span, &v);
+        if r <= STEP_FACTOR {
+            fills.push((m, v));
+            smooth.push(sm);
+            wide.push(wd);
+        } else if let Some(d) = slowed(t, span, &v) {
+            fills.push((m, d));
+            smooth.push(sm);
+            wide.push(wd);
+        } else {
+            implausible = implausible.min(r);
+        }
+    };
+    for &m in cands {
+        // `auto` weighs the smoother on long gaps only; asked for alone, it fills any.
+        if m == FillMethod::Kalman && len < KALMAN_FROM && cands.len() > 1 {
+            continue;
+        }
+        // Gløersen & Federolf's whole-trial model, from the same length as the wide PCA
+        // model: two eigen-decompositions of every marker's coordinates per artificial gap.
+        if m == FillMethod::Gloersen
+            && cands.len() > 1
+            && (len < GLOERSEN_FROM || gloersen_cost(t) > GLOERSEN_BUDGET)
+        {
+            continue;
+        }
+        if m.is_donor() {
+            match fill_raw(m, t, span, plan, opts, RESID_NODES) {
+                Ok(raw) => {
+                    if let Some(i) = donor_index(m) {
+                        drift_real[i] = drift(&raw);
+                    }
+                    keep(m, raw.anchored(span), false, false, &mut fills);
+                    if let Some(v) = raw.smoothed(span).filter(|_| span.len() <= SMOOTH_MAX) {
+                        keep(m, v, true, false, &mut fills);
+                    }
+                }
+                Err(r) => {
+                    reason.get_or_insert(r);
+                }
+            }
+            continue;
+        }
+        match fill_with(m, t, span, plan, opts) {
+            Ok(v) => keep(m, v, false, false, &mut fills),
+            Err(r) => {
+                reason.get_or_insert(r);
+            }
+        }
+    }
+    if let Some(w) = &wide_plan {
+        if let Ok(raw) = fill_raw(FillMethod::Pca, t, span, w, &wide_opts, 1) {
+            keep(FillMethod::Pca, raw.anchored(span), false, true, &mut fills);
+        }
+    }
+    if fills.is_empty() && implausible.is_finite() && edge && cands.len() > 1 {
+        // Every donor fill at the edge is implausible: hold the last valid sample.
+        if let Ok(v) = linear::hold(t, span) {
+            fills.push((FillMethod::Hold, v));
+            smooth.push(false);
+            wide.push(false);
+        }
+    }
+    if fills.is_empty() {
+        return Err(if implausible.is_finite() {
+            SkipReason::Implausible {
+                step_ratio: implausible,
+            }
+        } else {
+            reason.unwrap_or(SkipReason::NoContext)
+        });
+    }
+
+    // Shorter holes flatter polynomials, which are far off on long gaps anyway.
+    if shortened && fills.iter().any(|(m, _)| !m.is_polynomial()) {
+        let poly: Vec<bool> = fills.iter().map(|(m, _)| m.is_polynomial()).collect();
+        let mut k = poly.iter();
+        smooth.retain(|_| !*k.next().unwrap_or(&false));
+        let mut k = poly.iter();
+        wide.retain(|_| !*k.next().unwrap_or(&false));
+        fills.retain(|(m, _)| !m.is_polynomial());
+    }
+    // Long gaps: each fill also held to the skeleton (Tits et al. 2018), as a candidate of
+    // its own, so the artificial gaps say whether the constraint helps here. Short gaps
+    // drift too little for it to matter.
+    let mut skel = vec![false; fills.len()];
+    let real_sk = if len >= SKELETON_FROM {
+        Skeleton::new(t, span, plan, opts)
+    } else {
+        None
+    };
+    {
+        if let Some(sk) = &real_sk {
+            for c in 0..fills.len() {
+                if fills[c].0 == FillMethod::Hold || smooth[c] || wide[c] {
+                    continue;
+                }
+                let mut v = fills[c].1.clone();
+                if sk.apply(t, span, &mut v) && step_ratio(t, span, &v) <= STEP_FACTOR {
+                    fills.push((fills[c].0, v));
+                    skel.push(true);
+                    smooth.push(false);
+                    wide.push(false);
+                }
+            }
+        }
+    }
+
+    let ctx = Scoring {
+        t,
+        plan,
+        plans: &plans,
+        opts,
+        wide_plan: wide_plan.as_ref(),
+        wide_opts: &wide_opts,
+        real_sk: real_sk.as_ref(),
+    };
+    let holes = score(&ctx, &trials, &mut fills, &mut skel, &mut smooth, &mut wide);
+    let (preds, truth, scored) = (&holes.preds, &holes.truth, holes.scored);
+    let (bend_holes, drift_holes) = (holes.bend_holes, holes.drift_holes);
+    if truth.is_empty() {
+        let (v, mut choice) = fallback(fills, len);
+        choice.expected_error = Some(prior(t, len));
+        return Ok((v, choice));
+    }
+    let score = |blend: &[(usize, f64)]| {
+        let e: f64 = truth
+            .iter()
+            .enumerate()
+            .map(|(i, q)| dist(combine(blend, |c| preds[c][i]), *q))
+            .sum();
+        e / truth.len() as f64
+    };
+    let mut order: Vec<(f64, usize)> = (0..fills.len()).map(|c| (score(&[(c, 1.0)]), c)).collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // The best method alone, or the best two or three blended with weights 1 / error²
+    // (inverse expected variance), whichever scores lowest.
+    let mut best = (order[0].0, vec![(order[0].1, 1.0)]);
+    for k in 2..=order.len().min(BLEND) {
+        let inv: Vec<f64> = order[..k]
+            .iter()
+            .map(|&(e, _)| 1.0 / e.max(1e-12).powi(2))
+            .collect();
+        let total: f64 = inv.iter().sum();
+        if !total.is_finite() {
+            break;
+        }
+        let blend: Vec<(usize, f64)> = order[..k]
+            .iter()
+            .zip(&inv)
+            .map(|(&(_, c), w)| (c, w / total))
+            .collect();
+        let e = score(&blend);
+        if e < best.0 {
+            best = (e, blend);
+        }
+    }
+    let (e, blend) = best;
+    let out: Vec<[f64; 3]> = (0..len)
+        .map(|i| combine(&blend, |c| fills[c].1[i]))
+        .collect();
+
+    let others: Vec<(FillMethod, f64)> = blend[1..].iter().map(|&(c, w)| (fills[c].0, w)).collect();
+    let apart = |a: &[[f64; 3]], b: &[[f64; 3]]| {
+        a.iter().zip(b).map(|(p, q)| dist(*p, *q)).sum::<f64>() / a.len().max(1) as f64
+    };
+    let best_fill = &fills[order[0].1].1;
+    let spread = order
+        .get(1)
+        .map_or(0.0, |&(_, c)| apart(best_fill, &fills[c].1));
+    let bend_real = deviation(t, span, &out);
+    let mut ln_drift = (0.0, 0);
+    for (real, holes) in drift_real.iter().zip(drift_holes) {
+        if let (Some(r), true) = (real, holes.1 > 0 && holes.0 > 0.0) {
+            ln_drift.0 += (r / (holes.0 / holes.1 as f64)).clamp(0.05, 20.0).ln();
+            ln_drift.1 += 1;
+        }
+    }
+    let diag = Diag {
+        scored: e,
+        spread,
+        len,
+        spread3: order.get(2).map(|&(_, c)| apart(best_fill, &fills[c].1)),
+        spread_holes: order
+            .get(1)
+            .map(|&(_, c)| apart(&preds[order[0].1], &preds[c])),
+        bend: bend_real
+            .filter(|_| bend_holes > 0.0)
+            .map(|b| b / (bend_holes / scored as f64)),
+        drift: (ln_drift.1 > 0).then(|| (ln_drift.0 / ln_drift.1 as f64).exp()),
+        refilled: false,
+        rescored: None,
+        donor_err: None,
+        share: None,
+        respread: None,
+    };
+    let choice = Choice {
+        skeleton: blend.iter().any(|&(c, _)| skel[c]),
+        method: fills[blend[0].0].0,
+        second: others.first().copied(),
+        third: others.get(1).copied(),
+        expected_error: Some(calibrated(&diag)),
+        diag: Some(diag),
+    };
+    Ok((out, choice))
+}
+
+/// The weighted sum of candidates' predictions (weights sum to 1).
+fn combine(blend: &[(usize, f64)], pred: impl Fn(usize) -> [f64; 3]) -> [f64; 3] {
+    let mut o = [0.0; 3];
+    for &(c, w) in blend {
+        let p = pred(c);
+        for k in 0..3 {
+            o[k] += w * p[k];
+        }
+    }
+    o
+}
+
+/// Without artificial gaps to judge by: the quintic (then the spline) for short interior
+/// gaps, PCA (then rigid) otherwise — the best methods a priori on gait data.
+fn fallback(mut fills: Vec<(FillMethod, Vec<[f64; 3]>)>, len: usize) -> (Vec<[f64; 3]>, Choice) {
+    let pref: &[FillMethod] = if len <= 10 {
+        &[
+            FillMethod::Lagrange5,
+            FillMethod::Spline,
+            FillMethod::Pca,
+            FillMethod::Rigid,
+        ]
+    } else {
+        &[FillMethod::Pca, FillMethod::Rigid, FillMethod::Spline]
+    };
+    let pick = pref
+        .iter()
+        .find_map(|m| fills.iter().position(|(f, _)| f == m))
+        .unwrap_or(0);
+    let (method, v) = fills.swap_remove(pick);
+    (v, Choice::single(method))
+}

@@ -1,0 +1,187 @@
+//! `auto`'s expected error: the evidence a choice leaves ([`Diag`]), the features made of it
+//! and the model that turns them into an expected error (fitted by `fill_eval`).
+
+use serde::Serialize;
+
+use super::super::anchor::Raw;
+use super::super::{dist, linear, FillMethod, Span, Target};
+
+/// The evidence behind an expected error: the choice's mean error on the artificial gaps
+/// (`scored`), and how far the two best-scored candidates' fills of the real gap are apart
+/// (`spread`: their mean distance; 0 with one candidate). Both in the data's units.
+///
+/// The rest says how much harder the real gap is than the holes that scored it, from what
+/// is known there: how far the best and the third-best fills are apart (`spread3`, data
+/// units); how far the two best candidates' predictions were apart on the holes
+/// (`spread_holes`, data units: where they agreed there but not on the real gap, the gap is
+/// unlike the holes); how far the fill strays from the straight line between its anchors
+/// relative to how far the truth strayed from it in the holes (`bend`: what polynomial
+/// errors scale with); and how far the donor methods' residuals drift from one anchor to
+/// the other relative to the holes (`drift`, geometric mean over the donor methods: the
+/// linear tie to the anchors assumes a steady drift, so a large one means an error the
+/// anchors only partly correct).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Diag {
+    pub scored: f64,
+    pub spread: f64,
+    pub len: usize,
+    pub spread3: Option<f64>,
+    pub spread_holes: Option<f64>,
+    pub bend: Option<f64>,
+    pub drift: Option<f64>,
+    /// Whether the gap was filled again in the second pass (see `fill_gaps`) with a
+    /// neighbour's first-pass fill as a donor; the evidence above is the first pass's.
+    pub refilled: bool,
+    /// For a refilled gap: the second pass's score on its artificial gaps over the first's.
+    pub rescored: Option<f64>,
+    /// For a refilled gap: the largest first-pass score among its nearest donors' fills
+    /// that overlap it, over `scored` (a refill is no better than what it leans on).
+    pub donor_err: Option<f64>,
+    /// For a refilled gap: the largest share of its frames where one of its nearest donors
+    /// is a fill rather than a recording.
+    pub share: Option<f64>,
+    /// For a refilled gap: the second pass's spread (see above) over the first's.
+    pub respread: Option<f64>,
+}
+
+/// The expected error of a choice from its mean error on the artificial gaps.
+///
+/// Artificial gaps nearby miss what happens in the real gap's own frames, and the choice
+/// that scored best on them flatters itself, so the score alone was over-confident on 14 %
+/// of real trials' gaps. Where the candidates disagree on the real gap, its error is larger
+/// than their scores say, the more so the further they disagree; longer gaps are scored on
+/// fewer, shorter stand-ins; and what can be seen of the real gap says how much harder it
+/// is than the holes that scored it (see [`Diag`]). So ln(expected / scored) =
+/// β · x + c₁ · exp(γ · x) + c₀ over the features x of [`features`]: β by median regression
+/// of ln(real / scored) on the real trials of the evaluation (`cargo run --release -p
+/// repair --example fill_eval`, which also checks the model fitted leave-one-lab-out); γ by
+/// least squares of the log of the fitted residuals' size, so exp(γ · x) says how far a gap
+/// like this one strays from its median; c₁ widens the margin of such gaps (the value that
+/// puts most gaps within 2×) and c₀ leaves 5 % of the gaps above twice their estimate: the
+/// estimate is meant to vouch for a fill. One shared margin instead sets every gap's by the
+/// least predictable ones, and left 17.5 % of gaps below half their estimate.
+///
+/// A gap filled again in the second pass keeps the first pass's evidence, with `refilled`
+/// set, `rescored` and `respread` (the second pass's score and spread over the first's),
+/// and what the refill leans on (`donor_err`, `share`): the second pass's own scores come
+/// from artificial gaps with recorded donors where the real gap has filled ones, and alone
+/// were over-confident on 10–16 % of gaps; a second pass that scores far better than the
+/// first is believed only down to a ratio of about e⁻¹ (the hinge).
+///
+/// Leave-one-lab-out (each lab's gaps judged by a model fitted to the other labs'):
+/// Spearman 0.943, 80.4 % of gaps within 2× of their estimate, 5.0 % above twice it (the
+/// shipped model on the gaps it was fitted to: 79.8 %, 5.0 %). Without `respread`, 80.1 %;
+/// with one shared margin and without the hinge and the donors' evidence, 77.6 %; with the
+/// spread, length and square alone 74.3 %. Features that did not help (leave-one-lab-out
+/// within 2× unchanged or lower): the marker's pace at the anchors and across the gap
+/// against the holes', the error of the holes most like the real gap in bend, the spread,
+/// median and geometric mean of the holes' errors, their number, and twice as many holes
+/// (+0.4 points at 1.4× the cost). A gradient-boosted model of the features without
+/// `respread`, its margin chosen the same way, did no better (79.8 %, against 80.1 %).
+pub(crate) fn calibrated(d: &Diag) -> f64 {
+    const BETA: [f64; FEATURES] = [
+        0.0975, 0.2878, -0.0265, 0.0577, 0.1334, -0.1600, 0.1121, 0.2356, -0.1882, 0.4457, -0.4710,
+        0.0883, 0.2940, 0.0899,
+    ];
+    const GAMMA: [f64; FEATURES] = [
+        -1.2829, -0.0054, -0.0494, 0.0735, -0.0179, 0.0907, -0.0124, -0.0738, -0.0473, 0.0943,
+        -0.3082, -0.0561, 0.0798, -0.0597,
+    ];
+    const C1: f64 = 1.5;
+    const C0: f64 = -0.2814;
+    d.scored.max(1e-12) * log_ratio(&features(d), &BETA, &GAMMA, C1, C0).exp()
+}
+
+/// ln(expected / scored) for features `x` under `auto`'s expected-error model (shared with the
+/// evaluation that fits it).
+pub fn log_ratio(
+    x: &[f64; FEATURES],
+    beta: &[f64; FEATURES],
+    gamma: &[f64; FEATURES],
+    c1: f64,
+    c0: f64,
+) -> f64 {
+    let dot = |w: &[f64; FEATURES]| w.iter().zip(x).map(|(a, b)| a * b).sum::<f64>();
+    dot(beta) + c1 * dot(gamma).clamp(-20.0, 20.0).exp() + c0
+}
+
+/// Number of the expected-error model's features.
+pub const FEATURES: usize = 14;
+
+/// The expected-error model's features (see [`calibrated`]), shared with the evaluation
+/// that fits it: 1, ln q, ln(len), (ln q)², ln q₃, ln h, ln bend, ln drift, refilled,
+/// ln rescored, min(ln rescored + 1, 0), ln donor_err, share, ln respread; with
+/// q = spread / scored, q₃ = spread3 / scored, h = spread_holes / scored, every ratio
+/// clamped to [0.05, 20] and taken as 1 where it is unknown (fewer than three or two
+/// candidates, holes without bend, no donor method, not refilled), and share 0 where
+/// unknown. The square lets the estimate grow faster when the candidates disagree far
+/// beyond their scores.
+pub(crate) fn features(d: &Diag) -> [f64; FEATURES] {
+    let s = d.scored.max(1e-12);
+    let ln = |r: Option<f64>| r.map_or(0.0, |r| r.clamp(0.05, 20.0).ln());
+    let q = ln(Some(d.spread / s));
+    let rescored = ln(d.rescored);
+    [
+        1.0,
+        q,
+        (d.len as f64).ln(),
+        q * q,
+        ln(d.spread3.map(|v| v / s)),
+        ln(d.spread_holes.map(|v| v / s)),
+        ln(d.bend),
+        ln(d.drift),
+        f64::from(u8::from(d.refilled)),
+        rescored,
+        (rescored + 1.0).min(0.0),
+        ln(d.donor_err),
+        d.share.unwrap_or(0.0),
+        ln(d.respread),
+    ]
+}
+
+/// Expected error without any artificial gap to score on: a quarter of the distance the
+/// marker travels over the gap's length at its mean recorded speed (a coarse, cautious
+/// guess, used only when the marker has no room for even a shorter trial gap).
+pub(super) fn prior(t: &Target, len: usize) -> f64 {
+    let (mut sum, mut n) = (0.0, 0usize);
+    for f in 1..t.data.frames {
+        if t.ok(f) && t.ok(f - 1) {
+            sum += dist(t.at(f), t.at(f - 1));
+            n += 1;
+        }
+    }
+    let mean = if n > 0 { sum / n as f64 } else { 0.0 };
+    0.25 * mean * (len + 1) as f64
+}
+
+/// Mean distance of `v` (samples over `span`'s frames) from the straight line between the
+/// target's anchors (from the held anchor at the trial's edges): how far the marker bends
+/// away from what the simplest fill assumes.
+pub(super) fn deviation(t: &Target, span: Span, v: &[[f64; 3]]) -> Option<f64> {
+    let line = match (span.before, span.after) {
+        (Some(_), Some(_)) => linear::fill(t, span).ok()?,
+        _ => linear::hold(t, span).ok()?,
+    };
+    Some(line.iter().zip(v).map(|(a, b)| dist(*a, *b)).sum::<f64>() / v.len().max(1) as f64)
+}
+
+/// The slot of a donor method in per-method tallies. The Kalman smoother has none: its
+/// residuals are its own smoothed estimate's, near zero at the anchors whatever the gap.
+pub(super) fn donor_index(m: FillMethod) -> Option<usize> {
+    match m {
+        FillMethod::Rigid => Some(0),
+        FillMethod::Pattern => Some(1),
+        FillMethod::Pca => Some(2),
+        _ => None,
+    }
+}
+
+/// How far a donor prediction's residual moves from one anchor to the other (at the
+/// trial's edges: the one anchor's residual, which the fill keeps throughout).
+pub(super) fn drift(r: &Raw) -> Option<f64> {
+    match (r.before.first(), r.after.first()) {
+        (Some(b), Some(a)) => Some(dist(b.1, a.1)),
+        (Some((_, e)), None) | (None, Some((_, e))) => Some(dist(*e, [0.0; 3])),
+        _ => None,
+    }
+}
