@@ -15,7 +15,7 @@
 //!   (±a, ±b) in quadrants 1–4, in the plane of O; ORIGIN holds a, b and the depth az0 of O
 //!   below the surface, so C = (0, 0, az0).
 //! - Type 4: the six channels of type 2 multiplied by the 6 × 6 CAL_MATRIX first
-//!   ([CAL_MATRIX] F_measured = F_corrected).
+//!   (`[CAL_MATRIX] F_measured = F_corrected`).
 //!
 //! ORIGIN's sign: the plate's z points down and O lies below the surface, so ORIGIN's z is
 //! negative (the manual, FORCE_PLATFORM:ORIGIN and TYPE-2). Several writers store the
