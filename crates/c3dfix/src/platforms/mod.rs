@@ -142,6 +142,18 @@ pub struct ForcePlatforms {
     pub threshold: f64,
 }
 
+impl ForcePlatforms {
+    /// Analog samples of the trial's plates (every plate has the trial's analog samples; 0
+    /// without plates).
+    pub fn samples(&self) -> usize {
+        self.platforms
+            .iter()
+            .map(|p| p.force.len())
+            .max()
+            .unwrap_or(0)
+    }
+}
+
 /// A parameter value as stored (single precision), for messages: `37.84`, not
 /// `37.84000015258789`; no negative zero.
 fn short(v: f64) -> String {

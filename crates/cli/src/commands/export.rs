@@ -331,12 +331,7 @@ fn mot(fp: &c3dfix::ForcePlatforms, path: &Path, axes: &Axes) -> Result<String> 
         };
         scales.push(m);
     }
-    let rows = fp
-        .platforms
-        .iter()
-        .map(|p| p.force.len())
-        .max()
-        .unwrap_or(0);
+    let rows = fp.samples();
     let columns = 1 + 9 * fp.platforms.len();
     let stem = path
         .file_stem()

@@ -160,12 +160,7 @@ fn csv_table(fp: &ForcePlatforms) -> Result<String> {
         }
     }
     s.push('\n');
-    let n = fp
-        .platforms
-        .iter()
-        .map(|p| p.force.len())
-        .max()
-        .unwrap_or(0);
+    let n = fp.samples();
     let rate = fp.platforms.first().map(|p| p.rate).unwrap_or(1.0);
     for i in 0..n {
         write!(s, "{}", i as f64 / rate)?;

@@ -115,12 +115,7 @@ fn draw_vertical<DB: DrawingBackend>(
     } else {
         (1.0, "Sample")
     };
-    let n = fp
-        .platforms
-        .iter()
-        .map(|p| p.force.len())
-        .max()
-        .unwrap_or(0);
+    let n = fp.samples();
     let t1 = (n.max(2) - 1) as f64 * dx;
     let (lo, hi) = range(
         fp.platforms
