@@ -115,6 +115,11 @@ def fourth_missing(w):
 
 
 def valid_counts(path):
+    return [sum(v) for v in valid_mask(path)]
+
+
+def valid_mask(path):
+    """Per point, per frame: whether the sample is valid (the rule in the module's docstring)."""
     with open(path, "rb") as fh:
         data = fh.read()
     if len(data) < 512 or data[1] != 0x50:
@@ -152,7 +157,7 @@ def valid_counts(path):
     word = 4 if scale < 0 else 2
     frame_bytes = (4 * npoints + analog_words) * word
     base = (data_start - 1) * 512
-    counts = [0] * npoints
+    mask = [[False] * frames for _ in range(npoints)]
     for f in range(frames):
         at = base + f * frame_bytes
         if at + frame_bytes > len(data):
@@ -165,9 +170,8 @@ def valid_counts(path):
             else:
                 xyz = [float(c.i16(data, o + 2 * k)) for k in range(3)]
                 missing = c.i16(data, o + 6) < 0
-            if not missing and all(math.isfinite(v) for v in xyz):
-                counts[p] += 1
-    return counts
+            mask[p][f] = not missing and all(math.isfinite(v) for v in xyz)
+    return mask
 
 
 def main():
