@@ -247,6 +247,9 @@ struct Args {
     only: Option<String>,
     set: Option<String>,
     records: Option<PathBuf>,
+    replay: Option<PathBuf>,
+    /// With `--replay`: the expected-error model with each feature left out in turn.
+    ablate: bool,
     methods: Option<Vec<FillMethod>>,
     fill: repair::FillOptions,
 }
@@ -258,6 +261,8 @@ fn args() -> Result<Args, String> {
         only: None,
         set: None,
         records: None,
+        replay: None,
+        ablate: false,
         methods: None,
         fill: repair::FillOptions::default(),
     };
@@ -271,6 +276,8 @@ fn args() -> Result<Args, String> {
             "--only" => a.only = Some(val()?),
             "--set" => a.set = Some(val()?),
             "--records" => a.records = Some(PathBuf::from(val()?)),
+            "--replay" => a.replay = Some(PathBuf::from(val()?)),
+            "--ablate" => a.ablate = true,
             "--methods" => {
                 a.methods = Some(
                     val()?
@@ -297,6 +304,8 @@ fn args() -> Result<Args, String> {
 /// One gap record with where it came from.
 #[derive(Clone)]
 struct Rec {
+    /// The trial, relative to its corpus.
+    file: String,
     /// From a lab nothing was chosen on (see [`TUNED`]).
     held: bool,
     /// From the corpora everything was chosen on.
@@ -316,6 +325,23 @@ fn main() {
             std::process::exit(2);
         }
     };
+    if let Some(path) = &a.replay {
+        match replay(path) {
+            Ok(recs) => {
+                let tuned: Vec<Rec> = recs.iter().filter(|r| r.tuned).map(Rec::clone).collect();
+                report(&tuned);
+                held_apart(&recs);
+                if a.ablate {
+                    ablation(&recs);
+                }
+            }
+            Err(e) => {
+                eprintln!("fill_eval: {}: {e}", path.display());
+                std::process::exit(2);
+            }
+        }
+        return;
+    }
     let roots: BTreeMap<&str, Option<PathBuf>> = [
         ("samples", testkit::c3d_samples()),
         ("extra", testkit::c3d_extra()),
@@ -380,6 +406,7 @@ fn main() {
             };
             match evaluate(&trial, &cfg) {
                 Ok(ev) => recs.extend(ev.gaps.into_iter().map(|g| Rec {
+                    file: rel.to_string(),
                     held,
                     tuned: TUNED.contains(&corpus),
                     set,
@@ -396,7 +423,7 @@ fn main() {
     if let Some(p) = &a.records {
         let mut f = std::io::BufWriter::new(std::fs::File::create(p).expect("records file"));
         for r in &recs {
-            let v = serde_json::json!({"set": r.set, "lab": r.lab, "rate": r.rate, "group": r.group, "gap": r.g});
+            let v = serde_json::json!({"file": r.file, "held": r.held, "tuned": r.tuned, "set": r.set, "lab": r.lab, "rate": r.rate, "group": r.group, "gap": r.g});
             writeln!(f, "{v}").expect("write records");
         }
     }
@@ -405,6 +432,53 @@ fn main() {
     let tuned: Vec<Rec> = recs.iter().filter(|r| r.tuned).map(Rec::clone).collect();
     report(&tuned);
     held_apart(&recs);
+}
+
+/// The records of an earlier run (`--records`), to report again without filling: the
+/// expected-error model's fit and its held-apart check read only what the records hold.
+fn replay(path: &std::path::Path) -> Result<Vec<Rec>, String> {
+    #[derive(serde::Deserialize)]
+    struct Line {
+        file: String,
+        held: bool,
+        tuned: bool,
+        set: String,
+        lab: String,
+        rate: u32,
+        group: usize,
+        gap: GapScore,
+    }
+    // Set and lab names as the corpus list spells them (records of labs it no longer
+    // lists keep theirs).
+    let name = |s: &str| -> &'static str {
+        FILES
+            .iter()
+            .flat_map(|f| [f.0, f.1])
+            .find(|n| *n == s)
+            .unwrap_or_else(|| Box::leak(s.to_string().into_boxed_str()))
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let mut v: Line =
+                serde_json::from_str(l).map_err(|e| format!("line {}: {e}", i + 1))?;
+            // `auto`'s expected error as the model now in the code makes it.
+            if let (FillMethod::Auto, Some(d)) = (v.gap.method, v.gap.evidence) {
+                v.gap.expected = Some(repair::fill::calibrated(&d));
+            }
+            Ok(Rec {
+                file: v.file,
+                held: v.held,
+                tuned: v.tuned,
+                set: name(&v.set),
+                lab: name(&v.lab),
+                rate: v.rate,
+                group: v.group,
+                g: v.gap,
+            })
+        })
+        .collect()
 }
 
 fn mean(v: impl Iterator<Item = f64>) -> (f64, usize) {
@@ -567,12 +641,23 @@ type Row<'a> = (&'a str, [f64; K], f64);
 /// to their estimate puts more of them within 2× once the offset caps over-confidence, and
 /// the real errors' heavy tails pull a least-squares fit about.
 fn fit(gs: &[(&str, &GapScore)]) -> Option<Model> {
+    fit_masked(gs, &[true; K])
+}
+
+/// [`fit`] with only the features of `mask` (the others' weights stay 0).
+fn fit_masked(gs: &[(&str, &GapScore)], mask: &[bool; K]) -> Option<Model> {
     let rows: Vec<Row> = gs
         .iter()
         .filter_map(|(lab, g)| {
+            let mut x = features(g)?;
+            x.iter_mut().zip(mask).for_each(|(v, &on)| {
+                if !on {
+                    *v = 0.0;
+                }
+            });
             Some((
                 *lab,
-                features(g)?,
+                x,
                 (g.mean.max(1e-9) / g.evidence?.scored.max(1e-9)).ln(),
             ))
         })
@@ -651,6 +736,12 @@ fn regress(rows: &[([f64; K], f64)], w: &[f64]) -> Option<[f64; K]> {
             }
         }
     }
+    // A feature left out (all zero) gets weight 0.
+    for (i, row) in m.iter_mut().enumerate() {
+        if row[i] == 0.0 {
+            row[i] = 1.0;
+        }
+    }
     solve(m)
 }
 
@@ -677,6 +768,97 @@ fn solve(mut m: [[f64; K + 1]; K]) -> Option<[f64; K]> {
         }
     }
     Some(std::array::from_fn(|i| m[i][K] / m[i][i]))
+}
+
+/// Names of the expected-error model's features (see `repair::fill::features`).
+const FEATURE_NAMES: [&str; K] = [
+    "1",
+    "ln q",
+    "ln len",
+    "(ln q)^2",
+    "ln q3",
+    "ln h",
+    "ln bend",
+    "ln drift",
+    "refilled",
+    "ln rescored",
+    "hinge",
+    "ln donor_err",
+    "share",
+    "ln respread",
+    "ln(1 + viol)",
+    "poly",
+    "few holes",
+];
+
+/// Each feature of the expected-error model left out in turn: the model judged
+/// leave-one-lab-out on the tuned labs (each lab by a fit to the others, the margin chosen
+/// inside that fit as always), which decides whether a feature pays, and the model fitted
+/// on all tuned labs judged on the held-apart labs, which reports it.
+fn ablation(recs: &[Rec]) {
+    use rayon::prelude::*;
+    let tuned: Vec<(&str, &GapScore)> = recs
+        .iter()
+        .filter(|r| r.tuned && r.g.method == FillMethod::Auto)
+        .map(|r| (r.lab, &r.g))
+        .collect();
+    let held: Vec<&GapScore> = recs
+        .iter()
+        .filter(|r| r.held && r.g.method == FillMethod::Auto)
+        .map(|r| &r.g)
+        .collect();
+    let mut labs: Vec<&str> = tuned.iter().map(|r| r.0).collect();
+    labs.sort_unstable();
+    labs.dedup();
+    let variants: Vec<Option<usize>> = std::iter::once(None).chain((1..K).map(Some)).collect();
+    let rows: Vec<String> = variants
+        .par_iter()
+        .map(|&out| {
+            let mut mask = [true; K];
+            if let Some(k) = out {
+                mask[k] = false;
+            }
+            let mut lolo = Vec::new();
+            for lab in &labs {
+                let train: Vec<(&str, &GapScore)> =
+                    tuned.iter().filter(|r| r.0 != *lab).copied().collect();
+                if let Some(m) = fit_masked(&train, &mask) {
+                    lolo.extend(tuned.iter().filter(|r| r.0 == *lab).map(|r| GapScore {
+                        expected: predict(r.1, &m).or(r.1.expected),
+                        ..*r.1
+                    }));
+                }
+            }
+            let a = calibration(&lolo, 0.0);
+            let h = fit_masked(&tuned, &mask).map(|m| {
+                let v: Vec<GapScore> = held
+                    .iter()
+                    .map(|g| GapScore {
+                        expected: predict(g, &m).or(g.expected),
+                        ..**g
+                    })
+                    .collect();
+                calibration(&v, 0.0)
+            });
+            let name = out.map_or("(none)", |k| FEATURE_NAMES[k]);
+            format!(
+                "| {name} | {:.3} | {:.1} | {:.1} | {} |",
+                a.spearman,
+                100.0 * a.within_2x,
+                100.0 * a.over_confident,
+                h.map_or("–".into(), |h| format!(
+                    "{:.3} | {:.1} | {:.1}",
+                    h.spearman,
+                    100.0 * h.within_2x,
+                    100.0 * h.over_confident
+                ))
+            )
+        })
+        .collect();
+    println!("\n### expected-error model: each feature left out\n");
+    println!("| left out | tuned LOLO Spearman | within 2x % | over % | held apart Spearman | within 2x % | over % |");
+    println!("|---|---|---|---|---|---|---|");
+    rows.iter().for_each(|r| println!("{r}"));
 }
 
 fn predict(g: &GapScore, m: &Model) -> Option<f64> {
@@ -908,6 +1090,34 @@ fn held_apart(recs: &[Rec]) {
             100.0 * c.over_confident,
             100.0 * c.under_confident
         );
+    }
+    // The same model fitted by this run on the tuned labs' gaps: what the shipped constants
+    // become when they are brought up to date.
+    let tuned: Vec<(&str, &GapScore)> = recs
+        .iter()
+        .filter(|r| r.tuned && r.g.method == FillMethod::Auto)
+        .map(|r| (r.lab, &r.g))
+        .collect();
+    if let Some(m) = fit(&tuned) {
+        for set in ["all", "walking", "fullbody"] {
+            let v: Vec<GapScore> = held
+                .iter()
+                .filter(|r| r.g.method == FillMethod::Auto && (set == "all" || r.set == set))
+                .map(|r| GapScore {
+                    expected: predict(&r.g, &m).or(r.g.expected),
+                    ..r.g
+                })
+                .collect();
+            let c = calibration(&v, 0.0);
+            println!(
+                "- {set}, model fitted by this run on the tuned labs: {} gaps, Spearman {:.3}, within 2x {:.1} %, over-confident {:.1} %, under-confident {:.1} %",
+                c.gaps,
+                c.spearman,
+                100.0 * c.within_2x,
+                100.0 * c.over_confident,
+                100.0 * c.under_confident
+            );
+        }
     }
     let auto: Vec<&GapScore> = held
         .iter()

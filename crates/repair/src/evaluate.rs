@@ -3,7 +3,7 @@
 //! 2–3 neighbouring markers over overlapping frames together, as occlusions often do.
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::error::{RepairError, Result};
 use crate::fill::{
@@ -75,7 +75,7 @@ pub struct MethodScore {
 
 /// One artificial gap filled by one method: its real errors, the error the fill expected
 /// of itself, and its largest step relative to the marker's largest recorded step.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct GapScore {
     pub method: FillMethod,
     pub gap_len: usize,

@@ -16,17 +16,17 @@ mod skeleton;
 mod spline;
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::error::{RepairError, Result};
 use crate::gaps::Gap;
 
 pub(crate) use auto::features;
-pub use auto::{log_ratio, Diag, FEATURES};
+pub use auto::{calibrated, log_ratio, Diag, FEATURES};
 pub(crate) use plan::Plan;
 
 /// How gaps are filled.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FillMethod {
     /// Leave every gap (still reported).

@@ -31,9 +31,9 @@ use super::{
     SkipReason, Span, Target, STEP_FACTOR,
 };
 use holes::{other_markers, same_marker, score, Scoring};
-pub(crate) use model::{calibrated, features};
+pub(crate) use model::features;
+pub use model::{calibrated, log_ratio, Diag, FEATURES};
 use model::{deviation, donor_index, drift, prior};
-pub use model::{log_ratio, Diag, FEATURES};
 use steps::slowed;
 
 /// Candidates for gaps with valid data on both sides.
@@ -437,6 +437,12 @@ pub(super) fn fill_checked(
             ln_drift.1 += 1;
         }
     }
+    // How far the fill strays from the distances the recorded data allow: evidence the
+    // artificial gaps cannot give when the real gap holds poses they do not.
+    let viol = match &real_sk {
+        Some(sk) => Some(sk.violation(t, span, &out)),
+        None => Skeleton::new(t, span, plan, opts).map(|sk| sk.violation(t, span, &out)),
+    };
     let diag = Diag {
         scored: e,
         spread,
@@ -454,6 +460,8 @@ pub(super) fn fill_checked(
         donor_err: None,
         share: None,
         respread: None,
+        viol,
+        poly: fills[blend[0].0].0.is_polynomial(),
     };
     let choice = Choice {
         skeleton: blend.iter().any(|&(c, _)| skel[c]),

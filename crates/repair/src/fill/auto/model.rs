@@ -1,7 +1,7 @@
 //! `auto`'s expected error: the evidence a choice leaves ([`Diag`]), the features made of it
 //! and the model that turns them into an expected error (fitted by `fill_eval`).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::super::anchor::Raw;
 use super::super::{dist, linear, FillMethod, Span, Target};
@@ -20,7 +20,7 @@ use super::super::{dist, linear, FillMethod, Span, Target};
 /// the other relative to the holes (`drift`, geometric mean over the donor methods: the
 /// linear tie to the anchors assumes a steady drift, so a large one means an error the
 /// anchors only partly correct).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Diag {
     pub scored: f64,
     pub spread: f64,
@@ -42,6 +42,15 @@ pub struct Diag {
     pub share: Option<f64>,
     /// For a refilled gap: the second pass's spread (see above) over the first's.
     pub respread: Option<f64>,
+    /// How far the fill lies outside the distances to its donors that the recorded data
+    /// around the gap span (see `Skeleton::violation`), in the data's units; `None` with
+    /// fewer than two donors recorded through the gap.
+    #[serde(default)]
+    pub viol: Option<f64>,
+    /// Whether the fill (or the blend's first part) is a polynomial's, whose errors grow
+    /// with the gap unlike the donor methods'.
+    #[serde(default)]
+    pub poly: bool,
 }
 
 /// The expected error of a choice from its mean error on the artificial gaps.
@@ -78,14 +87,14 @@ pub struct Diag {
 /// median and geometric mean of the holes' errors, their number, and twice as many holes
 /// (+0.4 points at 1.4× the cost). A gradient-boosted model of the features without
 /// `respread`, its margin chosen the same way, did no better (79.8 %, against 80.1 %).
-pub(crate) fn calibrated(d: &Diag) -> f64 {
+pub fn calibrated(d: &Diag) -> f64 {
     const BETA: [f64; FEATURES] = [
         0.0975, 0.2878, -0.0265, 0.0577, 0.1334, -0.1600, 0.1121, 0.2356, -0.1882, 0.4457, -0.4710,
-        0.0883, 0.2940, 0.0899,
+        0.0883, 0.2940, 0.0899, 0.0, 0.0, 0.0,
     ];
     const GAMMA: [f64; FEATURES] = [
         -1.2829, -0.0054, -0.0494, 0.0735, -0.0179, 0.0907, -0.0124, -0.0738, -0.0473, 0.0943,
-        -0.3082, -0.0561, 0.0798, -0.0597,
+        -0.3082, -0.0561, 0.0798, -0.0597, 0.0, 0.0, 0.0,
     ];
     const C1: f64 = 1.5;
     const C0: f64 = -0.2814;
@@ -106,7 +115,7 @@ pub fn log_ratio(
 }
 
 /// Number of the expected-error model's features.
-pub const FEATURES: usize = 14;
+pub const FEATURES: usize = 17;
 
 /// The expected-error model's features (see [`calibrated`]), shared with the evaluation
 /// that fits it: 1, ln q, ln(len), (ln q)², ln q₃, ln h, ln bend, ln drift, refilled,
@@ -136,8 +145,15 @@ pub(crate) fn features(d: &Diag) -> [f64; FEATURES] {
         ln(d.donor_err),
         d.share.unwrap_or(0.0),
         ln(d.respread),
+        d.viol.map_or(0.0, |v| (1.0 + v / s).ln()),
+        f64::from(u8::from(d.poly)),
+        f64::from(u8::from(d.len < FEW_HOLES_BELOW)),
     ]
 }
+
+/// Gaps shorter than this are scored on half as many artificial gaps (see
+/// `FillOptions::auto_trials`), so their scores say less.
+const FEW_HOLES_BELOW: usize = 20;
 
 /// Expected error without any artificial gap to score on: a quarter of the distance the
 /// marker travels over the gap's length at its mean recorded speed (a coarse, cautious
