@@ -464,7 +464,10 @@ fn replay(path: &std::path::Path) -> Result<Vec<Rec>, String> {
             let mut v: Line =
                 serde_json::from_str(l).map_err(|e| format!("line {}: {e}", i + 1))?;
             // `auto`'s expected error as the model now in the code makes it.
-            if let (FillMethod::Auto, Some(d)) = (v.gap.method, v.gap.evidence) {
+            if let (FillMethod::Auto, Some(mut d)) = (v.gap.method, v.gap.evidence) {
+                // Records made before the fill's step was evidence hold it beside.
+                d.step = d.step.or(Some(v.gap.step_ratio));
+                v.gap.evidence = Some(d);
                 v.gap.expected = Some(repair::fill::calibrated(&d));
             }
             Ok(Rec {
@@ -617,6 +620,11 @@ fn features(g: &GapScore) -> Option<[f64; K]> {
 
 /// Number of features.
 const K: usize = repair::fill::FEATURES;
+/// The share of gaps an expected error may leave above twice itself (the limit the
+/// estimates are held to).
+const OVER_CONFIDENT: f64 = 0.05;
+/// One-sided 90 % normal quantile: the margin over labs' spread in [`fit`].
+const LAB_BOUND_Z: f64 = 1.2816;
 
 /// The expected-error model: ln(expected / scored) = β · x + c₁ · exp(γ · x) + c₀.
 #[derive(Clone, Copy)]
@@ -632,14 +640,20 @@ type Row<'a> = (&'a str, [f64; K], f64);
 
 /// Fits the model to ln(real / scored): β by median regression (iteratively reweighted
 /// least squares, residuals floored at 0.05); γ by least squares of the log of the
-/// residuals' size (floored at 0.001). The margin is chosen on gaps of labs the β and γ
-/// judging them never saw (each lab's gaps by a fit to the other labs'), as the shipped
-/// model meets new labs: c₁ on a grid from −1 to 3 and, for each, the c₀ that leaves 5 %
-/// of those gaps above twice their estimate, keeping the pair that puts most gaps within
-/// 2×. Chosen on the fitted gaps themselves, the margin left 5.1 % of unseen labs' gaps
-/// above twice their estimate. The median, not the mean: a fit that keeps most gaps close
-/// to their estimate puts more of them within 2× once the offset caps over-confidence, and
-/// the real errors' heavy tails pull a least-squares fit about.
+/// residuals' size (floored at 0.001); every lab weighing the same in both. The margin is
+/// chosen on gaps of labs the β and γ judging them never saw (each lab's gaps by a fit to
+/// the other labs'), as the shipped model meets new labs: c₁ on a grid from −1 to 3 and,
+/// for each, the smallest c₀ whose labs' over-confidence rates (gaps above twice their
+/// estimate) average 5 % or less by a one-sided 90 % bound over labs; the pair that puts
+/// most gaps within 2× (labs weighing the same) is kept.
+///
+/// Why labs and a bound: with c₀ set to leave 5 % of the pooled gaps above twice their
+/// estimate, the held-apart labs of `c3d-more` got 6.0 %. Per lab the rate ran from 3.5 to
+/// 8.6 %, the small labs higher, and the pooled quantile is set by the two big ones. Labs
+/// weighed alike and the bound bring the held-apart labs to about 5 % at 0.5 points of
+/// within-2×. The median, not the mean: a fit that keeps most gaps close to their estimate
+/// puts more of them within 2× once the offset caps over-confidence, and the real errors'
+/// heavy tails pull a least-squares fit about.
 fn fit(gs: &[(&str, &GapScore)]) -> Option<Model> {
     fit_masked(gs, &[true; K])
 }
@@ -666,28 +680,67 @@ fn fit_masked(gs: &[(&str, &GapScore)], mask: &[bool; K]) -> Option<Model> {
     labs.sort_unstable();
     labs.dedup();
     // Each gap's residual and scale under the β and γ fitted without its lab.
-    let mut unseen: Vec<(f64, f64)> = Vec::with_capacity(rows.len());
+    let mut unseen: Vec<(f64, f64, f64)> = Vec::with_capacity(rows.len());
+    let mut lab_of: Vec<usize> = Vec::with_capacity(rows.len());
+    let mut lab_ix = 0usize;
     for lab in &labs {
         let (test, train): (Vec<Row>, Vec<Row>) = rows.iter().partition(|r| r.0 == *lab);
         let Some((beta, gamma)) = fit_core(&train) else {
             continue;
         };
-        unseen.extend(
-            test.iter()
-                .map(|(_, x, y)| (y - dot(&beta, x), dot(&gamma, x).clamp(-20.0, 20.0).exp())),
-        );
+        let w = 1.0 / test.len() as f64;
+        unseen.extend(test.iter().map(|(_, x, y)| {
+            (
+                y - dot(&beta, x),
+                dot(&gamma, x).clamp(-20.0, 20.0).exp(),
+                w,
+            )
+        }));
+        lab_of.extend(std::iter::repeat_n(lab_ix, test.len()));
+        lab_ix += 1;
     }
     let (beta, gamma) = fit_core(&rows)?;
     let ln2 = std::f64::consts::LN_2;
+    let total: f64 = unseen.iter().map(|u| u.2).sum();
     let mut best: Option<(f64, Model)> = None;
     for i in 0..=80 {
         let c1 = -1.0 + 0.05 * f64::from(i);
-        let mut z: Vec<f64> = unseen.iter().map(|(r, s)| r - c1 * s).collect();
-        let mut sorted = z.clone();
-        sorted.sort_by(f64::total_cmp);
-        let c0 = sorted.get(sorted.len() * 95 / 100).copied()? - ln2;
-        z.iter_mut().for_each(|v| *v -= c0);
-        let within = z.iter().filter(|v| v.abs() <= ln2).count() as f64 / z.len() as f64;
+        let z: Vec<(f64, f64)> = unseen.iter().map(|(r, s, w)| (r - c1 * s, *w)).collect();
+        // The smallest c0 whose labs' over-confidence rates, averaged, stay at 5 % by a
+        // one-sided 90 % confidence bound over labs (mean + 1.28 · sd / √labs): a new lab
+        // is one more draw from labs, not from gaps.
+        let ok = |c0: f64| {
+            let mut over = vec![(0usize, 0usize); lab_ix];
+            for (&(v, _), &l) in z.iter().zip(&lab_of) {
+                over[l].1 += 1;
+                over[l].0 += usize::from(v - c0 > ln2);
+            }
+            let rates: Vec<f64> = over
+                .iter()
+                .filter(|o| o.1 > 0)
+                .map(|o| o.0 as f64 / o.1 as f64)
+                .collect();
+            let n = rates.len() as f64;
+            let m = rates.iter().sum::<f64>() / n;
+            let sd = (rates.iter().map(|r| (r - m).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+            m + LAB_BOUND_Z * sd / n.sqrt() <= OVER_CONFIDENT
+        };
+        let (mut lo, mut hi) = (-5.0, 5.0);
+        for _ in 0..40 {
+            let mid = 0.5 * (lo + hi);
+            if ok(mid) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        let c0 = hi;
+        let within = z
+            .iter()
+            .filter(|(v, _)| (v - c0).abs() <= ln2)
+            .map(|(_, w)| w)
+            .sum::<f64>()
+            / total;
         if best.as_ref().is_none_or(|b| within > b.0) {
             best = Some((
                 within,
@@ -709,19 +762,27 @@ fn fit_core(rows: &[Row]) -> Option<([f64; K], [f64; K])> {
         return None;
     }
     let xy: Vec<([f64; K], f64)> = rows.iter().map(|r| (r.1, r.2)).collect();
-    let mut w = vec![1.0; xy.len()];
+    // Every lab weighs the same, whatever its number of gaps: a user's lab is one more lab.
+    let mut per_lab: BTreeMap<&str, usize> = BTreeMap::new();
+    rows.iter()
+        .for_each(|r| *per_lab.entry(r.0).or_default() += 1);
+    let lab_w: Vec<f64> = rows
+        .iter()
+        .map(|r| rows.len() as f64 / per_lab[r.0] as f64)
+        .collect();
+    let mut w = lab_w.clone();
     let mut beta = [0.0; K];
     for _ in 0..15 {
         beta = regress(&xy, &w)?;
-        for ((x, y), wi) in xy.iter().zip(w.iter_mut()) {
-            *wi = 1.0 / (y - dot(&beta, x)).abs().max(0.05);
+        for (((x, y), wi), lw) in xy.iter().zip(w.iter_mut()).zip(&lab_w) {
+            *wi = lw / (y - dot(&beta, x)).abs().max(0.05);
         }
     }
     let size: Vec<([f64; K], f64)> = xy
         .iter()
         .map(|(x, y)| (*x, (y - dot(&beta, x)).abs().max(1e-3).ln()))
         .collect();
-    let gamma = regress(&size, &vec![1.0; size.len()])?;
+    let gamma = regress(&size, &lab_w)?;
     Some((beta, gamma))
 }
 
@@ -786,9 +847,9 @@ const FEATURE_NAMES: [&str; K] = [
     "ln donor_err",
     "share",
     "ln respread",
-    "ln(1 + viol)",
-    "poly",
     "few holes",
+    "step excess",
+    "one candidate",
 ];
 
 /// Each feature of the expected-error model left out in turn: the model judged
@@ -810,11 +871,14 @@ fn ablation(recs: &[Rec]) {
     let mut labs: Vec<&str> = tuned.iter().map(|r| r.0).collect();
     labs.sort_unstable();
     labs.dedup();
-    let variants: Vec<Option<usize>> = std::iter::once(None).chain((1..K).map(Some)).collect();
+    let start = [true; K];
+    let variants: Vec<Option<usize>> = std::iter::once(None)
+        .chain((1..K).filter(|&k| start[k]).map(Some))
+        .collect();
     let rows: Vec<String> = variants
         .par_iter()
         .map(|&out| {
-            let mut mask = [true; K];
+            let mut mask = start;
             if let Some(k) = out {
                 mask[k] = false;
             }
@@ -863,7 +927,9 @@ fn ablation(recs: &[Rec]) {
 
 fn predict(g: &GapScore, m: &Model) -> Option<f64> {
     let x = features(g)?;
-    Some(g.evidence?.scored * repair::fill::log_ratio(&x, &m.beta, &m.gamma, m.c1, m.c0).exp())
+    // As `calibrated` does: a score of 0 (exact data) counts as 1e-12.
+    let s = g.evidence?.scored.max(1e-12);
+    Some(s * repair::fill::log_ratio(&x, &m.beta, &m.gamma, m.c1, m.c0).exp())
 }
 
 /// The expected-error model fitted leave-one-lab-out: each lab's gaps are estimated by a
@@ -912,9 +978,9 @@ fn calibrate(recs: &[Rec]) {
     }
     let all: Vec<(&str, &GapScore)> = auto.iter().map(|r| (r.lab, &r.g)).collect();
     if let Some(m) = fit(&all) {
-        let f = |v: &[f64; K]| v.map(|b| format!("{b:.4}")).join(", ");
+        let f = |v: &[f64; K]| v.map(|b| format!("{b:.6}")).join(", ");
         println!(
-            "- model fitted on every lab (the constants shipped): beta [{}], gamma [{}], c1 {:.4}, c0 {:.4}",
+            "- model fitted on every lab (the constants shipped): beta [{}], gamma [{}], c1 {:.6}, c0 {:.6}",
             f(&m.beta),
             f(&m.gamma),
             m.c1,
@@ -1109,6 +1175,23 @@ fn held_apart(recs: &[Rec]) {
                 })
                 .collect();
             let c = calibration(&v, 0.0);
+            let bad: Vec<&GapScore> = v.iter().filter(|g| g.mean > 20.0).collect();
+            let flagged = bad
+                .iter()
+                .filter(|g| g.expected.is_some_and(|e| e > 10.0))
+                .count();
+            let unc = bad
+                .iter()
+                .filter(|g| g.expected.is_some_and(|e| e > 20.0))
+                .count();
+            let false_unc = v
+                .iter()
+                .filter(|g| g.mean <= 10.0 && g.expected.is_some_and(|e| e > 20.0))
+                .count();
+            println!(
+                "- {set}: fills off by more than 20 mm: {}, of them expected above 10 mm {flagged}, above the default limit of 20 mm {unc}; fills within 10 mm expected above 20 mm: {false_unc}",
+                bad.len()
+            );
             println!(
                 "- {set}, model fitted by this run on the tuned labs: {} gaps, Spearman {:.3}, within 2x {:.1} %, over-confident {:.1} %, under-confident {:.1} %",
                 c.gaps,

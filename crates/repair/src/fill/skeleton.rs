@@ -129,29 +129,6 @@ impl Skeleton {
         })
     }
 
-    /// How far `fill` (frames `span.first..`) lies outside the intervals: per frame the
-    /// largest distance outside any interval, averaged over the frames. The intervals are
-    /// what the recorded data around the gap allow, so a fill far outside them is off by
-    /// about that much wherever the recorded poses cover the gap's.
-    pub fn violation(&self, t: &Target, span: Span, fill: &[[f64; 3]]) -> f64 {
-        let d = t.data;
-        let total: f64 = fill
-            .iter()
-            .enumerate()
-            .map(|(i, p)| {
-                let f = span.first + i;
-                self.intervals
-                    .iter()
-                    .map(|&(j, mn, mx)| {
-                        let r = dist2(*p, d.at(j, f)).sqrt();
-                        (mn - r).max(r - mx).max(0.0)
-                    })
-                    .fold(0.0, f64::max)
-            })
-            .sum();
-        total / fill.len().max(1) as f64
-    }
-
     /// Moves each frame of `fill` (frames `span.first..`) into the intervals by cyclic
     /// projections onto the violated ones (each distance in turn set to the nearest end of
     /// its interval), sweeping until none is violated, the frame has settled, or
