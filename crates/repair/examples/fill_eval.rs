@@ -959,14 +959,9 @@ fn calibrate(recs: &[Rec]) {
         }
     }
     let show = |name: &str, v: Vec<GapScore>| {
-        let c = calibration(&v, 0.0);
         println!(
-            "- {name}, model fitted leave-one-lab-out: {} gaps, Spearman {:.3}, within 2x {:.1} %, over-confident {:.1} %, under-confident {:.1} %",
-            c.gaps,
-            c.spearman,
-            100.0 * c.within_2x,
-            100.0 * c.over_confident,
-            100.0 * c.under_confident
+            "{}",
+            calibration_line(&format!("{name}, model fitted leave-one-lab-out"), &v)
         );
     };
     show("all", out.iter().map(|x| x.1).collect());
@@ -987,6 +982,38 @@ fn calibrate(recs: &[Rec]) {
             m.c0
         );
     }
+}
+
+/// One line of an expected-error calibration: `label`, then how the gaps' expected errors
+/// match their real ones.
+fn calibration_line(label: &str, v: &[GapScore]) -> String {
+    let c = calibration(v, 0.0);
+    format!(
+        "- {label}: {} gaps, Spearman {:.3}, within 2x {:.1} %, over-confident {:.1} %, under-confident {:.1} %",
+        c.gaps,
+        c.spearman,
+        100.0 * c.within_2x,
+        100.0 * c.over_confident,
+        100.0 * c.under_confident
+    )
+}
+
+/// How the fills off by more than 20 mm fare under their expected errors: how many get
+/// one above 10 mm (within 2× or cautious) and above `repair`'s default limit of 20 mm
+/// (left `uncertain`), and how many fills within 10 mm that limit would leave.
+fn catastrophic_line(label: &str, v: &[GapScore]) -> String {
+    let above = |g: &GapScore, e: f64| g.expected.is_some_and(|x| x > e);
+    let bad: Vec<&GapScore> = v.iter().filter(|g| g.mean > 20.0).collect();
+    let flagged = bad.iter().filter(|g| above(g, 10.0)).count();
+    let unc = bad.iter().filter(|g| above(g, 20.0)).count();
+    let false_unc = v
+        .iter()
+        .filter(|g| g.mean <= 10.0 && above(g, 20.0))
+        .count();
+    format!(
+        "- {label}: fills off by more than 20 mm: {}, of them expected above 10 mm {flagged}, above the default limit of 20 mm {unc}; fills within 10 mm expected above 20 mm: {false_unc}",
+        bad.len()
+    )
 }
 
 /// Mean error of `m` over the gaps of `recs` of `group` and `len` (NaN without any).
@@ -1147,15 +1174,8 @@ fn held_apart(recs: &[Rec]) {
             .filter(|r| r.g.method == FillMethod::Auto && (set == "all" || r.set == set))
             .map(|r| r.g)
             .collect();
-        let c = calibration(&v, 0.0);
-        println!(
-            "- {set}: {} gaps, Spearman {:.3}, within 2x {:.1} %, over-confident {:.1} %, under-confident {:.1} %",
-            c.gaps,
-            c.spearman,
-            100.0 * c.within_2x,
-            100.0 * c.over_confident,
-            100.0 * c.under_confident
-        );
+        println!("{}", calibration_line(set, &v));
+        println!("{}", catastrophic_line(set, &v));
     }
     // The same model fitted by this run on the tuned labs' gaps: what the shipped constants
     // become when they are brought up to date.
@@ -1174,31 +1194,12 @@ fn held_apart(recs: &[Rec]) {
                     ..r.g
                 })
                 .collect();
-            let c = calibration(&v, 0.0);
-            let bad: Vec<&GapScore> = v.iter().filter(|g| g.mean > 20.0).collect();
-            let flagged = bad
-                .iter()
-                .filter(|g| g.expected.is_some_and(|e| e > 10.0))
-                .count();
-            let unc = bad
-                .iter()
-                .filter(|g| g.expected.is_some_and(|e| e > 20.0))
-                .count();
-            let false_unc = v
-                .iter()
-                .filter(|g| g.mean <= 10.0 && g.expected.is_some_and(|e| e > 20.0))
-                .count();
             println!(
-                "- {set}: fills off by more than 20 mm: {}, of them expected above 10 mm {flagged}, above the default limit of 20 mm {unc}; fills within 10 mm expected above 20 mm: {false_unc}",
-                bad.len()
-            );
-            println!(
-                "- {set}, model fitted by this run on the tuned labs: {} gaps, Spearman {:.3}, within 2x {:.1} %, over-confident {:.1} %, under-confident {:.1} %",
-                c.gaps,
-                c.spearman,
-                100.0 * c.within_2x,
-                100.0 * c.over_confident,
-                100.0 * c.under_confident
+                "{}",
+                calibration_line(
+                    &format!("{set}, model fitted by this run on the tuned labs"),
+                    &v
+                )
             );
         }
     }
