@@ -1072,31 +1072,36 @@ fn held_apart(recs: &[Rec]) {
     println!("\n### held apart, per lab: auto mean (auto / the lab's best single method)\n");
     println!("| lab | set | markers | 5 | 10 | 20 | 40 | 80 |");
     println!("|---|---|---|---|---|---|---|---|");
-    // (set, group, len) -> ratios over labs.
-    let mut spread: BTreeMap<(&str, usize, usize), Vec<f64>> = BTreeMap::new();
-    for lab in &labs {
-        for set in ["walking", "fullbody"] {
+    // Each lab's held-apart records per set, grouped once for the per-lab tables.
+    let per_lab: Vec<(&str, &str, Vec<&Rec>)> = labs
+        .iter()
+        .flat_map(|lab| ["walking", "fullbody"].map(|set| (*lab, set)))
+        .map(|(lab, set)| {
             let v: Vec<&Rec> = held
                 .iter()
                 .copied()
-                .filter(|r| r.lab == *lab && r.set == set)
+                .filter(|r| r.lab == lab && r.set == set)
                 .collect();
-            if v.is_empty() {
-                continue;
-            }
-            for group in [1, 2] {
-                let name = if group == 1 { "one" } else { "2–3" };
-                let mut row = format!("| {lab} | {set} | {name} |");
-                for len in LENGTHS {
-                    let a = cell_mean(&v, group, len, FillMethod::Auto);
-                    let (b, _) = best_single(&v, group, len);
-                    row += &format!(" {a:.2} ({:.2}) |", a / b);
-                    if (a / b).is_finite() {
-                        spread.entry((set, group, len)).or_default().push(a / b);
-                    }
+            (lab, set, v)
+        })
+        .filter(|x| !x.2.is_empty())
+        .collect();
+    // (set, group, len) -> ratios over labs.
+    let mut spread: BTreeMap<(&str, usize, usize), Vec<f64>> = BTreeMap::new();
+    for (lab, set, v) in &per_lab {
+        let (lab, set) = (*lab, *set);
+        for group in [1, 2] {
+            let name = if group == 1 { "one" } else { "2–3" };
+            let mut row = format!("| {lab} | {set} | {name} |");
+            for len in LENGTHS {
+                let a = cell_mean(v, group, len, FillMethod::Auto);
+                let (b, _) = best_single(v, group, len);
+                row += &format!(" {a:.2} ({:.2}) |", a / b);
+                if (a / b).is_finite() {
+                    spread.entry((set, group, len)).or_default().push(a / b);
                 }
-                println!("{row}");
             }
+            println!("{row}");
         }
     }
     // Per lab: auto against Gløersen & Federolf's published PCA.
@@ -1104,31 +1109,22 @@ fn held_apart(recs: &[Rec]) {
     println!("| lab | set | markers | 5 | 10 | 20 | 40 | 80 |");
     println!("|---|---|---|---|---|---|---|---|");
     let mut losses = Vec::new();
-    for lab in &labs {
-        for set in ["walking", "fullbody"] {
-            let v: Vec<&Rec> = held
-                .iter()
-                .copied()
-                .filter(|r| r.lab == *lab && r.set == set)
-                .collect();
-            if v.is_empty() {
-                continue;
-            }
-            for group in [1, 2] {
-                let name = if group == 1 { "one" } else { "2–3" };
-                let mut row = format!("| {lab} | {set} | {name} |");
-                for len in LENGTHS {
-                    let a = cell_mean(&v, group, len, FillMethod::Auto);
-                    let g = cell_mean(&v, group, len, FillMethod::Gloersen);
-                    row += &format!(" {:.2} |", a / g);
-                    if len >= 40 && a > g {
-                        losses.push(format!(
-                            "{lab} {set} {name} {len}: {a:.2} against {g:.2} mm"
-                        ));
-                    }
+    for (lab, set, v) in &per_lab {
+        let (lab, set) = (*lab, *set);
+        for group in [1, 2] {
+            let name = if group == 1 { "one" } else { "2–3" };
+            let mut row = format!("| {lab} | {set} | {name} |");
+            for len in LENGTHS {
+                let a = cell_mean(v, group, len, FillMethod::Auto);
+                let g = cell_mean(v, group, len, FillMethod::Gloersen);
+                row += &format!(" {:.2} |", a / g);
+                if len >= 40 && a > g {
+                    losses.push(format!(
+                        "{lab} {set} {name} {len}: {a:.2} against {g:.2} mm"
+                    ));
                 }
-                println!("{row}");
             }
+            println!("{row}");
         }
     }
     println!(
