@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::super::anchor::Raw;
 use super::super::{dist, linear, FillMethod, Span, Target};
+use super::LONG;
 
 /// The evidence behind an expected error: the choice's mean error on the artificial gaps
 /// (`scored`), and how far the two best-scored candidates' fills of the real gap are apart
@@ -156,15 +157,12 @@ pub(crate) fn features(d: &Diag) -> [f64; FEATURES] {
         ln(d.donor_err),
         d.share.unwrap_or(0.0),
         ln(d.respread),
-        f64::from(u8::from(d.len < FEW_HOLES_BELOW)),
+        // Gaps shorter than `LONG` are scored on half as many artificial gaps.
+        f64::from(u8::from(d.len < LONG)),
         d.step.map_or(0.0, |r| (r - 1.0).max(0.0)),
         f64::from(u8::from(single)),
     ]
 }
-
-/// Gaps shorter than this are scored on half as many artificial gaps (see
-/// `FillOptions::auto_trials`), so their scores say less.
-const FEW_HOLES_BELOW: usize = 20;
 
 /// Expected error without any artificial gap to score on: a quarter of the distance the
 /// marker travels over the gap's length at its mean recorded speed (a coarse, cautious
