@@ -725,6 +725,8 @@ pub(crate) fn fill_gaps(
                             share,
                             rescored: own.map(|o| o.scored / d1.scored.max(1e-12)),
                             respread: own.map(|o| o.spread / d1.spread.max(1e-12)),
+                            // The fill written is the second pass's.
+                            slowed: own.map_or(d1.slowed, |o| o.slowed),
                             ..d1
                         };
                         let e = auto::calibrated(&d);

@@ -8,7 +8,7 @@ use super::super::{
 };
 use super::model::{deviation, donor_index, drift};
 use super::steps::slowed;
-use super::{OTHER_MARKERS, PRUNE, RESID_NODES};
+use super::{Kind, OTHER_MARKERS, PRUNE, RESID_NODES};
 
 /// An artificial gap: the marker, the span handed to the methods (its anchors), and the
 /// hole (frames treated as invalid and scored); `plan` is `None` for the target's own plan.
@@ -33,26 +33,26 @@ pub(super) struct Scoring<'a> {
 
 /// The candidates' predictions over the artificial gaps where every candidate succeeded
 /// (`preds[c]`, compared on the same samples), the true samples there, the number of holes
-/// scored, and over them the sum of the truth's mean deviation from the line between the
+/// scored and where each one's samples end, and over them the sum of the truth's mean deviation from the line between the
 /// anchors and per donor method the sum and count of its residuals' drift.
 pub(super) struct Scores {
     pub preds: Vec<Vec<[f64; 3]>>,
     pub truth: Vec<[f64; 3]>,
     pub scored: usize,
+    /// Where each scored hole's samples end in `truth` (and in every `preds[c]`).
+    pub ends: Vec<usize>,
     pub bend_holes: f64,
     pub drift_holes: [(f64, usize); 3],
 }
 
-/// Scores every candidate (`fills`, with whether each is held to the skeleton, spline-tied
-/// or the wide PCA model) on `trials`; candidates far behind the best after the first third
-/// of the trials are dropped from all four lists.
+/// Scores every candidate (`fills`, with the kind of each) on `trials`; candidates far
+/// behind the best after the first third of the trials, except the runner-up, are dropped
+/// from both lists.
 pub(super) fn score(
     ctx: &Scoring,
     trials: &[Trial],
     fills: &mut Vec<(FillMethod, Vec<[f64; 3]>)>,
-    skel: &mut Vec<bool>,
-    smooth: &mut Vec<bool>,
-    wide: &mut Vec<bool>,
+    kinds: &mut Vec<Kind>,
 ) -> Scores {
     let Scoring {
         t,
@@ -72,6 +72,7 @@ pub(super) fn score(
     // weight, and scoring it further (PCA above all) is most of auto's cost.
     let first_look = trials.len().div_ceil(3).max(2);
     let mut scored = 0;
+    let mut ends: Vec<usize> = Vec::new();
     // Over the scored holes: the sum of the truth's mean deviation from the line between
     // the anchors, and per donor method the sum and count of its residuals' drift.
     let mut bend_holes = 0.0;
@@ -82,19 +83,19 @@ pub(super) fn score(
                 .iter()
                 .map(|p| p.iter().zip(&truth).map(|(a, b)| dist(*a, *b)).sum::<f64>())
                 .collect();
-            let best = err.iter().copied().fold(f64::INFINITY, f64::min);
-            let keep: Vec<bool> = err.iter().map(|&e| e <= PRUNE * best).collect();
+            // The runner-up stays whatever its score: how far the two best fills of the
+            // real gap are apart is the expected error's best evidence, lost with it.
+            let mut sorted = err.clone();
+            sorted.sort_by(f64::total_cmp);
+            let cut = (PRUNE * sorted[0]).max(sorted[1]);
+            let keep: Vec<bool> = err.iter().map(|&e| e <= cut).collect();
             if keep.iter().any(|k| !k) {
                 let mut k = keep.iter();
                 fills.retain(|_| *k.next().unwrap_or(&true));
                 let mut k = keep.iter();
                 preds.retain(|_| *k.next().unwrap_or(&true));
                 let mut k = keep.iter();
-                skel.retain(|_| *k.next().unwrap_or(&true));
-                let mut k = keep.iter();
-                smooth.retain(|_| *k.next().unwrap_or(&true));
-                let mut k = keep.iter();
-                wide.retain(|_| *k.next().unwrap_or(&true));
+                kinds.retain(|_| *k.next().unwrap_or(&true));
             }
         }
         let tt = Target {
@@ -109,14 +110,18 @@ pub(super) fn score(
         let mut raws: Vec<(FillMethod, Option<Raw>)> = Vec::new();
         for (c, (m, _)) in fills.iter().enumerate() {
             // A constrained candidate follows its method's plain fill of this trial.
-            let base = if skel[c] {
-                (0..c).find(|&b| !skel[b] && !smooth[b] && !wide[b] && fills[b].0 == *m)
+            let kind = kinds[c];
+            let base = if kind.skel {
+                (0..c).find(|&b| {
+                    let k = kinds[b];
+                    !k.skel && !k.smooth && !k.wide && fills[b].0 == *m
+                })
             } else {
                 None
             };
             // The wide model on the target's own holes; elsewhere (or where its donors are
             // not valid) it is scored as the plain PCA fill.
-            let wide_fill = match (&wide_plan, wide[c], tr.plan) {
+            let wide_fill = match (&wide_plan, kind.wide, tr.plan) {
                 (Some(w), true, None) => fill_raw(*m, &tt, tr.span, w, wide_opts, 1)
                     .ok()
                     .map(|r| r.anchored(tr.span)),
@@ -129,10 +134,10 @@ pub(super) fn score(
                     let i = match raws.iter().position(|r| r.0 == *m) {
                         Some(i) => i,
                         None => {
-                            let ctx = if smooth
+                            let ctx = if kinds
                                 .iter()
                                 .zip(fills.iter())
-                                .any(|(&s, f)| s && f.0 == *m)
+                                .any(|(k, f)| k.smooth && f.0 == *m)
                             {
                                 RESID_NODES
                             } else {
@@ -143,7 +148,7 @@ pub(super) fn score(
                         }
                     };
                     match &raws[i].1 {
-                        Some(r) if smooth[c] => {
+                        Some(r) if kind.smooth => {
                             Ok(r.smoothed(tr.span).unwrap_or_else(|| r.anchored(tr.span)))
                         }
                         Some(r) => Ok(r.anchored(tr.span)),
@@ -155,7 +160,7 @@ pub(super) fn score(
             let Ok(mut v) = made else {
                 break;
             };
-            if skel[c] {
+            if kind.skel {
                 let s = sk.get_or_insert_with(|| match (tr.plan, &real_sk) {
                     (None, Some(r)) => r.without(tr.hole, tr.span.len()),
                     _ => Skeleton::new(&tt, tr.span, p, opts),
@@ -190,11 +195,13 @@ pub(super) fn score(
         for (c, v) in got.into_iter().enumerate() {
             preds[c].extend_from_slice(&v[skip..skip + n]);
         }
+        ends.push(truth.len());
     }
     Scores {
         preds,
         truth,
         scored,
+        ends,
         bend_holes,
         drift_holes,
     }

@@ -125,6 +125,22 @@ pub(super) fn candidates(span: Span) -> &'static [FillMethod] {
     }
 }
 
+/// What kind of fill a candidate is, beside its method.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(super) struct Kind {
+    /// Held to the skeleton.
+    pub skel: bool,
+    /// A donor method's prediction tied to the samples by a spline through its residuals
+    /// (see `anchor`) instead of the line.
+    pub smooth: bool,
+    /// PCA with the wide model.
+    pub wide: bool,
+    /// How far the step rule moved the fill (mean distance, data units): 0 for a fill that
+    /// needed no slowing. A slowed fill is not its method's prediction, and what the
+    /// artificial gaps scored does not vouch for it (see `Diag::slowed`).
+    pub moved: f64,
+}
+
 /// What `auto` chose for one gap.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Choice {
@@ -251,26 +267,27 @@ pub(super) fn fill_checked(
             .exclude
             .set(plan.exclude.get().cloned().unwrap_or_default());
     }
-    // wide[c]: candidate c is PCA with the wide model.
-    let mut wide: Vec<bool> = Vec::new();
+    let apart = |a: &[[f64; 3]], b: &[[f64; 3]]| {
+        a.iter().zip(b).map(|(p, q)| dist(*p, *q)).sum::<f64>() / a.len().max(1) as f64
+    };
     let mut fills: Vec<(FillMethod, Vec<[f64; 3]>)> = Vec::new();
-    // smooth[c]: candidate c is its donor method's prediction tied to the samples by a
-    // spline through the residuals (see `anchor`) instead of the line.
-    let mut smooth: Vec<bool> = Vec::new();
+    // kinds[c]: what kind of fill candidate c is, beside its method.
+    let mut kinds: Vec<Kind> = Vec::new();
     let mut reason = None;
     let mut implausible = f64::INFINITY;
     // Per donor method (see `donor_index`), its residuals' drift across the real gap.
     let mut drift_real = [None; 3];
-    let mut keep = |m: FillMethod, v: Vec<[f64; 3]>, sm: bool, wd: bool, fills: &mut Vec<_>| {
+    let mut keep = |m: FillMethod, v: Vec<[f64; 3]>, kind: Kind, fills: &mut Vec<_>| {
         let r = step_ratio(t, span, &v);
         if r <= STEP_FACTOR {
             fills.push((m, v));
-            smooth.push(sm);
-            wide.push(wd);
+            kinds.push(kind);
         } else if let Some(d) = slowed(t, span, &v) {
+            kinds.push(Kind {
+                moved: apart(&v, &d),
+                ..kind
+            });
             fills.push((m, d));
-            smooth.push(sm);
-            wide.push(wd);
         } else {
             implausible = implausible.min(r);
         }
@@ -294,9 +311,13 @@ pub(super) fn fill_checked(
                     if let Some(i) = donor_index(m) {
                         drift_real[i] = drift(&raw);
                     }
-                    keep(m, raw.anchored(span), false, false, &mut fills);
+                    keep(m, raw.anchored(span), Kind::default(), &mut fills);
                     if let Some(v) = raw.smoothed(span).filter(|_| span.len() <= SMOOTH_MAX) {
-                        keep(m, v, true, false, &mut fills);
+                        let kind = Kind {
+                            smooth: true,
+                            ..Kind::default()
+                        };
+                        keep(m, v, kind, &mut fills);
                     }
                 }
                 Err(r) => {
@@ -306,7 +327,7 @@ pub(super) fn fill_checked(
             continue;
         }
         match fill_with(m, t, span, plan, opts) {
-            Ok(v) => keep(m, v, false, false, &mut fills),
+            Ok(v) => keep(m, v, Kind::default(), &mut fills),
             Err(r) => {
                 reason.get_or_insert(r);
             }
@@ -314,15 +335,18 @@ pub(super) fn fill_checked(
     }
     if let Some(w) = &wide_plan {
         if let Ok(raw) = fill_raw(FillMethod::Pca, t, span, w, &wide_opts, 1) {
-            keep(FillMethod::Pca, raw.anchored(span), false, true, &mut fills);
+            let kind = Kind {
+                wide: true,
+                ..Kind::default()
+            };
+            keep(FillMethod::Pca, raw.anchored(span), kind, &mut fills);
         }
     }
     if fills.is_empty() && implausible.is_finite() && edge && cands.len() > 1 {
         // Every donor fill at the edge is implausible: hold the last valid sample.
         if let Ok(v) = linear::hold(t, span) {
             fills.push((FillMethod::Hold, v));
-            smooth.push(false);
-            wide.push(false);
+            kinds.push(Kind::default());
         }
     }
     if fills.is_empty() {
@@ -339,15 +363,12 @@ pub(super) fn fill_checked(
     if shortened && fills.iter().any(|(m, _)| !m.is_polynomial()) {
         let poly: Vec<bool> = fills.iter().map(|(m, _)| m.is_polynomial()).collect();
         let mut k = poly.iter();
-        smooth.retain(|_| !*k.next().unwrap_or(&false));
-        let mut k = poly.iter();
-        wide.retain(|_| !*k.next().unwrap_or(&false));
+        kinds.retain(|_| !*k.next().unwrap_or(&false));
         fills.retain(|(m, _)| !m.is_polynomial());
     }
     // Long gaps: each fill also held to the skeleton (Tits et al. 2018), as a candidate of
     // its own, so the artificial gaps say whether the constraint helps here. Short gaps
     // drift too little for it to matter.
-    let mut skel = vec![false; fills.len()];
     let real_sk = if len >= SKELETON_FROM {
         Skeleton::new(t, span, plan, opts)
     } else {
@@ -356,15 +377,18 @@ pub(super) fn fill_checked(
     {
         if let Some(sk) = &real_sk {
             for c in 0..fills.len() {
-                if fills[c].0 == FillMethod::Hold || smooth[c] || wide[c] {
+                if fills[c].0 == FillMethod::Hold || kinds[c].smooth || kinds[c].wide {
                     continue;
                 }
                 let mut v = fills[c].1.clone();
                 if sk.apply(t, span, &mut v) && step_ratio(t, span, &v) <= STEP_FACTOR {
                     fills.push((fills[c].0, v));
-                    skel.push(true);
-                    smooth.push(false);
-                    wide.push(false);
+                    // A slowed fill held to the skeleton is still not its method's own.
+                    kinds.push(Kind {
+                        skel: true,
+                        moved: kinds[c].moved,
+                        ..Kind::default()
+                    });
                 }
             }
         }
@@ -379,7 +403,7 @@ pub(super) fn fill_checked(
         wide_opts: &wide_opts,
         real_sk: real_sk.as_ref(),
     };
-    let holes = score(&ctx, &trials, &mut fills, &mut skel, &mut smooth, &mut wide);
+    let holes = score(&ctx, &trials, &mut fills, &mut kinds);
     let (preds, truth, scored) = (&holes.preds, &holes.truth, holes.scored);
     let (bend_holes, drift_holes) = (holes.bend_holes, holes.drift_holes);
     if truth.is_empty() {
@@ -387,47 +411,38 @@ pub(super) fn fill_checked(
         choice.expected_error = Some(prior(t, len));
         return Ok((v, choice));
     }
-    let score = |blend: &[(usize, f64)]| {
-        let e: f64 = truth
-            .iter()
-            .enumerate()
-            .map(|(i, q)| dist(combine(blend, |c| preds[c][i]), *q))
-            .sum();
-        e / truth.len() as f64
-    };
-    let mut order: Vec<(f64, usize)> = (0..fills.len()).map(|c| (score(&[(c, 1.0)]), c)).collect();
-    order.sort_by(|a, b| a.0.total_cmp(&b.0));
-    // The best method alone, or the best two or three blended with weights 1 / error²
-    // (inverse expected variance), whichever scores lowest.
-    let mut best = (order[0].0, vec![(order[0].1, 1.0)]);
-    for k in 2..=order.len().min(BLEND) {
-        let inv: Vec<f64> = order[..k]
-            .iter()
-            .map(|&(e, _)| 1.0 / e.max(1e-12).powi(2))
-            .collect();
-        let total: f64 = inv.iter().sum();
-        if !total.is_finite() {
-            break;
+    let all: Vec<usize> = (0..truth.len()).collect();
+    let Chosen {
+        err: e,
+        blend,
+        order,
+    } = choose(preds, truth, &all, fills.len());
+    // The choice made on half the holes, judged on the other half (even and odd holes in
+    // turn): the best of many candidates on few holes flatters itself, and by how much is
+    // what this measures.
+    let cv = (holes.ends.len() >= 2).then(|| {
+        let mut sum = 0.0;
+        for fold in 0..2 {
+            let (mut fit, mut test) = (Vec::new(), Vec::new());
+            let mut start = 0;
+            for (h, &end) in holes.ends.iter().enumerate() {
+                let to = if h % 2 == fold { &mut test } else { &mut fit };
+                to.extend(start..end);
+                start = end;
+            }
+            let b = choose(preds, truth, &fit, fills.len()).blend;
+            sum += test
+                .iter()
+                .map(|&i| dist(combine(&b, |c| preds[c][i]), truth[i]))
+                .sum::<f64>();
         }
-        let blend: Vec<(usize, f64)> = order[..k]
-            .iter()
-            .zip(&inv)
-            .map(|(&(_, c), w)| (c, w / total))
-            .collect();
-        let e = score(&blend);
-        if e < best.0 {
-            best = (e, blend);
-        }
-    }
-    let (e, blend) = best;
+        sum / truth.len() as f64
+    });
     let out: Vec<[f64; 3]> = (0..len)
         .map(|i| combine(&blend, |c| fills[c].1[i]))
         .collect();
 
     let others: Vec<(FillMethod, f64)> = blend[1..].iter().map(|&(c, w)| (fills[c].0, w)).collect();
-    let apart = |a: &[[f64; 3]], b: &[[f64; 3]]| {
-        a.iter().zip(b).map(|(p, q)| dist(*p, *q)).sum::<f64>() / a.len().max(1) as f64
-    };
     let best_fill = &fills[order[0].1].1;
     let spread = order
         .get(1)
@@ -458,9 +473,13 @@ pub(super) fn fill_checked(
         share: None,
         respread: None,
         step: Some(step_ratio(t, span, &out)),
+        cv: cv.map(|c| c / e.max(1e-12)),
+        // How far the step rule moved the fill from its methods' predictions.
+        slowed: Some(blend.iter().map(|&(c, w)| w * kinds[c].moved).sum::<f64>())
+            .filter(|&d| d > 0.0),
     };
     let choice = Choice {
-        skeleton: blend.iter().any(|&(c, _)| skel[c]),
+        skeleton: blend.iter().any(|&(c, _)| kinds[c].skel),
         method: fills[blend[0].0].0,
         second: others.first().copied(),
         third: others.get(1).copied(),
@@ -468,6 +487,57 @@ pub(super) fn fill_checked(
         diag: Some(diag),
     };
     Ok((out, choice))
+}
+
+/// The choice on the samples `on` of the artificial gaps: the best candidate alone, or the
+/// best two or three blended with weights 1 / error² (inverse expected variance),
+/// whichever scores lowest there; with its mean error and the candidates by their own
+/// errors, best first.
+fn choose(preds: &[Vec<[f64; 3]>], truth: &[[f64; 3]], on: &[usize], n: usize) -> Chosen {
+    let score = |blend: &[(usize, f64)]| {
+        let e: f64 = on
+            .iter()
+            .map(|&i| dist(combine(blend, |c| preds[c][i]), truth[i]))
+            .sum();
+        e / on.len().max(1) as f64
+    };
+    let mut order: Vec<(f64, usize)> = (0..n).map(|c| (score(&[(c, 1.0)]), c)).collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut best = (order[0].0, vec![(order[0].1, 1.0)]);
+    for k in 2..=order.len().min(BLEND) {
+        let inv: Vec<f64> = order[..k]
+            .iter()
+            .map(|&(e, _)| 1.0 / e.max(1e-12).powi(2))
+            .collect();
+        let total: f64 = inv.iter().sum();
+        if !total.is_finite() {
+            break;
+        }
+        let blend: Vec<(usize, f64)> = order[..k]
+            .iter()
+            .zip(&inv)
+            .map(|(&(_, c), w)| (c, w / total))
+            .collect();
+        let e = score(&blend);
+        if e < best.0 {
+            best = (e, blend);
+        }
+    }
+    Chosen {
+        err: best.0,
+        blend: best.1,
+        order,
+    }
+}
+
+/// A choice among the candidates (see [`choose`]).
+struct Chosen {
+    /// Its mean error on the samples it was chosen on.
+    err: f64,
+    /// The candidates blended, with their shares (one with share 1 for a single method).
+    blend: Vec<(usize, f64)>,
+    /// Every candidate's own mean error there, with its index, best first.
+    order: Vec<(f64, usize)>,
 }
 
 /// The weighted sum of candidates' predictions (weights sum to 1).

@@ -48,6 +48,20 @@ pub struct Diag {
     /// that, or came near it, moves unlike the marker ever did.
     #[serde(default)]
     pub step: Option<f64>,
+    /// The choice made on half the artificial gaps and judged on the other half (even and
+    /// odd holes in turn), over `scored`: how much the best of many candidates flatters
+    /// itself on these holes. `None` with fewer than two holes.
+    #[serde(default)]
+    pub cv: Option<f64>,
+    /// Where the step rule had to slow the chosen fill (or the candidates blended into it):
+    /// how far it moved them (mean distance, weighted as the blend, data units). The fill
+    /// is then not what its methods predicted, and what the artificial gaps scored does
+    /// not vouch for it: the method's prediction moved the marker faster than it ever
+    /// moves, so the real gap is unlike the holes, and the fill written is that prediction
+    /// pulled part of the way to the straight line. The truth cannot be near both, so the
+    /// distance floors the expected error (see [`calibrated`]).
+    #[serde(default)]
+    pub slowed: Option<f64>,
 }
 
 /// The expected error of a choice from its mean error on the artificial gaps.
@@ -91,18 +105,19 @@ pub struct Diag {
 /// better.
 pub fn calibrated(d: &Diag) -> f64 {
     const BETA: [f64; FEATURES] = [
-        -0.092758, 0.306029, 0.028485, 0.044875, 0.119472, -0.161005, 0.143009, 0.194168,
-        -0.204323, 0.399256, -0.412449, 0.082923, 0.284180, 0.095203, 0.102604, 0.282696,
-        -0.158485,
+        -0.102750, 0.310127, 0.029784, 0.024853, 0.144369, -0.227465, 0.138231, 0.177409,
+        -0.202170, 0.378348, -0.399432, 0.042140, 0.282985, 0.108523, 0.098736, 0.532711,
+        -0.649857, -0.005557,
     ];
     const GAMMA: [f64; FEATURES] = [
-        -1.219121, 0.037052, -0.075395, 0.063745, -0.018364, 0.046433, -0.010262, -0.062076,
-        -0.048097, 0.086224, -0.288520, -0.050849, 0.067452, -0.047311, -0.032305, 0.763655,
-        0.797967,
+        -1.296747, 0.000765, -0.059793, 0.060852, -0.032967, 0.068275, -0.007296, -0.030470,
+        -0.022196, 0.194448, -0.463079, -0.025783, 0.085334, -0.053304, -0.014633, 1.262519,
+        0.738655, 0.188943,
     ];
-    const C1: f64 = 0.900000;
-    const C0: f64 = -0.096017;
-    d.scored.max(1e-12) * log_ratio(&features(d), &BETA, &GAMMA, C1, C0).exp()
+    const C1: f64 = 1.250000;
+    const C0: f64 = -0.160684;
+    let e = d.scored.max(1e-12) * log_ratio(&features(d), &BETA, &GAMMA, C1, C0).exp();
+    e.max(d.slowed.unwrap_or(0.0))
 }
 
 /// ln(expected / scored) for features `x` under `auto`'s expected-error model (shared with the
@@ -119,7 +134,7 @@ pub fn log_ratio(
 }
 
 /// Number of the expected-error model's features.
-pub const FEATURES: usize = 17;
+pub const FEATURES: usize = 18;
 
 /// The expected-error model's features (see [`calibrated`]), shared with the evaluation
 /// that fits it: 1, ln q, ln(len), (ln q)², ln q₃, ln h, ln bend, ln drift, refilled,
@@ -161,6 +176,7 @@ pub(crate) fn features(d: &Diag) -> [f64; FEATURES] {
         f64::from(u8::from(d.len < LONG)),
         d.step.map_or(0.0, |r| (r - 1.0).max(0.0)),
         f64::from(u8::from(single)),
+        ln(d.cv),
     ]
 }
 
