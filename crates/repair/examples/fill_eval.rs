@@ -1184,9 +1184,10 @@ fn best_single(recs: &[&Rec], group: usize, len: usize) -> (f64, FillMethod) {
 }
 
 /// The held-apart evaluation: the labs of `../c3d-more` other than CMU's, on which no
-/// constant, candidate set or model weight of `auto` was chosen (they were chosen on the
-/// corpora in [`TUNED`]), as a new lab meets `auto`: its pooled tables, the spread over
-/// labs, and the shipped expected-error model's calibration there.
+/// constant or candidate set of `auto` was chosen (they were chosen on the corpora in
+/// [`TUNED`]), as a new lab meets `auto`: its pooled tables, the spread over labs, and the
+/// expected-error model's calibration there, fitted on the tuned labs and fitted
+/// leave-one-lab-out on every lab (the shipped model is fitted on every lab).
 fn held_apart(recs: &[Rec]) {
     let held: Vec<&Rec> = recs.iter().filter(|r| r.held).collect();
     if held.is_empty() {
@@ -1304,8 +1305,12 @@ fn held_apart(recs: &[Rec]) {
         }
     }
     worst_per_cell(&held);
-    // The shipped expected-error model was fitted on the tuned corpora only.
-    println!("\n### held apart: auto's expected error (the shipped model)\n");
+    // The shipped expected-error model was fitted on every lab, these included: its figures
+    // here are not held apart (the leave-one-lab-out lines below are), but its lines on
+    // the fills off by more than 20 mm are what `repair` now does with them.
+    println!(
+        "\n### held apart: auto's expected error (the shipped model, fitted on these labs too)\n"
+    );
     for set in ["all", "walking", "fullbody"] {
         let v: Vec<GapScore> = held
             .iter()
@@ -1315,8 +1320,7 @@ fn held_apart(recs: &[Rec]) {
         println!("{}", calibration_line(set, &v));
         println!("{}", catastrophic_line(set, &v));
     }
-    // The same model fitted by this run on the tuned labs' gaps: what the shipped constants
-    // become when they are brought up to date.
+    // The model fitted by this run on the tuned labs' gaps only: the single split.
     let tuned: Vec<(&str, &GapScore)> = recs
         .iter()
         .filter(|r| r.tuned && r.g.method == FillMethod::Auto)

@@ -113,7 +113,7 @@ const SKELETON_FROM: usize = 40;
 /// Most candidates blended.
 const BLEND: usize = 3;
 /// Candidates this many times worse than the best after the first third of the trials are
-/// no longer scored.
+/// no longer scored, except the runner-up (see `holes::score`).
 pub(super) const PRUNE: f64 = 3.0;
 
 /// `auto`'s candidates for a gap: donor methods only at the trial's edges.
