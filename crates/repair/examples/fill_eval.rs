@@ -1092,25 +1092,7 @@ fn calibrate(recs: &[Rec]) {
         .iter()
         .filter(|r| r.g.method == FillMethod::Auto)
         .collect();
-    let mut labs: Vec<&str> = auto.iter().map(|r| r.lab).collect();
-    labs.sort_unstable();
-    labs.dedup();
-    let mut out: Vec<(&str, GapScore)> = Vec::new();
-    for lab in &labs {
-        let train: Vec<(&str, &GapScore)> = auto
-            .iter()
-            .filter(|r| r.lab != *lab)
-            .map(|r| (r.lab, &r.g))
-            .collect();
-        let Some(model) = fit(&train) else {
-            continue;
-        };
-        for r in auto.iter().filter(|r| r.lab == *lab) {
-            let mut g = r.g;
-            g.expected = predict(&g, &model);
-            out.push((r.set, g));
-        }
-    }
+    let out = left_out(&auto);
     let show = |name: &str, v: Vec<GapScore>| {
         println!(
             "{}",
@@ -1121,9 +1103,37 @@ fn calibrate(recs: &[Rec]) {
     for set in ["walking", "fullbody"] {
         show(
             set,
-            out.iter().filter(|x| x.0 == set).map(|x| x.1).collect(),
+            out.iter().filter(|x| x.0.set == set).map(|x| x.1).collect(),
         );
     }
+}
+
+/// `auto`'s gaps of every lab in `auto`, each with the expected error of the model fitted to
+/// the other labs' gaps (a lab whose fit fails is left out; a gap without evidence keeps
+/// its prior).
+fn left_out<'a>(auto: &[&'a Rec]) -> Vec<(&'a Rec, GapScore)> {
+    use rayon::prelude::*;
+    let mut labs: Vec<&str> = auto.iter().map(|r| r.lab).collect();
+    labs.sort_unstable();
+    labs.dedup();
+    labs.par_iter()
+        .flat_map_iter(|lab| {
+            let train: Vec<(&str, &GapScore)> = auto
+                .iter()
+                .filter(|r| r.lab != *lab)
+                .map(|r| (r.lab, &r.g))
+                .collect();
+            let model = fit(&train);
+            auto.iter()
+                .filter(|r| r.lab == *lab)
+                .filter_map(|r| {
+                    // A gap without evidence keeps its prior (see `repair`'s `prior`).
+                    let expected = predict(&r.g, &model?).or(r.g.expected);
+                    Some((*r, GapScore { expected, ..r.g }))
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect()
 }
 
 /// One line of an expected-error calibration: `label`, then how the gaps' expected errors
@@ -1366,32 +1376,7 @@ fn every_lab_left_out(recs: &[Rec]) {
         .iter()
         .filter(|r| (r.held || r.tuned) && r.g.method == FillMethod::Auto)
         .collect();
-    let mut labs: Vec<&str> = auto.iter().map(|r| r.lab).collect();
-    labs.sort_unstable();
-    labs.dedup();
-    let out: Vec<(&Rec, GapScore)> = {
-        use rayon::prelude::*;
-        labs.par_iter()
-            .flat_map_iter(|lab| {
-                let train: Vec<(&str, &GapScore)> = auto
-                    .iter()
-                    .filter(|r| r.lab != *lab)
-                    .map(|r| (r.lab, &r.g))
-                    .collect();
-                let model = fit(&train);
-                auto.iter()
-                    .filter(|r| r.lab == *lab)
-                    .map(|r| {
-                        let g = GapScore {
-                            expected: model.and_then(|m| predict(&r.g, &m)).or(r.g.expected),
-                            ..r.g
-                        };
-                        (*r, g)
-                    })
-                    .collect::<Vec<_>>()
-            })
-            .collect()
-    };
+    let out = left_out(&auto);
     for (part, keep) in [
         ("held-apart labs", Some(true)),
         ("tuned labs", Some(false)),
