@@ -1002,7 +1002,6 @@ const FEATURE_NAMES: [&str; K] = [
     "few holes",
     "step excess",
     "one candidate",
-    "ln cv",
 ];
 
 /// Each feature of the expected-error model left out in turn: the model judged

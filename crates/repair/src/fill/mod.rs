@@ -225,6 +225,8 @@ impl FillOutcome {
                 weight,
                 blended_with_2,
                 weight_2,
+                blended_with_3,
+                weight_3,
                 skeleton,
                 ..
             } => FillOutcome::Filled {
@@ -233,6 +235,8 @@ impl FillOutcome {
                 weight,
                 blended_with_2,
                 weight_2,
+                blended_with_3,
+                weight_3,
                 expected_error: expected,
                 skeleton,
             },
@@ -294,12 +298,17 @@ pub enum FillOutcome {
         blended_with: Option<FillMethod>,
         #[serde(skip_serializing_if = "Option::is_none")]
         weight: Option<f64>,
-        /// `auto` only: a third method blended in, with `weight_2` its share (`method` has
-        /// what `weight` and `weight_2` leave).
+        /// `auto` only: a third method blended in, with `weight_2` its share.
         #[serde(skip_serializing_if = "Option::is_none")]
         blended_with_2: Option<FillMethod>,
         #[serde(skip_serializing_if = "Option::is_none")]
         weight_2: Option<f64>,
+        /// `auto` only: a fourth method blended in, with `weight_3` its share (`method` has
+        /// what the other weights leave).
+        #[serde(skip_serializing_if = "Option::is_none")]
+        blended_with_3: Option<FillMethod>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        weight_3: Option<f64>,
         /// Expected mean 3D error of the fill (data units), from the same fill's errors on
         /// artificial gaps nearby, calibrated on real trials (see `auto`).
         #[serde(skip_serializing_if = "Option::is_none")]

@@ -33,14 +33,12 @@ pub(super) struct Scoring<'a> {
 
 /// The candidates' predictions over the artificial gaps where every candidate succeeded
 /// (`preds[c]`, compared on the same samples), the true samples there, the number of holes
-/// scored and where each one's samples end, and over them the sum of the truth's mean deviation from the line between the
+/// scored, and over them the sum of the truth's mean deviation from the line between the
 /// anchors and per donor method the sum and count of its residuals' drift.
 pub(super) struct Scores {
     pub preds: Vec<Vec<[f64; 3]>>,
     pub truth: Vec<[f64; 3]>,
     pub scored: usize,
-    /// Where each scored hole's samples end in `truth` (and in every `preds[c]`).
-    pub ends: Vec<usize>,
     pub bend_holes: f64,
     pub drift_holes: [(f64, usize); 3],
 }
@@ -72,7 +70,6 @@ pub(super) fn score(
     // weight, and scoring it further (PCA above all) is most of auto's cost.
     let first_look = trials.len().div_ceil(3).max(2);
     let mut scored = 0;
-    let mut ends: Vec<usize> = Vec::new();
     // Over the scored holes: the sum of the truth's mean deviation from the line between
     // the anchors, and per donor method the sum and count of its residuals' drift.
     let mut bend_holes = 0.0;
@@ -195,13 +192,11 @@ pub(super) fn score(
         for (c, v) in got.into_iter().enumerate() {
             preds[c].extend_from_slice(&v[skip..skip + n]);
         }
-        ends.push(truth.len());
     }
     Scores {
         preds,
         truth,
         scored,
-        ends,
         bend_holes,
         drift_holes,
     }

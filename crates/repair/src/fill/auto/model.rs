@@ -48,11 +48,6 @@ pub struct Diag {
     /// that, or came near it, moves unlike the marker ever did.
     #[serde(default)]
     pub step: Option<f64>,
-    /// The choice made on half the artificial gaps and judged on the other half (even and
-    /// odd holes in turn), over `scored`: how much the best of many candidates flatters
-    /// itself on these holes. `None` with fewer than two holes.
-    #[serde(default)]
-    pub cv: Option<f64>,
     /// Where the step rule had to slow the chosen fill (or the candidates blended into it):
     /// how far it moved them (mean distance, weighted as the blend, data units). The fill
     /// is then not what its methods predicted, and what the artificial gaps scored does
@@ -111,17 +106,17 @@ pub struct Diag {
 /// runner-up's spread, see `holes::score`).
 pub fn calibrated(d: &Diag) -> f64 {
     const BETA: [f64; FEATURES] = [
-        -0.102750, 0.310127, 0.029784, 0.024853, 0.144369, -0.227465, 0.138231, 0.177409,
-        -0.202170, 0.378348, -0.399432, 0.042140, 0.282985, 0.108523, 0.098736, 0.532711,
-        -0.649857, -0.005557,
+        -0.108842, 0.307016, 0.030435, 0.026454, 0.146405, -0.229158, 0.137486, 0.175631,
+        -0.197271, 0.372639, -0.386469, 0.041011, 0.277316, 0.107702, 0.105575, 0.550219,
+        -0.637298,
     ];
     const GAMMA: [f64; FEATURES] = [
-        -1.296747, 0.000765, -0.059793, 0.060852, -0.032967, 0.068275, -0.007296, -0.030470,
-        -0.022196, 0.194448, -0.463079, -0.025783, 0.085334, -0.053304, -0.014633, 1.262519,
-        0.738655, 0.188943,
+        -1.320969, 0.002832, -0.047641, 0.058109, -0.027774, 0.066224, -0.010729, -0.040880,
+        -0.002888, 0.182465, -0.434321, -0.029043, 0.069241, -0.045389, 0.020729, 1.404938,
+        0.237361,
     ];
-    const C1: f64 = 1.250000;
-    const C0: f64 = -0.160684;
+    const C1: f64 = 0.800000;
+    const C0: f64 = -0.041348;
     let e = d.scored.max(1e-12) * log_ratio(&features(d), &BETA, &GAMMA, C1, C0).exp();
     e.max(d.slowed.unwrap_or(0.0))
 }
@@ -140,13 +135,12 @@ pub fn log_ratio(
 }
 
 /// Number of the expected-error model's features.
-pub const FEATURES: usize = 18;
+pub const FEATURES: usize = 17;
 
 /// The expected-error model's features (see [`calibrated`]), shared with the evaluation
 /// that fits it: 1, ln q, ln(len), (ln q)², ln q₃, ln h, ln bend, ln drift, refilled,
 /// ln rescored, min(ln rescored + 1, 0), ln donor_err, share, ln respread, few holes
-/// (len < 20: scored on half as many artificial gaps), max(step − 1, 0), one candidate and
-/// ln cv (the choice made on half the holes and judged on the other half, over `scored`);
+/// (len < 20: scored on half as many artificial gaps), max(step − 1, 0) and one candidate;
 /// with q = spread / scored, q₃ = spread3 / scored, h = spread_holes / scored, every ratio
 /// clamped to [0.05, 20] and taken as 1 where it is unknown (fewer than three or two
 /// candidates, holes without bend, no donor method, not refilled), and share and the step
@@ -183,7 +177,6 @@ pub(crate) fn features(d: &Diag) -> [f64; FEATURES] {
         f64::from(u8::from(d.len < LONG)),
         d.step.map_or(0.0, |r| (r - 1.0).max(0.0)),
         f64::from(u8::from(single)),
-        ln(d.cv),
     ]
 }
 
