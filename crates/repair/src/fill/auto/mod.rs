@@ -1,6 +1,6 @@
 //! `auto`: for each gap, every applicable method fills the gap and also artificial gaps of
 //! the same length whose truth is known, and the fill that scores lowest there is used:
-//! one method, or the blend of the best two to four weighted by inverse squared error.
+//! one method, or the blend of the best two to five weighted by inverse squared error.
 //! Each donor method (rigid, pattern, PCA) enters twice on gaps up to 40 frames: tied to
 //! the valid samples by the line through its two anchor residuals, and by a spline through
 //! its residuals at several frames on each side (see `anchor`). From 40 frames PCA also
@@ -110,11 +110,11 @@ fn gloersen_cost(t: &Target) -> f64 {
 /// gap and pull good fills off), and the 100-marker pipeline bench, whose gaps are up to
 /// 30 frames, took 1.3× as long.
 const SKELETON_FROM: usize = 40;
-/// Most candidates blended. Blends of up to 4 instead of 3 were 0–4.3 % better in the
-/// tuned labs' cells of `fill_eval` (one cell 0.1 % worse) and chosen so in every fold of
-/// `fill_eval --nested` (each lab by the other labs' preference); blends of 2 were 1–8 %
-/// worse than 3.
-const BLEND: usize = 4;
+/// Most candidates blended. Each step up was chosen on the tuned labs' cells of `fill_eval`
+/// and in every fold of `fill_eval --nested` (each lab by the other labs' preference): 4
+/// instead of 3 was 0–4.3 % better (one cell 0.1 % worse), 5 instead of 4 0–2.3 % better
+/// (one cell 1.9 % worse); 2 was 1–8 % worse than 3.
+const BLEND: usize = 5;
 /// Candidates this many times worse than the best after the first third of the trials are
 /// no longer scored, except the runner-up (see `holes::score`).
 pub(super) const PRUNE: f64 = 3.0;
