@@ -304,8 +304,7 @@ pub enum FillOutcome {
         #[serde(skip_serializing_if = "Option::is_none")]
         weight_2: Option<f64>,
         /// `auto` only: a fourth method blended in, with `weight_3` its share. `method`,
-        /// with any further methods of smaller share (up to `auto`'s largest blend), has
-        /// what the listed weights leave.
+        /// with any further methods of smaller share, has what the listed weights leave.
         #[serde(skip_serializing_if = "Option::is_none")]
         blended_with_3: Option<FillMethod>,
         #[serde(skip_serializing_if = "Option::is_none")]

@@ -1,6 +1,6 @@
 //! `auto`: for each gap, every applicable method fills the gap and also artificial gaps of
 //! the same length whose truth is known, and the fill that scores lowest there is used:
-//! one method, or the blend of the best two to five weighted by inverse squared error.
+//! one method, or the blend of the best k (any k) weighted by inverse squared error.
 //! Each donor method (rigid, pattern, PCA) enters twice on gaps up to 40 frames: tied to
 //! the valid samples by the line through its two anchor residuals, and by a spline through
 //! its residuals at several frames on each side (see `anchor`). From 40 frames PCA also
@@ -110,11 +110,6 @@ fn gloersen_cost(t: &Target) -> f64 {
 /// gap and pull good fills off), and the 100-marker pipeline bench, whose gaps are up to
 /// 30 frames, took 1.3× as long.
 const SKELETON_FROM: usize = 40;
-/// Most candidates blended. Each step up was chosen on the tuned labs' cells of `fill_eval`
-/// and in every fold of `fill_eval --nested` (each lab by the other labs' preference): 4
-/// instead of 3 was 0–4.3 % better (one cell 0.1 % worse), 5 instead of 4 0–2.3 % better
-/// (one cell 1.9 % worse); 2 was 1–8 % worse than 3.
-const BLEND: usize = 5;
 /// Candidates this many times worse than the best after the first third of the trials are
 /// no longer scored, except the runner-up (see `holes::score`).
 pub(super) const PRUNE: f64 = 3.0;
@@ -475,9 +470,15 @@ pub(super) fn fill_checked(
 }
 
 /// The choice on the artificial gaps (`preds[c]`: candidate c's predictions of `truth`): the
-/// best candidate alone, or the best two to [`BLEND`] blended with weights 1 / error²
-/// (inverse expected variance), whichever scores lowest there; with its mean error and the
-/// candidates by their own errors, best first.
+/// best candidate alone, or the best k blended with weights 1 / error² (inverse expected
+/// variance), whichever k scores lowest there; with its mean error and the candidates by
+/// their own errors, best first.
+///
+/// No limit on k: each step up was chosen on the tuned labs' cells of `fill_eval` and in
+/// every fold of `fill_eval --nested` (each lab by the other labs' preference). Up to 4
+/// instead of 3 was 0–4.3 % better (one cell 0.1 % worse), 5 instead of 4 0–2.3 % better
+/// (one 1.9 % worse), any instead of 5 up to 4.2 % better (one 0.6 % worse); up to 2 was
+/// 1–8 % worse than 3. Weights of 1 / error² give a candidate far behind next to nothing.
 fn choose(preds: &[Vec<[f64; 3]>], truth: &[[f64; 3]]) -> Chosen {
     let score = |blend: &[(usize, f64)]| {
         let e: f64 = truth
@@ -490,7 +491,7 @@ fn choose(preds: &[Vec<[f64; 3]>], truth: &[[f64; 3]]) -> Chosen {
     let mut order: Vec<(f64, usize)> = (0..preds.len()).map(|c| (score(&[(c, 1.0)]), c)).collect();
     order.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut best = (order[0].0, vec![(order[0].1, 1.0)]);
-    for k in 2..=order.len().min(BLEND) {
+    for k in 2..=order.len() {
         let inv: Vec<f64> = order[..k]
             .iter()
             .map(|&(e, _)| 1.0 / e.max(1e-12).powi(2))
