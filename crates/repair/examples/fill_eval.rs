@@ -1240,45 +1240,29 @@ fn held_apart(recs: &[Rec]) {
         .collect();
     // (set, group, len) -> ratios over labs.
     let mut spread: BTreeMap<(&str, usize, usize), Vec<f64>> = BTreeMap::new();
-    for (lab, set, v) in &per_lab {
-        let (lab, set) = (*lab, *set);
-        for group in [1, 2] {
-            let name = if group == 1 { "one" } else { "2–3" };
-            let mut row = format!("| {lab} | {set} | {name} |");
-            for len in LENGTHS {
-                let a = cell_mean(v, group, len, FillMethod::Auto);
-                let (b, _) = best_single(v, group, len);
-                row += &format!(" {a:.2} ({:.2}) |", a / b);
-                if (a / b).is_finite() {
-                    spread.entry((set, group, len)).or_default().push(a / b);
-                }
-            }
-            println!("{row}");
+    lab_rows(&per_lab, |_, set, _, v, group, len| {
+        let a = cell_mean(v, group, len, FillMethod::Auto);
+        let (b, _) = best_single(v, group, len);
+        if (a / b).is_finite() {
+            spread.entry((set, group, len)).or_default().push(a / b);
         }
-    }
+        format!(" {a:.2} ({:.2}) |", a / b)
+    });
     // Per lab: auto against Gløersen & Federolf's published PCA.
     println!("\n### held apart, per lab: auto / the published PCA (Gløersen & Federolf 2016)\n");
     println!("| lab | set | markers | 5 | 10 | 20 | 40 | 80 |");
     println!("|---|---|---|---|---|---|---|---|");
     let mut losses = Vec::new();
-    for (lab, set, v) in &per_lab {
-        let (lab, set) = (*lab, *set);
-        for group in [1, 2] {
-            let name = if group == 1 { "one" } else { "2–3" };
-            let mut row = format!("| {lab} | {set} | {name} |");
-            for len in LENGTHS {
-                let a = cell_mean(v, group, len, FillMethod::Auto);
-                let g = cell_mean(v, group, len, FillMethod::Gloersen);
-                row += &format!(" {:.2} |", a / g);
-                if len >= 40 && a > g {
-                    losses.push(format!(
-                        "{lab} {set} {name} {len}: {a:.2} against {g:.2} mm"
-                    ));
-                }
-            }
-            println!("{row}");
+    lab_rows(&per_lab, |lab, set, name, v, group, len| {
+        let a = cell_mean(v, group, len, FillMethod::Auto);
+        let g = cell_mean(v, group, len, FillMethod::Gloersen);
+        if len >= 40 && a > g {
+            losses.push(format!(
+                "{lab} {set} {name} {len}: {a:.2} against {g:.2} mm"
+            ));
         }
-    }
+        format!(" {:.2} |", a / g)
+    });
     println!(
         "\nCells of 40 and 80 frames where auto loses to the published PCA: {}{}",
         losses.len(),
@@ -1406,6 +1390,24 @@ fn every_lab_left_out(recs: &[Rec]) {
             m.c1,
             m.c0
         );
+    }
+}
+
+/// Prints a row per lab, set and markers (one, 2–3) of `per_lab`, with `cell`'s text for
+/// each gap length (it gets the lab, set, markers' name, records, group and length).
+fn lab_rows<'a>(
+    per_lab: &[(&'a str, &'a str, Vec<&'a Rec>)],
+    mut cell: impl FnMut(&'a str, &'a str, &str, &[&Rec], usize, usize) -> String,
+) {
+    for (lab, set, v) in per_lab {
+        for group in [1, 2] {
+            let name = if group == 1 { "one" } else { "2–3" };
+            let mut row = format!("| {lab} | {set} | {name} |");
+            for len in LENGTHS {
+                row += &cell(lab, set, name, v, group, len);
+            }
+            println!("{row}");
+        }
     }
 }
 
