@@ -14,7 +14,9 @@
 //! with the expected errors the model now makes), `--replay FILE` (report again from
 //! records), `--ablate` (with `--replay`: each expected-error feature left out in turn), `--nested
 //! A,B,...` (records of full runs that differ in one choice of `auto`'s, the shipped one
-//! first: the choice made leave-one-lab-out).
+//! first: the choice made leave-one-lab-out; a variant run with `--lengths` counts as the
+//! shipped one at the lengths it did not run), `--lengths 40,80` (only these gap lengths: a
+//! variant of a choice that acts on some lengths only costs that much).
 
 mod corpus;
 
@@ -257,6 +259,8 @@ struct Args {
     /// Records of `auto` under variants of one choice, the shipped variant first.
     nested: Vec<PathBuf>,
     methods: Option<Vec<FillMethod>>,
+    /// Gap lengths to run (all of [`LENGTHS`] unless `--lengths`).
+    lengths: Vec<usize>,
     fill: repair::FillOptions,
 }
 
@@ -271,6 +275,7 @@ fn args() -> Result<Args, String> {
         ablate: false,
         nested: Vec::new(),
         methods: None,
+        lengths: LENGTHS.to_vec(),
         fill: repair::FillOptions::default(),
     };
     let mut it = std::env::args().skip(1);
@@ -286,6 +291,17 @@ fn args() -> Result<Args, String> {
             "--replay" => a.replay = Some(PathBuf::from(val()?)),
             "--ablate" => a.ablate = true,
             "--nested" => a.nested = val()?.split(',').map(PathBuf::from).collect(),
+            "--lengths" => {
+                a.lengths = val()?
+                    .split(',')
+                    .map(|l| {
+                        l.parse()
+                            .ok()
+                            .filter(|l| LENGTHS.contains(l))
+                            .ok_or(format!("--lengths: {l} is not one of {LENGTHS:?}"))
+                    })
+                    .collect::<Result<_, _>>()?
+            }
             "--methods" => {
                 a.methods = Some(
                     val()?
@@ -424,7 +440,7 @@ fn main() {
         // Groups of 2 and of 3 markers share the "2–3 markers" rows, half the gaps each.
         for (group, gaps) in [(1, a.gaps), (2, a.gaps.div_ceil(2)), (3, a.gaps / 2)] {
             let cfg = EvalConfig {
-                gap_lengths: LENGTHS.to_vec(),
+                gap_lengths: a.lengths.clone(),
                 gaps_per_length: gaps,
                 methods: methods.clone(),
                 group,
@@ -470,7 +486,7 @@ fn nested(paths: &[PathBuf], variants: &[Vec<Rec>]) {
     // mean errors.
     type Cell = (&'static str, usize, usize);
     type Sums<'a> = BTreeMap<(&'a str, Cell), (f64, usize)>;
-    let sums: Vec<Sums> = variants
+    let mut sums: Vec<Sums> = variants
         .iter()
         .map(|recs| {
             let mut m: BTreeMap<(&str, Cell), (f64, usize)> = BTreeMap::new();
@@ -485,6 +501,18 @@ fn nested(paths: &[PathBuf], variants: &[Vec<Rec>]) {
             m
         })
         .collect();
+    // A variant run on some lengths only (`--lengths`: a choice that cannot touch gaps of
+    // other lengths, such as the length a candidate enters from) stands for the shipped
+    // variant at the lengths it did not run: the gaps are the same, so are the fills.
+    let shipped = sums[0].clone();
+    for s in sums.iter_mut().skip(1) {
+        let ran: Vec<usize> = s.keys().map(|k| k.1 .2).collect();
+        for (k, v) in &shipped {
+            if !ran.contains(&k.1 .2) {
+                s.insert(*k, *v);
+            }
+        }
+    }
     let held_lab: BTreeMap<&str, bool> = variants[0]
         .iter()
         .filter(|r| r.held || r.tuned)
