@@ -603,6 +603,39 @@ fn nested(paths: &[PathBuf], variants: &[Vec<Rec>]) {
             }
         }
     }
+    // What each variant does on its own, pooled like the table above: how much it would
+    // have gained or lost had it shipped, on the labs of each part.
+    println!(
+        "
+| variant | labs | set | markers | variant ÷ shipped at 5 / 10 / 20 / 40 / 80 frames |"
+    );
+    println!("|---|---|---|---|---|");
+    for (v, p) in paths.iter().enumerate().skip(1) {
+        for (part, held) in [("held apart", true), ("tuned", false)] {
+            let keep = |l: &str| held_lab.get(l) == Some(&held);
+            for set in ["walking", "fullbody"] {
+                for group in [1, 2] {
+                    let row: Vec<String> = LENGTHS
+                        .iter()
+                        .map(|&len| {
+                            let cell = (set, group, len);
+                            match (pooled(v, &keep, cell), pooled(0, &keep, cell)) {
+                                (Some(a), Some(b)) => format!("{:.3}", a / b),
+                                _ => "–".into(),
+                            }
+                        })
+                        .collect();
+                    println!(
+                        "| {} | {part} | {set} | {} | {} |",
+                        p.file_stem()
+                            .map_or(String::new(), |s| s.to_string_lossy().into()),
+                        if group == 1 { "one" } else { "2–3" },
+                        row.join(" / ")
+                    );
+                }
+            }
+        }
+    }
 }
 
 /// Every gap's record as one JSON line (`--records`).
