@@ -12,8 +12,8 @@ fn stored_fills_keep_to_the_step_rule() {
         return;
     };
     let want = [
-        ("PhilD001__biomechZoo__hockey_wristshot009.c3d", 251),
-        ("martinfelis__puppeteer__testdata.c3d", 566),
+        ("PhilD001__biomechZoo__hockey_wristshot009.c3d", 252),
+        ("martinfelis__puppeteer__testdata.c3d", 570),
         ("HansUniVie__MuscleLength__test.c3d", 899),
     ];
     // Every trial is read back before any count is compared, so a change shows them all.

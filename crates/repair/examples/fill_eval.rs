@@ -1060,7 +1060,6 @@ const FEATURE_NAMES: [&str; K] = [
     "ln donor_err",
     "share",
     "ln respread",
-    "few holes",
     "step excess",
     "one candidate",
 ];

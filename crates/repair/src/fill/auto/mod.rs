@@ -61,41 +61,63 @@ const EDGE: [FillMethod; 5] = [
 ];
 /// Other markers tried at most when the target has too little room.
 pub(super) const OTHER_MARKERS: usize = 4;
-/// Gap length from which the target's shorter holes stand in for missing room.
-const LONG: usize = 20;
+/// Gap length from which a gap is scored on the full number of artificial gaps (shorter
+/// ones on half) and the target's shorter holes stand in for missing room. 5 (every length
+/// the evaluation measures) instead of 20 was chosen leave-one-lab-out (`fill_eval
+/// --nested`: 10 instead of 20 in 26 of 26 folds, 5 instead of 10 in 22): held-apart
+/// walking cells at 5 and 10 frames up to 4.7 % better, full-body ones up to 3 % worse,
+/// expected errors within 2× 0.5 points more often; the pipeline bench took 1.08× as long.
+const LONG: usize = 5;
 /// Donor fills are also tied to the samples by a spline through their residuals (see
-/// `anchor`) on gaps up to this many frames; across longer gaps the spline wanders (on the
-/// corpus evaluation it lost at 80 frames).
+/// `anchor`) on gaps up to this many frames; across longer gaps the spline wanders. Up to 20
+/// or up to 80 frames instead were each chosen in 0 of 26 folds of `fill_eval --nested`
+/// (up to 20: held-apart cells at 40 frames 0.7 % better to 2.8 % worse, tuned ones 2–5 %
+/// worse; up to 80: held-apart cells at 80 frames 0.4–3.5 % worse).
 const SMOOTH_MAX: usize = 40;
-/// Residuals per side the spline goes through (10 scored the same on the corpus
-/// evaluation, at twice the cost).
-pub(super) const RESID_NODES: usize = 5;
+/// Residuals per side the spline goes through: 8 instead of 5 was chosen in 25 of 26 folds
+/// of `fill_eval --nested` (3 in 1), every cell within 0.5 % of 5's: it hardly matters.
+pub(super) const RESID_NODES: usize = 8;
 /// Gap length from which PCA also enters with a wide model: the `WIDE_NEIGHBOURS` nearest
 /// markers over ±`WIDE_WINDOW` frames (towards Gløersen & Federolf's whole-trial model),
-/// which carries long gaps where the nearest markers alone do not. On the corpus
-/// evaluation it took 2–5 % off `auto`'s errors at 40 and 80 frames, and 1–7 % at 20, where
-/// it is not used: a model of 16 markers over 4 000 frames costs more than short gaps are
-/// worth in batch repairs.
+/// which carries long gaps where the nearest markers alone do not. From 80 frames instead
+/// was chosen in 0 of 26 folds of `fill_eval --nested` (cells at 40 frames 0.2 % better to
+/// 2.6 % worse); from 20 frames (with the published PCA from 20) in 26 of 26, for held-apart
+/// cells at 20 frames 0.8 % better to 1 % worse, but the pipeline bench, whose gaps are up
+/// to 30 frames, took 2× as long (1.17 s, over its 1 s limit): it stays at 40.
 const WIDE_FROM: usize = 40;
-const WIDE_NEIGHBOURS: usize = 16;
-const WIDE_WINDOW: usize = 2000;
-/// Gap length from which the Kalman smoother is a candidate, with the wide PCA model: it
-/// trains a model of its own per group of artificial gaps and runs its covariance recursion
-/// over each, which long gaps are worth and short ones are not. Weighed from 20 frames, it
-/// took 2–4 % off `auto`'s errors at 20 frames on the corpus evaluation, and the
-/// 100-marker pipeline bench (gaps of 2–30 frames) took 2.5× as long (user time of one
-/// run, 4.6 s against 1.9 s); from 40 frames it adds 3 % there.
-const KALMAN_FROM: usize = WIDE_FROM;
-/// Gap length from which Gløersen & Federolf's published PCA is a candidate (the lengths
-/// where a model of the whole trial carries most, and the pipeline bench's gaps of 2–30
-/// frames never pay for it). Not chosen on any lab: it is the wide model's.
-const GLOERSEN_FROM: usize = WIDE_FROM;
+/// The wide model's markers: all of the plan's nearest (see `plan::NEAREST`); 12 instead of
+/// 16 was chosen in 1 of 26 folds, and 24 with the plan's pool of 24 in 25 of 26.
+const WIDE_NEIGHBOURS: usize = 24;
+/// The wide model's window, frames either side: ±4 000 instead of ±2 000 was chosen in 25
+/// of 26 folds (±1 000 in 1), all cells within 0.5 % (only trials of more than 4 000
+/// frames differ); the pipeline bench took 1.04× as long.
+const WIDE_WINDOW: usize = 4000;
+/// Gap length from which the Kalman smoother is a candidate: it trains a model of its own
+/// per group of artificial gaps and runs its covariance recursion over each, which long
+/// gaps are worth and short ones are not. Weighed from 20 frames, it took 2–4 % off
+/// `auto`'s errors at 20 frames on the corpus evaluation, and the 100-marker pipeline bench
+/// (gaps of 2–30 frames) took 2.5× as long (user time of one run, 4.6 s against 1.9 s),
+/// beyond what the bench may take; from 80 frames instead of 40 was chosen in 0 of 26
+/// folds of `fill_eval --nested` (held-apart cells at 40 frames 2.5 % better to 1.4 %
+/// worse, tuned ones up to 3.5 % worse).
+const KALMAN_FROM: usize = 40;
+/// Gap length from which Gløersen & Federolf's published PCA is a candidate: the shortest
+/// the evaluation measures. It entered at 40 frames before; each step down was chosen in 26
+/// of 26 folds of `fill_eval --nested`, the held-apart cells of the length it opened 5–10 %
+/// better at 20 frames, 0.4–5 % at 10, and 1.6 % better to 1.7 % worse at 5 (from 80
+/// instead of 40: 0 of 26 folds, held-apart cells at 40 frames 8–15 % worse). The pipeline
+/// bench is above [`GLOERSEN_BUDGET`], so its time is unchanged; on trials below the cap
+/// each gap costs two eigen-decompositions of every marker's coordinates per artificial gap
+/// (the evaluation's gaps of 20 frames took 189 s instead of 6 s on 2 cores, about 60 ms a
+/// gap).
+const GLOERSEN_FROM: usize = 5;
 /// Largest frames × (3 × markers)² of a trial on which `auto` weighs the published PCA: its
 /// covariance of every coordinate over the whole trial and two eigen-decompositions, per
 /// artificial gap, grow with it. A cost cap, not an accuracy choice: every trial of the
 /// evaluation's corpora is below it (the largest, 4 921 frames × 64 markers, is 1.8 × 10⁸),
 /// and the pipeline bench's 10 000 frames × 100 markers (9 × 10⁸), whose few gaps that
-/// merge to 40 frames or more took it from 0.6 s to 7.7 s, is above it.
+/// merge to 40 frames or more took it from 0.6 s to 7.7 s, is above it. So no figure of the
+/// evaluation depends on it and no lab chose it.
 const GLOERSEN_BUDGET: f64 = 2.5e8;
 
 /// The size of the published PCA's model on the target's trial (see [`GLOERSEN_BUDGET`]).
@@ -301,8 +323,8 @@ pub(super) fn fill_checked(
         if m == FillMethod::Kalman && len < KALMAN_FROM && cands.len() > 1 {
             continue;
         }
-        // Gløersen & Federolf's whole-trial model, from the same length as the wide PCA
-        // model: two eigen-decompositions of every marker's coordinates per artificial gap.
+        // Gløersen & Federolf's whole-trial model, from `GLOERSEN_FROM` frames: two
+        // eigen-decompositions of every marker's coordinates per artificial gap.
         if m == FillMethod::Gloersen
             && cands.len() > 1
             && (len < GLOERSEN_FROM || gloersen_cost(t) > GLOERSEN_BUDGET)

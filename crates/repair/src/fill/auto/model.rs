@@ -5,7 +5,6 @@ use serde::{Deserialize, Serialize};
 
 use super::super::anchor::Raw;
 use super::super::{dist, linear, FillMethod, Span, Target};
-use super::LONG;
 
 /// The evidence behind an expected error: the choice's mean error on the artificial gaps
 /// (`scored`), and how far the two best-scored candidates' fills of the real gap are apart
@@ -106,17 +105,15 @@ pub struct Diag {
 /// the runner-up's spread, see `holes::score`, and blends of any size).
 pub fn calibrated(d: &Diag) -> f64 {
     const BETA: [f64; FEATURES] = [
-        -0.101129, 0.298933, 0.029947, 0.026109, 0.140120, -0.224330, 0.140637, 0.180934,
-        -0.181111, 0.376200, -0.386867, 0.036589, 0.259360, 0.101859, 0.098604, 0.557755,
-        -0.633314,
+        -0.010347, 0.299293, 0.009208, 0.020561, 0.133109, -0.236011, 0.136580, 0.190268,
+        -0.196694, 0.368808, -0.372200, 0.028834, 0.278242, 0.101092, 0.558694, -0.658344,
     ];
     const GAMMA: [f64; FEATURES] = [
-        -1.291034, 0.003197, -0.059250, 0.063118, -0.022871, 0.072577, -0.009165, -0.035670,
-        0.009538, 0.182031, -0.444638, -0.033997, 0.050598, -0.049967, 0.012525, 1.500236,
-        0.234939,
+        -1.312719, -0.032239, -0.047970, 0.054341, -0.009866, 0.084410, 0.008262, -0.020084,
+        0.040682, 0.148071, -0.417536, -0.043029, -0.028590, -0.049857, 1.552251, 0.402889,
     ];
-    const C1: f64 = 0.550000;
-    const C0: f64 = 0.014082;
+    const C1: f64 = 0.600000;
+    const C0: f64 = -0.007765;
     let e = d.scored.max(1e-12) * log_ratio(&features(d), &BETA, &GAMMA, C1, C0).exp();
     e.max(d.slowed.unwrap_or(0.0))
 }
@@ -135,12 +132,12 @@ pub fn log_ratio(
 }
 
 /// Number of the expected-error model's features.
-pub const FEATURES: usize = 17;
+pub const FEATURES: usize = 16;
 
 /// The expected-error model's features (see [`calibrated`]), shared with the evaluation
 /// that fits it: 1, ln q, ln(len), (ln q)², ln q₃, ln h, ln bend, ln drift, refilled,
-/// ln rescored, min(ln rescored + 1, 0), ln donor_err, share, ln respread, few holes
-/// (len < 20: scored on half as many artificial gaps), max(step − 1, 0) and one candidate;
+/// ln rescored, min(ln rescored + 1, 0), ln donor_err, share, ln respread, max(step − 1,
+/// 0) and one candidate;
 /// with q = spread / scored, q₃ = spread3 / scored, h = spread_holes / scored, every ratio
 /// clamped to [0.05, 20] and taken as 1 where it is unknown (fewer than three or two
 /// candidates, holes without bend, no donor method, not refilled), and share and the step
@@ -173,8 +170,6 @@ pub(crate) fn features(d: &Diag) -> [f64; FEATURES] {
         ln(d.donor_err),
         d.share.unwrap_or(0.0),
         ln(d.respread),
-        // Gaps shorter than `LONG` are scored on half as many artificial gaps.
-        f64::from(u8::from(d.len < LONG)),
         d.step.map_or(0.0, |r| (r - 1.0).max(0.0)),
         f64::from(u8::from(single)),
     ]
