@@ -567,41 +567,40 @@ fn nested(paths: &[PathBuf], variants: &[Vec<Rec>]) {
         "
 | labs | set | markers | nested ÷ shipped at 5 / 10 / 20 / 40 / 80 frames |"
     );
-    println!("|---|---|---|---|");
-    for (part, held) in [("held apart", true), ("tuned", false)] {
+    // One row per set and markers: `ratio` of each cell, over the lengths.
+    let rows = |labels: &str, ratio: &dyn Fn(Cell) -> Option<f64>| {
         for set in ["walking", "fullbody"] {
             for group in [1, 2] {
                 let row: Vec<String> = LENGTHS
                     .iter()
                     .map(|&len| {
-                        let cell = (set, group, len);
-                        let (mut nest, mut ship, mut n) = (0.0, 0.0, 0usize);
-                        for (&lab, &v) in &chosen {
-                            if held_lab[lab] != held {
-                                continue;
-                            }
-                            if let (Some(a), Some(b)) =
-                                (sums[v].get(&(lab, cell)), sums[0].get(&(lab, cell)))
-                            {
-                                nest += a.0;
-                                ship += b.0;
-                                n += 1;
-                            }
-                        }
-                        if n == 0 {
-                            "–".into()
-                        } else {
-                            format!("{:.3}", nest / ship)
-                        }
+                        ratio((set, group, len)).map_or("–".into(), |r| format!("{r:.3}"))
                     })
                     .collect();
                 println!(
-                    "| {part} | {set} | {} | {} |",
+                    "| {labels} | {set} | {} | {} |",
                     if group == 1 { "one" } else { "2–3" },
                     row.join(" / ")
                 );
             }
         }
+    };
+    println!("|---|---|---|---|");
+    for (part, held) in [("held apart", true), ("tuned", false)] {
+        rows(part, &|cell| {
+            let (mut nest, mut ship, mut n) = (0.0, 0.0, 0usize);
+            for (&lab, &v) in &chosen {
+                if held_lab[lab] != held {
+                    continue;
+                }
+                if let (Some(a), Some(b)) = (sums[v].get(&(lab, cell)), sums[0].get(&(lab, cell))) {
+                    nest += a.0;
+                    ship += b.0;
+                    n += 1;
+                }
+            }
+            (n > 0).then(|| nest / ship)
+        });
     }
     // What each variant does on its own, pooled like the table above: how much it would
     // have gained or lost had it shipped, on the labs of each part.
@@ -611,29 +610,14 @@ fn nested(paths: &[PathBuf], variants: &[Vec<Rec>]) {
     );
     println!("|---|---|---|---|---|");
     for (v, p) in paths.iter().enumerate().skip(1) {
+        let name = p
+            .file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into());
         for (part, held) in [("held apart", true), ("tuned", false)] {
             let keep = |l: &str| held_lab.get(l) == Some(&held);
-            for set in ["walking", "fullbody"] {
-                for group in [1, 2] {
-                    let row: Vec<String> = LENGTHS
-                        .iter()
-                        .map(|&len| {
-                            let cell = (set, group, len);
-                            match (pooled(v, &keep, cell), pooled(0, &keep, cell)) {
-                                (Some(a), Some(b)) => format!("{:.3}", a / b),
-                                _ => "–".into(),
-                            }
-                        })
-                        .collect();
-                    println!(
-                        "| {} | {part} | {set} | {} | {} |",
-                        p.file_stem()
-                            .map_or(String::new(), |s| s.to_string_lossy().into()),
-                        if group == 1 { "one" } else { "2–3" },
-                        row.join(" / ")
-                    );
-                }
-            }
+            rows(&format!("{name} | {part}"), &|cell| {
+                Some(pooled(v, &keep, cell)? / pooled(0, &keep, cell)?)
+            });
         }
     }
 }
