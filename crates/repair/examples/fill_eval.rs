@@ -16,7 +16,9 @@
 //! A,B,...` (records of full runs that differ in one choice of `auto`'s, the shipped one
 //! first: the choice made leave-one-lab-out; a variant run with `--lengths` counts as the
 //! shipped one at the lengths it did not run), `--lengths 40,80` (only these gap lengths: a
-//! variant of a choice that acts on some lengths only costs that much).
+//! variant of a choice that acts on some lengths only costs that much), and the fill settings
+//! a variant may change: `--auto-trials N`, `--rigid-donors N`, `--spline-context N`,
+//! `--pca-neighbours N`, `--pca-variance F`, `--pca-window N`.
 
 mod corpus;
 
@@ -318,6 +320,15 @@ fn args() -> Result<Args, String> {
             }
             "--pca-variance" => {
                 a.fill.pca_variance = val()?.parse().map_err(|_| "--pca-variance: a number")?
+            }
+            "--auto-trials" => {
+                a.fill.auto_trials = val()?.parse().map_err(|_| "--auto-trials: a number")?
+            }
+            "--rigid-donors" => {
+                a.fill.rigid_donors = val()?.parse().map_err(|_| "--rigid-donors: a number")?
+            }
+            "--spline-context" => {
+                a.fill.spline_context = val()?.parse().map_err(|_| "--spline-context: a number")?
             }
             _ => return Err(format!("unknown option {x}")),
         }

@@ -31,6 +31,7 @@
 
 use super::{SkipReason, Span, Target};
 use crate::linalg::symmetric_eigen;
+use nalgebra::DMatrix;
 
 /// σ of the distance weighting, in mm (the paper's default).
 const WEIGHT_SCALE_MM: f64 = 200.0;
@@ -123,25 +124,23 @@ pub(super) fn fill(t: &Target, span: Span, mm_per_unit: f64) -> Result<Vec<[f64;
         .collect();
     let cols = 3 * kept.len();
     let ti = kept.iter().position(|&j| j == t.m).unwrap_or(0);
-    let raw = |f: usize| -> Vec<f64> { kept.iter().flat_map(|&j| at(j, f)).collect() };
-    let mut mean = vec![0.0; cols];
-    let xs: Vec<Vec<f64>> = rows.iter().map(|&f| raw(f)).collect();
-    for x in &xs {
-        mean.iter_mut().zip(x).for_each(|(m, v)| *m += v);
-    }
-    mean.iter_mut().for_each(|m| *m /= xs.len() as f64);
-    let mut sd = vec![0.0; cols];
-    for x in &xs {
-        sd.iter_mut()
-            .zip(x.iter().zip(&mean))
-            .for_each(|(s, (v, m))| *s += (v - m).powi(2));
-    }
-    sd.iter_mut().for_each(|s| {
-        *s = (*s / xs.len() as f64).sqrt();
-        if *s == 0.0 {
-            *s = 1.0;
+    // The kept markers' coordinates on `rows`, a column per coordinate (each marker's
+    // samples lie together, so each column is read and written in order).
+    let rn = rows.len();
+    let mut x = DMatrix::<f64>::zeros(rn, cols);
+    for (i, &j) in kept.iter().enumerate() {
+        for (r, &f) in rows.iter().enumerate() {
+            let p = at(j, f);
+            (0..3).for_each(|ax| x[(r, 3 * i + ax)] = p[ax]);
         }
-    });
+    }
+    let mut mean = vec![0.0; cols];
+    let mut sd = vec![0.0; cols];
+    for (c, col) in x.column_iter().enumerate() {
+        mean[c] = col.iter().sum::<f64>() / rn as f64;
+        let s = (col.iter().map(|v| (v - mean[c]).powi(2)).sum::<f64>() / rn as f64).sqrt();
+        sd[c] = if s == 0.0 { 1.0 } else { s };
+    }
     let wc = |c: usize| w[c / 3];
     let is_target = |c: usize| c / 3 == ti;
     // Normalised, weighted rows; with the target zeroed (its mean with it, as the paper's
@@ -157,30 +156,24 @@ pub(super) fn fill(t: &Target, span: Span, mm_per_unit: f64) -> Result<Vec<[f64;
             })
             .collect()
     };
-    let n_no: Vec<Vec<f64>> = xs.iter().map(|x| norm(x, false)).collect();
-    let n_zero: Vec<Vec<f64>> = xs.iter().map(|x| norm(x, true)).collect();
     // 4. Principal components by the eigenvectors of YᵀY, Y = X / √(n − 1): its singular
-    // values are the square roots of the eigenvalues.
-    let pca = |m: &[Vec<f64>]| {
-        let mut c = vec![0.0; cols * cols];
-        let s = 1.0 / (m.len() as f64 - 1.0);
-        for r in m {
-            for i in 0..cols {
-                if r[i] == 0.0 {
-                    continue;
-                }
-                let ri = r[i] * s;
-                for j in i..cols {
-                    c[i * cols + j] += ri * r[j];
-                }
-            }
-        }
-        for i in 0..cols {
-            for j in 0..i {
-                c[i * cols + j] = c[j * cols + i];
-            }
-        }
-        let (vals, mut vecs) = symmetric_eigen(&c, cols);
+    // values are the square roots of the eigenvalues. One product serves both matrices:
+    // zeroing the target's columns of X zeroes its rows and columns of XᵀX and leaves the
+    // rest as they are.
+    for (c, mut col) in x.column_iter_mut().enumerate() {
+        col.iter_mut()
+            .for_each(|v| *v = (*v - mean[c]) / sd[c] * wc(c));
+    }
+    let cov_no = (x.transpose() * &x) / (rn as f64 - 1.0);
+    let mut cov_zero = cov_no.clone();
+    for c in (0..cols).filter(|&c| is_target(c)) {
+        cov_zero.row_mut(c).fill(0.0);
+        cov_zero.column_mut(c).fill(0.0);
+    }
+    let pca = |c: &DMatrix<f64>| {
+        // Symmetric (to rounding; the decomposition reads one triangle), so its
+        // column-major slice serves as the row-major one.
+        let (vals, mut vecs) = symmetric_eigen(c.as_slice(), cols);
         // The published product (step 4) changes with the components' signs, which the
         // decomposition leaves arbitrary: each is turned so that its largest coordinate is
         // positive (the reference script does the same).
@@ -205,8 +198,8 @@ pub(super) fn fill(t: &Target, span: Span, mm_per_unit: f64) -> Result<Vec<[f64;
             .unwrap_or(cols - 1);
         (vecs, k)
     };
-    let (p_no, k1) = pca(&n_no);
-    let (p_zero, k2) = pca(&n_zero);
+    let (p_no, k1) = pca(&cov_no);
+    let (p_zero, k2) = pca(&cov_zero);
     let k = k1.max(k2) + 1;
     // T = P_noᵀ P_zero (k × k).
     let mut tm = vec![0.0; k * k];
