@@ -24,7 +24,7 @@ mod corpus;
 
 use corpus::{load, load_recorded};
 use repair::{calibration, evaluate, EvalConfig, FillMethod, GapScore};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -349,6 +349,9 @@ struct Rec {
     lab: &'static str,
     rate: u32,
     group: usize,
+    /// The run the gap came from: 1, 2 or 3 markers (`group` puts 2 and 3 together); 0 in
+    /// records written before it was kept.
+    run: usize,
     g: GapScore,
 }
 
@@ -468,6 +471,7 @@ fn main() {
                     lab,
                     rate,
                     group: group.min(2),
+                    run: group,
                     g,
                 })),
                 Err(e) => eprintln!("{rel}: {e}"),
@@ -497,13 +501,16 @@ fn nested(paths: &[PathBuf], variants: &[Vec<Rec>]) {
     // mean errors.
     type Cell = (&'static str, usize, usize);
     type Sums<'a> = BTreeMap<(&'a str, Cell), (f64, usize)>;
+    let common = common_gaps(variants);
     let mut sums: Vec<Sums> = variants
         .iter()
-        .map(|recs| {
+        .zip(&common)
+        .map(|(recs, keep)| {
             let mut m: BTreeMap<(&str, Cell), (f64, usize)> = BTreeMap::new();
-            for r in recs
+            for (r, _) in recs
                 .iter()
-                .filter(|r| (r.held || r.tuned) && r.g.method == FillMethod::Auto)
+                .zip(keep)
+                .filter(|(r, &k)| k && (r.held || r.tuned))
             {
                 let e = m.entry((r.lab, (r.set, r.group, r.g.gap_len))).or_default();
                 e.0 += r.g.mean;
@@ -560,8 +567,15 @@ fn nested(paths: &[PathBuf], variants: &[Vec<Rec>]) {
     println!(
         "
 ### nested leave-one-lab-out choice among {} variants
+
+Compared on {} of the shipped run's {} gaps (those every variant ran).
 ",
-        variants.len()
+        variants.len(),
+        sums[0].values().map(|x| x.1).sum::<usize>(),
+        variants[0]
+            .iter()
+            .filter(|r| (r.held || r.tuned) && r.g.method == FillMethod::Auto)
+            .count()
     );
     for (v, p) in paths.iter().enumerate() {
         let labs: Vec<&str> = chosen.iter().filter(|x| *x.1 == v).map(|x| *x.0).collect();
@@ -633,11 +647,82 @@ fn nested(paths: &[PathBuf], variants: &[Vec<Rec>]) {
     }
 }
 
+/// Which of `auto`'s records `--nested` compares: a gap is kept when every variant that ran
+/// its length holds it. A variant run on fewer gaps (`--gaps N`: each length's first N, as
+/// the gaps are drawn one after another from the length's own seed) is compared on those,
+/// and the shipped run's other gaps are left out of every variant's cells rather than stand
+/// in for it (which would pull its ratios towards 1). Lengths a variant did not run
+/// (`--lengths`) are left to the shipped run as before.
+///
+/// A gap is known by its trial, run (1, 2 or 3 markers), length, marker, first frame and
+/// how many gaps of its run and length had those before it (runs of 2 and 3 markers start
+/// from the same draw, and a long run draws a place again now and then). Records written
+/// before the run was kept are in the order the runs drew them, so the run is then
+/// counted from the record order.
+fn common_gaps(variants: &[Vec<Rec>]) -> Vec<Vec<bool>> {
+    use std::collections::BTreeSet;
+    type Key = (String, usize, usize, usize, usize, usize);
+    // Each variant's lengths, and each of its records' key (`None`: not auto).
+    let keyed: Vec<(BTreeSet<usize>, Vec<Option<Key>>)> = variants
+        .iter()
+        .map(|recs| {
+            let mut lengths = BTreeSet::new();
+            // Per (trial, group, length): the runs seen so far, for records without one.
+            let mut runs: HashMap<(&str, usize, usize), usize> = HashMap::new();
+            let mut seen: HashMap<Key, usize> = HashMap::new();
+            let mut prev = None;
+            let keys = recs
+                .iter()
+                .map(|r| {
+                    if r.g.method != FillMethod::Auto {
+                        return None;
+                    }
+                    let block = (r.file.as_str(), r.group, r.g.gap_len);
+                    let run = if r.run > 0 {
+                        r.run
+                    } else {
+                        let n = runs.entry(block).or_insert(0);
+                        if prev != Some(block) {
+                            *n += 1;
+                        }
+                        *n
+                    };
+                    prev = Some(block);
+                    lengths.insert(r.g.gap_len);
+                    let mut k = (r.file.clone(), run, r.g.gap_len, r.g.marker, r.g.first, 0);
+                    let nth = seen.entry(k.clone()).or_insert(0);
+                    k.5 = *nth;
+                    *nth += 1;
+                    Some(k)
+                })
+                .collect();
+            (lengths, keys)
+        })
+        .collect();
+    let sets: Vec<(&BTreeSet<usize>, HashSet<&Key>)> = keyed
+        .iter()
+        .map(|(l, k)| (l, k.iter().flatten().collect()))
+        .collect();
+    keyed
+        .iter()
+        .map(|(_, keys)| {
+            keys.iter()
+                .map(|k| {
+                    k.as_ref().is_some_and(|k| {
+                        sets.iter()
+                            .all(|(lengths, set)| !lengths.contains(&k.2) || set.contains(k))
+                    })
+                })
+                .collect()
+        })
+        .collect()
+}
+
 /// Every gap's record as one JSON line (`--records`).
 fn write_records(p: &std::path::Path, recs: &[Rec]) {
     let mut f = std::io::BufWriter::new(std::fs::File::create(p).expect("records file"));
     for r in recs {
-        let v = serde_json::json!({"file": r.file, "held": r.held, "tuned": r.tuned, "set": r.set, "lab": r.lab, "rate": r.rate, "group": r.group, "gap": r.g});
+        let v = serde_json::json!({"file": r.file, "held": r.held, "tuned": r.tuned, "set": r.set, "lab": r.lab, "rate": r.rate, "group": r.group, "run": r.run, "gap": r.g});
         writeln!(f, "{v}").expect("write records");
     }
 }
@@ -654,6 +739,8 @@ fn replay(path: &std::path::Path) -> Result<Vec<Rec>, String> {
         lab: String,
         rate: u32,
         group: usize,
+        #[serde(default)]
+        run: usize,
         gap: GapScore,
     }
     // Set and lab names as the corpus list spells them (records of labs it no longer
@@ -686,6 +773,7 @@ fn replay(path: &std::path::Path) -> Result<Vec<Rec>, String> {
                 lab: name(&v.lab),
                 rate: v.rate,
                 group: v.group,
+                run: v.run,
                 g: v.gap,
             })
         })

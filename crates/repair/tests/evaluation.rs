@@ -146,3 +146,73 @@ fn bad_evaluation_settings_are_typed_errors_and_results_serialize() {
     let json = serde_json::to_string(&e).unwrap();
     assert!(json.contains("\"method\":\"linear\""));
 }
+
+/// Points computed from recorded markers (a model's segment origin and axis points, as
+/// Plug-in Gait's virtual markers are) keep their distances to each other, and get no
+/// artificial gap: their donors rebuild them exactly, which says nothing of a real gap.
+/// The recorded markers, even three on one rigid segment, move against each other by
+/// their noise and still get gaps.
+#[test]
+fn computed_points_get_no_artificial_gaps() {
+    let mut trial = gait_like(12, 4, 400, 100.0, 0.3, 5);
+    // Markers 0, 4 and 8 share segment 0 (round-robin over 4 segments): its frame from
+    // them, and four points fixed in it.
+    let (a, b, c) = (0, 4, 8);
+    let unit = |v: [f64; 3]| {
+        let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        v.map(|x| x / n)
+    };
+    let cross = |u: [f64; 3], v: [f64; 3]| {
+        [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ]
+    };
+    let sub = |p: [f64; 3], q: [f64; 3]| [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+    let first = trial.markers();
+    let points: Vec<Vec<[f64; 3]>> = (0..trial.frames())
+        .map(|f| {
+            let (p, q, r) = (trial.xyz[a][f], trial.xyz[b][f], trial.xyz[c][f]);
+            let x = unit(sub(q, p));
+            let z = unit(cross(x, sub(r, p)));
+            let y = cross(z, x);
+            // The origin at their centroid, as a model's joint centre is no marker (marker
+            // 0 as the origin would keep its distance to every point fixed in the frame:
+            // rebuilt from them exactly, it would be refused too).
+            let o = [0, 1, 2].map(|i| (p[i] + q[i] + r[i]) / 3.0);
+            let at =
+                |k: [f64; 3]| [0, 1, 2].map(|i| o[i] + k[0] * x[i] + k[1] * y[i] + k[2] * z[i]);
+            vec![
+                at([30.0, 20.0, -40.0]),
+                at([130.0, 20.0, -40.0]),
+                at([30.0, 120.0, -40.0]),
+                at([30.0, 20.0, 60.0]),
+            ]
+        })
+        .collect();
+    for k in 0..4 {
+        trial.xyz.push(points.iter().map(|v| v[k]).collect());
+        trial.valid.push(vec![true; trial.frames()]);
+    }
+    for m in first..first + 4 {
+        assert!(repair::evaluate::computed(&trial, m, 100, 5), "point {m}");
+    }
+    for j in [a, b, c] {
+        assert!(!repair::evaluate::computed(&trial, j, 100, 5), "marker {j}");
+    }
+    let cfg = EvalConfig {
+        gap_lengths: vec![5, 20],
+        gaps_per_length: 40,
+        methods: vec![FillMethod::Linear],
+        seed: 3,
+        ..EvalConfig::default()
+    };
+    let e = evaluate(&trial, &cfg).expect("evaluation runs");
+    assert_eq!(e.gaps.len(), 80, "every gap placed");
+    assert!(
+        e.gaps.iter().all(|g| g.marker < first),
+        "a gap in a computed point"
+    );
+    assert!(e.gaps.iter().any(|g| g.marker == a));
+}
