@@ -40,7 +40,8 @@ enum Command {
     Repair(commands::repair::Args),
     /// Repair many files (folders recursively, lists, shards), in parallel.
     Batch(commands::batch::Args),
-    /// Measure fill accuracy: knock out known data, refill it, report the error per method.
+    /// Measure fill accuracy: knock out recorded data (never points computed from other
+    /// markers, which refill exactly), refill it, report the error per method.
     Evaluate(commands::evaluate::Args),
     /// Reduce a BVH motion to key frames; rebuild it by interpolation and report the error.
     Keyframes(commands::keyframes::Args),
