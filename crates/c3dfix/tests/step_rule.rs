@@ -12,7 +12,7 @@ fn stored_fills_keep_to_the_step_rule() {
         return;
     };
     let want = [
-        ("PhilD001__biomechZoo__hockey_wristshot009.c3d", 252),
+        ("PhilD001__biomechZoo__hockey_wristshot009.c3d", 250),
         ("martinfelis__puppeteer__testdata.c3d", 570),
         ("HansUniVie__MuscleLength__test.c3d", 899),
     ];
