@@ -302,11 +302,12 @@ fn place(
 }
 
 /// Whether marker `m` over frames `a..a + len` is a point computed from other markers
-/// rather than a recording: it keeps its distance to [`RIGID_PARTNERS`] or more of them
-/// constant (within [`RIGID_TOL`]). Plug-in Gait's virtual markers (segment origins and
-/// axes, joint centres) and the capture software's rigid-body fills are such points; no
-/// camera saw them, and the donor methods rebuild them from the same markers exactly (to
-/// 0.001 mm), so a gap knocked there measures nothing a lab's real gap has. Before this
+/// rather than a recording: it keeps its distance to three or more of them constant (to
+/// 10⁻⁵ of it; `RIGID_PARTNERS`, `RIGID_TOL`). Plug-in Gait's virtual markers (segment
+/// origins and axes, joint centres) and the capture software's rigid-body fills are such
+/// points; no camera saw them, and the donor methods rebuild them from the same markers
+/// exactly (to 0.001 mm), so a gap knocked there measures nothing a lab's real gap has.
+/// Before this
 /// rule, 1 208 of the corpus evaluation's 27 680 gaps (`fill_eval`) lay in such stretches,
 /// most in ART's body points (whose fills were off by up to 75 mm: the donors chosen were
 /// not the partners), and 322 of the 686 fills within 0.001 mm of the truth. Such
