@@ -314,9 +314,6 @@ fn place(
 /// stretches get no artificial gap.
 pub fn computed(trial: &Trial, m: usize, a: usize, len: usize) -> bool {
     let frames = a..a + len;
-    let dist = |p: [f64; 3], q: [f64; 3]| {
-        ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
-    };
     let mut partners = 0;
     for j in (0..trial.markers()).filter(|&j| j != m) {
         if !trial.valid[j][frames.clone()].iter().all(|&v| v) {
@@ -324,7 +321,7 @@ pub fn computed(trial: &Trial, m: usize, a: usize, len: usize) -> bool {
         }
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for f in frames.clone() {
-            let d = dist(trial.xyz[m][f], trial.xyz[j][f]);
+            let d = crate::fill::dist(trial.xyz[m][f], trial.xyz[j][f]);
             lo = lo.min(d);
             hi = hi.max(d);
             if hi - lo > RIGID_TOL * hi {
