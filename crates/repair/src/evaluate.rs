@@ -307,11 +307,10 @@ fn place(
 /// origins and axes, joint centres) and the capture software's rigid-body fills are such
 /// points; no camera saw them, and the donor methods rebuild them from the same markers
 /// exactly (to 0.001 mm), so a gap knocked there measures nothing a lab's real gap has.
-/// Before this
-/// rule, 1 208 of the corpus evaluation's 27 680 gaps (`fill_eval`) lay in such stretches,
-/// most in ART's body points (whose fills were off by up to 75 mm: the donors chosen were
-/// not the partners), and 322 of the 686 fills within 0.001 mm of the truth. Such
-/// stretches get no artificial gap.
+/// Before this rule, 1 208 of the corpus evaluation's 27 680 gaps (`fill_eval`) lay in such
+/// stretches, most in ART's body points (whose fills were off by up to 75 mm: the donors
+/// chosen were not the partners), and 322 of the 686 fills within 0.001 mm of the truth.
+/// Such stretches get no artificial gap.
 pub fn computed(trial: &Trial, m: usize, a: usize, len: usize) -> bool {
     let frames = a..a + len;
     let mut partners = 0;
