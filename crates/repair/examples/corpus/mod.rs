@@ -4,6 +4,14 @@
 use repair::Trial;
 
 /// The file's markers (points that are not model outputs) as a trial in mm.
+///
+/// A sample at exactly (0, 0, 0) counts as missing here, whatever its residual says: no
+/// marker sits on the lab's origin to the last bit, and the writers that store such samples
+/// mean a lost one (ART-Human sets every point of a frame where the body was lost there;
+/// Vicon's files hold them in virtual markers it could not compute). As the truth of an
+/// artificial gap such a sample would score a fill against the origin: 206 of the 353 gaps
+/// of `arthuman-sample.c3d` touched its one such frame, the only stretches there not
+/// skipped as computed points (the frame breaks their constant distances).
 pub fn load(path: &std::path::Path) -> Result<Trial, String> {
     load_with(path, false)
 }
@@ -34,15 +42,17 @@ fn load_with(path: &std::path::Path, recorded: bool) -> Result<Trial, String> {
             continue;
         }
         let r = p.residuals(i);
+        let t = p.trajectory(i);
         let v: Vec<bool> = (0..p.frames())
-            .map(|f| p.is_valid(f, i) && !(drop_processed && r[f] == 0.0))
+            .map(|f| {
+                p.is_valid(f, i) && !(drop_processed && r[f] == 0.0) && t[f] != [0.0; 3]
+            })
             .collect();
         if !v.iter().any(|&x| x) {
             continue;
         }
         xyz.push(
-            p.trajectory(i)
-                .iter()
+            t.iter()
                 .map(|q| [q[0] as f64 * k, q[1] as f64 * k, q[2] as f64 * k])
                 .collect(),
         );
