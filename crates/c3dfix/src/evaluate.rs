@@ -126,7 +126,12 @@ pub fn evaluate(
         // Errors in mm whatever the file's units, so that files pool and tables compare.
         let units = c.point_units();
         let scale = mm_per_unit(&units);
-        let mut t = to_trial(&c, &points, false)?;
+        // A sample at exactly (0, 0, 0) is no truth for an artificial gap, whatever its
+        // fourth word says: no marker sits on the lab's origin to the last bit, and the
+        // writers that store such samples mean a lost one (ART-Human puts every point of a
+        // frame where the body was lost there). Scored against it, a fill would be off by
+        // the marker's distance from the origin.
+        let mut t = to_trial(&c, &points, true)?;
         if scale != 1.0 {
             for p in t.xyz.iter_mut().flatten() {
                 *p = p.map(|x| x * scale);

@@ -41,7 +41,8 @@ enum Command {
     /// Repair many files (folders recursively, lists, shards), in parallel.
     Batch(commands::batch::Args),
     /// Measure fill accuracy: knock out recorded data (never points computed from other
-    /// markers, which refill exactly), refill it, report the error per method.
+    /// markers, which refill exactly, nor samples at exactly (0, 0, 0), a writer's mark of a
+    /// lost one), refill it, report the error per method.
     Evaluate(commands::evaluate::Args),
     /// Reduce a BVH motion to key frames; rebuild it by interpolation and report the error.
     Keyframes(commands::keyframes::Args),
