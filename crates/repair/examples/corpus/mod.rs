@@ -44,9 +44,7 @@ fn load_with(path: &std::path::Path, recorded: bool) -> Result<Trial, String> {
         let r = p.residuals(i);
         let t = p.trajectory(i);
         let v: Vec<bool> = (0..p.frames())
-            .map(|f| {
-                p.is_valid(f, i) && !(drop_processed && r[f] == 0.0) && t[f] != [0.0; 3]
-            })
+            .map(|f| p.is_valid(f, i) && !(drop_processed && r[f] == 0.0) && t[f] != [0.0; 3])
             .collect();
         if !v.iter().any(|&x| x) {
             continue;
