@@ -430,3 +430,34 @@ fn info_names_zero_invalid_when_many_valid_samples_sit_at_the_origin() {
     let o = c3dfix(&["info", s(&samples.join("sample_30/marche281.c3d"))]);
     assert!(!stdout(&o).contains("--zero-invalid"));
 }
+
+#[test]
+fn repair_names_zero_invalid_when_it_keeps_samples_at_the_origin() {
+    let Some(samples) = testkit::c3d_samples() else {
+        return;
+    };
+    // ART-Human stores the frame where the body was lost as every point at the origin
+    // with a valid fourth word: kept as recorded unless the user says otherwise.
+    let f = samples.join("sample_00/Advanced Realtime Tracking GmbH/arthuman-sample.c3d");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.c3d");
+    let o = c3dfix(&["repair", s(&f), "-o", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("63 samples sit exactly at (0, 0, 0)")
+            && stdout(&o).contains("--zero-invalid"),
+        "{}",
+        stdout(&o)
+    );
+    let v = json(&["repair", "--json", s(&f), "-o", s(&out), "--force"]);
+    assert_eq!(v["samples_at_origin"], 63, "{v}");
+    // Told, it fills them as the gaps they are, and has nothing more to say.
+    let o = c3dfix(&["repair", s(&f), "-o", s(&out), "--force", "--zero-invalid"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("63 found in 63 markers: 63 filled"),
+        "{}",
+        stdout(&o)
+    );
+    assert!(!stdout(&o).contains("(0, 0, 0)"), "{}", stdout(&o));
+}

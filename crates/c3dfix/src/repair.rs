@@ -31,6 +31,11 @@ pub struct Summary {
     /// Repaired samples clamped to the integer range of POINT:SCALE (integer files only).
     pub samples_clamped: usize,
     pub markers_changed: usize,
+    /// Samples of the repaired markers kept as recorded although they sit at exactly
+    /// (0, 0, 0) (0 under `zero_invalid`, which makes them gaps): some writers store a lost
+    /// sample that way with a valid fourth word (ART-Human's lost frames), and only the user
+    /// can say so; a filter or a fill next to such a sample takes it for data.
+    pub samples_at_origin: usize,
     /// Largest and mean expected error of the filled gaps, mm.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub expected_error_mm_max: Option<f64>,
@@ -139,6 +144,16 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
         file: name.display().to_string(),
         markers: points.len(),
         model_outputs_left: c.point_count() - points.len(),
+        samples_at_origin: (0..points.len())
+            .filter(|&r| in_scope(r))
+            .map(|r| {
+                trial.xyz[r]
+                    .iter()
+                    .zip(&trial.valid[r])
+                    .filter(|(p, &v)| v && **p == [0.0; 3])
+                    .count()
+            })
+            .sum(),
         ..Summary::default()
     };
     let mut gaps = Vec::new();

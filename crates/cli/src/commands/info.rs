@@ -221,7 +221,7 @@ fn plates(c: &c3d::C3d) -> (Vec<PlateInfo>, Vec<String>) {
 
 /// From this many valid samples at the exact origin on, `info` names `--zero-invalid`: a real
 /// marker lands on (0, 0, 0) to the last bit rarely, a writer's stand-in for "missing" often.
-const ORIGIN_NOTE: usize = 10;
+pub(crate) const ORIGIN_NOTE: usize = 10;
 
 fn print_text(r: &Report) -> Result<()> {
     outln!("{}  ({} bytes)", r.file, r.bytes)?;
