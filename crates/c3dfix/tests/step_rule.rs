@@ -13,7 +13,7 @@ fn stored_fills_keep_to_the_step_rule() {
     };
     let want = [
         ("PhilD001__biomechZoo__hockey_wristshot009.c3d", 250),
-        ("martinfelis__puppeteer__testdata.c3d", 568),
+        ("martinfelis__puppeteer__testdata.c3d", 569),
         ("HansUniVie__MuscleLength__test.c3d", 899),
     ];
     // Every trial is read back before any count is compared, so a change shows them all.

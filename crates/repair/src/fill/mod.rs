@@ -102,7 +102,7 @@ impl FillMethod {
 
 /// Fill settings. Defaults: `auto`, gaps up to 200 frames, 10 spline samples per side,
 /// 3 rigid donors, 8 PCA neighbours, 99.9 % PCA variance, PCA window ±max(250, 5×gap),
-/// 6 artificial gaps per `auto` choice.
+/// 8 artificial gaps per `auto` choice.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FillOptions {
     pub method: FillMethod,
@@ -132,9 +132,10 @@ pub struct FillOptions {
     pub pca_window: usize,
     /// Artificial gaps `auto` scores candidates on per gap (half as many for gaps shorter
     /// than `auto`'s LONG, 5 frames: every gap the evaluation measures gets all of them).
-    /// 4 instead of 6 was chosen in 0 of 26 folds of `fill_eval --nested` (cells 8 %
-    /// better to 12 % worse, 31 of 40 worse); 10 chose no better on the gait trials of an
-    /// earlier evaluation, at 1.25× the cost.
+    /// 8 instead of 6 was chosen in 26 of 26 folds of `fill_eval --nested` (held-apart
+    /// cells 5.5 % better to 3.5 % worse, tuned ones 4.7 % better to 5.2 % worse), 4
+    /// instead of 6 in 0 of 26 (cells 8 % better to 12 % worse, 31 of 40 worse); 10 chose
+    /// no better on the gait trials of an earlier evaluation, at 1.25× the cost.
     pub auto_trials: usize,
     /// Gaps whose expected error (in the data's units) is above this are left unfilled
     /// and reported as `uncertain`; `None` fills every gap a method can fill.
@@ -186,7 +187,7 @@ impl Default for FillOptions {
             pca_neighbours: 8,
             pca_variance: 0.999,
             pca_window: 250,
-            auto_trials: 6,
+            auto_trials: 8,
             max_expected_error: None,
             storage: Storage::Exact,
             mm_per_unit: 1.0,
