@@ -12,11 +12,12 @@ pub const MAX_SPIKE_HALF_WINDOW: usize = repair::spikes::MAX_HALF_WINDOW;
 /// Longest gap that may be asked for, in frames (a C3D file holds at most 2³² frames).
 pub const MAX_GAP_FRAMES: usize = u32::MAX as usize;
 
-/// The default of `--max-expected-error`: on the 17 182 artificial gaps of the real trials
-/// (`cargo run --release -p repair --example fill_eval`) it leaves 3.2 % of the gaps unfilled:
-/// 86 % of the fills worse than 50 mm and 59 % of those worse than 20 mm, and 0.04 % of
-/// those within 5 mm. A limit of 15 mm leaves 6.0 % (93 %, 80 %, 0.09 %), 30 mm leaves
-/// 1.4 % (74 %, 34 %, 0.01 %).
+/// The default of `--max-expected-error`. On the 8 923 artificial gaps of the 9 labs no
+/// constant was chosen on, each lab's estimates from the model fitted to the other labs
+/// (`cargo run --release -p repair --example fill_eval`, its "a limit of" lines), it leaves
+/// 0.4 % of the gaps unfilled: 5 of the 7 fills worse than 50 mm, 21 of the 55 worse than
+/// 20 mm, and none of the 8 135 within 5 mm. A limit of 15 mm leaves 0.9 % (6 of 7, 34 of
+/// 55, 1 of 8 135), 30 mm leaves 0.1 % (3 of 7, 7 of 55, none).
 pub const DEFAULT_MAX_EXPECTED_ERROR_MM: f64 = 20.0;
 
 /// Parse `MM` or `off` (`None`).
