@@ -481,6 +481,41 @@ impl C3d {
         }
     }
 
+    /// The file's own number of the frame at `index` (0 = the first frame stored):
+    /// [`first_frame`](Self::first_frame) + `index`. Every report, export and JSON speaks these
+    /// numbers, so a trial cropped to frames 290–700 in the capture software says 290–700
+    /// everywhere, as the software that wrote it does.
+    pub fn frame_number(&self, index: usize) -> usize {
+        self.first_frame() + index
+    }
+
+    /// The time in seconds of the frame at `index` on the file's one time base: frame 1 of
+    /// the capture is at 0 s, so frame `n` is at (`n` − 1) / POINT:RATE. This is the base of
+    /// the EVENT group's TIMES (frame = round(time × rate) + 1 in Vicon's and BTK's
+    /// reading), so events, forces and exports line up without an offset. 0 when the file
+    /// states no usable rate.
+    pub fn frame_time(&self, index: usize) -> f64 {
+        let rate = self.point_rate() as f64;
+        if rate > 0.0 && rate.is_finite() {
+            (self.frame_number(index).saturating_sub(1)) as f64 / rate
+        } else {
+            0.0
+        }
+    }
+
+    /// The time in seconds of analog sample `sample` (0 = the first stored) on the same base
+    /// as [`frame_time`](Self::frame_time): the first analog sample of a frame is taken at the
+    /// frame's time, the others follow at ANALOG:RATE.
+    pub fn analog_time(&self, sample: usize) -> f64 {
+        let rate = self.analog_rate() as f64;
+        let start = self.frame_time(0);
+        if rate > 0.0 && rate.is_finite() {
+            start + sample as f64 / rate
+        } else {
+            start
+        }
+    }
+
     /// Analog channel labels (ANALOG:LABELS, LABELS2, …), one per channel.
     pub fn analog_labels(&self) -> Vec<String> {
         self.labels("ANALOG", self.analog_channels(), "CHANNEL")
