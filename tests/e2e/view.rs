@@ -278,6 +278,7 @@ fn chromium() -> Option<PathBuf> {
         let ci = std::env::var_os("CI").is_some_and(|v| !v.is_empty() && v != "false" && v != "0");
         assert!(!ci, "CI needs chromium for the viewer's browser test");
         eprintln!("skipping: chromium not found (install chromium to run the browser test)");
+        testkit::skipped("chromium not found");
     }
     found
 }

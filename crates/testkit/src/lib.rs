@@ -45,7 +45,34 @@ fn corpus(var: &str, default: &str) -> Option<PathBuf> {
             "skipping: corpus {} not found (set {var} to run this test)",
             dir.display()
         );
+        skipped(&format!("{var}={}", dir.display()));
         None
+    }
+}
+
+/// Record that the running test skips (some or all of its work) for `reason`.
+///
+/// The test harness hides what a passing test prints, so a skip would go unseen: with
+/// `C3DFIX_SKIP_LOG` set (as `tests/all.sh` sets it), each skip is also appended to that file
+/// as `TEST<tab>REASON`, and the script counts the tests that skipped. The harness names
+/// each test's thread after the test, which is how the line names it.
+pub fn skipped(reason: &str) {
+    use std::io::Write as _;
+    let Some(log) = std::env::var_os("C3DFIX_SKIP_LOG") else {
+        return;
+    };
+    let test = std::thread::current()
+        .name()
+        .unwrap_or("(unnamed test)")
+        .to_string();
+    let line = format!("{test}\t{reason}\n");
+    // One write of one short line with O_APPEND: lines from parallel tests do not interleave.
+    if let Ok(mut f) = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(log)
+    {
+        let _ = f.write_all(line.as_bytes());
     }
 }
 
