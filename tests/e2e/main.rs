@@ -74,6 +74,49 @@ fn info_describes_the_sample() {
     assert_eq!(v["events"].as_array().unwrap().len(), 7);
 }
 
+/// `info` counts markers as `gaps` does (model outputs apart) and lists events in time order,
+/// on a Plug-in Gait trial with 84 model outputs and a Nexus trial whose events the file
+/// stores side by side.
+#[test]
+fn info_counts_markers_as_gaps_does_and_orders_events_in_time() {
+    let Some(more) = testkit::c3d_more() else {
+        return;
+    };
+    let f = more.join("HansUniVie__MuscleLength__test.c3d");
+    let t = stdout(&c3dfix(&["info", s(&f)]));
+    assert!(
+        t.contains("153 with gaps out of 180 (84 model outputs apart)"),
+        "{t}"
+    );
+    let g = stdout(&c3dfix(&["gaps", s(&f)]));
+    assert!(g.contains("in 180 markers"), "{g}");
+    let v: serde_json::Value =
+        serde_json::from_slice(&c3dfix(&["info", "--json", s(&f)]).stdout).unwrap();
+    let outputs = v["markers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|m| m["model_output"] == true)
+        .count();
+    assert_eq!(outputs, 84);
+
+    let Some(samples) = testkit::c3d_samples() else {
+        return;
+    };
+    let f = samples.join("sample_11/2198928.c3d");
+    let v: serde_json::Value =
+        serde_json::from_slice(&c3dfix(&["info", "--json", s(&f)]).stdout).unwrap();
+    let times: Vec<f64> = v["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["time"].as_f64().unwrap())
+        .collect();
+    assert_eq!(times.len(), 8);
+    assert!(times.windows(2).all(|w| w[0] <= w[1]), "{times:?}");
+    assert!((times[0] - 0.288).abs() < 0.001, "{times:?}");
+}
+
 #[test]
 fn bad_files_get_a_clear_error_and_exit_2() {
     let dir = tempfile::tempdir().unwrap();

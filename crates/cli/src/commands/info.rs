@@ -17,6 +17,9 @@ pub struct Args {
 #[derive(Serialize)]
 struct MarkerInfo {
     label: String,
+    /// A model output (an angle, force, moment or power stored as a point), not a marker:
+    /// `gaps` and `repair` leave these apart, and so does the count `info` prints.
+    model_output: bool,
     valid_frames: usize,
     gaps: usize,
     longest_gap: usize,
@@ -109,6 +112,7 @@ pub fn describe<'a>(c: &'a c3d::C3d, file: &Path) -> Report<'a> {
     let all: Vec<usize> = (0..c.point_count()).collect();
     // One pass over the samples, one chunk in memory at a time.
     let v = c3dfix::trial::validity(c, &all, false);
+    let outputs = c3dfix::markers::model_outputs(c);
     let markers = v
         .valid
         .iter()
@@ -117,6 +121,7 @@ pub fn describe<'a>(c: &'a c3d::C3d, file: &Path) -> Report<'a> {
             let gaps = repair::find_gaps(valid, 0);
             MarkerInfo {
                 label: label.clone(),
+                model_output: outputs.contains(label),
                 valid_frames: valid.iter().filter(|&&ok| ok).count(),
                 gaps: gaps.len(),
                 longest_gap: gaps.iter().map(|g| g.len).max().unwrap_or(0),
@@ -173,12 +178,24 @@ pub fn describe<'a>(c: &'a c3d::C3d, file: &Path) -> Report<'a> {
         markers,
         origin_samples,
         groups,
-        header_events: c.header_events(),
-        events: c.events(),
+        header_events: {
+            let mut h = c.header_events();
+            h.sort_by(|a, b| a.time.total_cmp(&b.time));
+            h
+        },
+        events: in_time_order(c.events()),
         force_platforms,
         force_platform_warnings,
         warnings: c.warnings().iter().map(|w| w.to_string()).collect(),
     }
+}
+
+/// Events as a lab reads them: in time order (files list them in the order they were
+/// marked, often all of one side first). The sort is stable, so simultaneous events keep
+/// the file's order.
+fn in_time_order(mut events: Vec<c3d::Event>) -> Vec<c3d::Event> {
+    events.sort_by(|a, b| a.time.total_cmp(&b.time));
+    events
 }
 
 /// The plates of `c` and their warnings. FORCE_PLATFORM is read first, so a file without
@@ -259,18 +276,27 @@ fn print_text(r: &Report) -> Result<()> {
         r.header.data_start,
         r.header.max_gap
     )?;
-    let with_gaps: Vec<_> = r.markers.iter().filter(|m| m.gaps > 0).collect();
+    // Counted as `gaps` counts them: markers only, model outputs apart.
+    let markers: Vec<_> = r.markers.iter().filter(|m| !m.model_output).collect();
+    let with_gaps = markers.iter().filter(|m| m.gaps > 0).count();
+    let outputs = r.markers.len() - markers.len();
     if r.origin_samples >= ORIGIN_NOTE {
         outln!(
             "  note         {} valid samples sit exactly at (0, 0, 0); if this writer stores missing points that way, use --zero-invalid with gaps, repair and batch",
             r.origin_samples
         )?;
     }
-    outln!(
-        "  markers      {} with gaps out of {}",
-        with_gaps.len(),
-        r.markers.len()
-    )?;
+    if outputs > 0 {
+        outln!(
+            "  markers      {with_gaps} with gaps out of {} ({outputs} model outputs apart)",
+            markers.len()
+        )?;
+    } else {
+        outln!(
+            "  markers      {with_gaps} with gaps out of {}",
+            markers.len()
+        )?;
+    }
     if !r.markers.is_empty() {
         outln!(
             "    {:<24} {:>8} {:>6} {:>8}",
@@ -279,7 +305,12 @@ fn print_text(r: &Report) -> Result<()> {
             "gaps",
             "longest"
         )?;
-        for m in &r.markers {
+        // Markers first, then the model outputs under their own heading.
+        let (marks, outs): (Vec<_>, Vec<_>) = r.markers.iter().partition(|m| !m.model_output);
+        for (i, m) in marks.iter().chain(&outs).enumerate() {
+            if i == marks.len() {
+                outln!("    model outputs")?;
+            }
             outln!(
                 "    {:<24} {:>8} {:>6} {:>8}",
                 m.label,
