@@ -256,7 +256,7 @@ impl C3d {
         let states = states.into_iter().take(n).enumerate();
         if self.layout.data_bytes() > crate::data::PARALLEL_SCAN_BYTES {
             let states: Vec<_> = states.collect();
-            crate::pool::install(|| states.into_par_iter().map(visit).collect())
+            forkpool::install(|| states.into_par_iter().map(visit).collect())
         } else {
             states.map(visit).collect()
         }

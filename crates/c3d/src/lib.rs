@@ -17,7 +17,6 @@ mod header;
 mod memory;
 mod parameters;
 mod points;
-pub mod pool;
 mod processor;
 mod read;
 mod text;

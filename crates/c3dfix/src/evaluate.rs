@@ -173,9 +173,9 @@ pub fn evaluate(
             seed: opts.seed,
             ..EvalConfig::default()
         };
-        // In the process's own pool, so that a forked process evaluates too (see c3d::pool).
+        // In the process's own pool, so that a forked process evaluates too (see forkpool).
         let ev =
-            c3d::pool::install(|| repair::evaluate(&t, &cfg)).map_err(|source| Error::Repair {
+            forkpool::install(|| repair::evaluate(&t, &cfg)).map_err(|source| Error::Repair {
                 path: f.clone(),
                 source,
             })?;

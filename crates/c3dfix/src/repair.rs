@@ -128,9 +128,9 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
     let only = opts.markers.as_ref().map(|m| select(c, m)).transpose()?;
     let points = marker_indices(c);
     let mut trial = to_trial(c, &points, opts.zero_invalid)?;
-    // In the process's own pool, so that a forked process repairs too (see c3d::pool).
+    // In the process's own pool, so that a forked process repairs too (see forkpool).
     let report =
-        c3d::pool::install(|| repair::repair_trial(&mut trial, &cfg)).map_err(|source| {
+        forkpool::install(|| repair::repair_trial(&mut trial, &cfg)).map_err(|source| {
             Error::Repair {
                 path: name.to_path_buf(),
                 source,

@@ -1,5 +1,5 @@
 //! A process forked after the library ran parallel work still reads and repairs: the library's
-//! pool belongs to the process that built it, and a child builds its own (see `c3d::pool`).
+//! pool belongs to the process that built it, and a child builds its own (see `forkpool`).
 //! Without that, the child's first parallel iterator waits forever for the parent's worker
 //! threads, which fork did not copy; the parent here gives up after a timeout, so a hang fails
 //! the test instead of stalling the run.

@@ -53,7 +53,7 @@ impl CodecFn<Points> for DecodePoints<'_> {
             if chunk >= l.frames {
                 decode_points::<C>(l, bytes, &mut xyz, &mut residual, &mut camera_mask);
             } else {
-                crate::pool::install(|| {
+                forkpool::install(|| {
                     xyz.par_chunks_mut(per)
                         .zip(residual.par_chunks_mut(per))
                         .zip(camera_mask.par_chunks_mut(per))

@@ -88,7 +88,7 @@ impl CodecFn<ScanNotes> for Scan<'_> {
         };
         let data = &self.bytes[..l.frames * fb];
         if data.len() > PARALLEL_SCAN_BYTES {
-            crate::pool::install(|| {
+            forkpool::install(|| {
                 data.par_chunks(chunk * fb)
                     .enumerate()
                     .map(scan)

@@ -1,4 +1,4 @@
-//! The thread pool the C3D crate and the c3dfix library run their parallel work in, owned per
+//! The thread pool the C3D format crate and the c3dfix library run their parallel work in, owned per
 //! process so that a forked process works.
 //!
 //! rayon's global pool is made once per process and never rebuilt. `fork()` copies the memory
