@@ -630,3 +630,47 @@ fn an_unloaded_plate_is_exactly_zero_in_the_mot() {
     ]);
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
 }
+
+/// Frames and times on the file's own base: `FMC_MH0222_BP15` starts at frame 260 (100 Hz),
+/// so its first sample is at 2.59 s, and plate 3's contact starts at the file's Right Foot
+/// Strike (3.273 s) within a frame.
+#[test]
+fn contacts_and_times_are_on_the_files_base() {
+    let Some(more) = testkit::c3d_more() else {
+        return;
+    };
+    let file = more.join("tsalemink__C3D-parser__FMC_MH0222_BP15.c3d");
+    let v = forces_json(&file);
+    assert!(
+        close(v["start_time"].as_f64().unwrap(), 2.59, 1e-9),
+        "{}",
+        v["start_time"]
+    );
+    let p3 = &v["platforms"][2];
+    let k = &p3["contacts"][0];
+    assert_eq!(k["first_frame"], 328);
+    assert!(
+        (k["first_time"].as_f64().unwrap() - 3.273).abs() < 0.01,
+        "{k}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("f.csv");
+    let out = c3dfix(&["forces", s(&file), "-o", s(&csv)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("contact frames 328-388"),
+        "{}",
+        stdout(&out)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let first: f64 = text
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(close(first, 2.59, 1e-9), "{first}");
+}

@@ -66,6 +66,9 @@ fn json(file: &Path, fp: &ForcePlatforms) -> Result<String> {
     let v = serde_json::json!({
         "file": file.display().to_string(),
         "threshold": fp.threshold,
+        // Sample i of every plate is at start_time + i / rate s, on the file's time base
+        // (the EVENT group's): the contacts' times are on it too.
+        "start_time": fp.start_time,
         "platforms": fp.platforms,
         "warnings": fp.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
     });
