@@ -162,16 +162,13 @@ fn every_corpus_plate_equals_the_reference() {
                     "{key} plate {index} {name}: off by {d} at sample {at} (scale {scale})"
                 );
             }
-            // Where one says a COP and the other none, the force is at the threshold, or it
-            // is a pull: the reference gives a COP wherever |Fz| >= 10 N, c3dfix only where a
-            // foot pushes (the push, −Fz, >= 10 N).
+            // Where one says a COP and the other none, the push is at the threshold.
             for (j, &s) in check.iter().enumerate() {
                 let theirs_none = cop_ref[j][0].is_null();
                 let ours_none = p.cop[s][0].is_nan();
                 if theirs_none != ours_none {
-                    let pull = ours_none && p.push[s] <= -10.0;
                     assert!(
-                        pull || (p.push[s].abs() - 10.0).abs() < 1e-3,
+                        (p.push[s] - 10.0).abs() < 1e-3,
                         "{key} plate {index} sample {s}: COP defined by one reading only (push {})",
                         p.push[s]
                     );
