@@ -39,20 +39,24 @@ fn forces_reports_both_plates_of_the_amti_sample() {
     assert!(out.status.success(), "{}", stderr(&out));
     let t = stdout(&out);
     assert!(
-        t.contains("2 force platforms (COP where |Fz| >= 10 N)"),
+        t.contains("2 force platforms (COP where the push >= 10 N)"),
         "{t}"
     );
     assert!(
-        t.contains("plate 1  type 2  channels 1,2,3,4,5,6  960 Hz  peak |Fz| 521.6 N"),
+        // 528.0 N, not the raw 521.6: ZERO's frames read a pull of 6.3 N, now removed.
+        t.contains("plate 1  type 2  channels 1,2,3,4,5,6  960 Hz  peak push 528.0 N  unloaded level -6.3 N subtracted (frames 1-10, FORCE_PLATFORM:ZERO)"),
         "{t}"
     );
     assert!(
         t.contains("plate 2  type 2  channels 7,8,9,10,11,12"),
         "{t}"
     );
-    // Plate 1's stance: frames 108-139, samples 1726-2213 (16 samples per frame).
+    // Plate 1's stance: frames 108-141, samples 1725-2246 (16 samples per frame); with the
+    // pull of 6.3 N removed the push reaches 10 N a sample earlier and leaves it 33 samples
+    // later than the raw reading (frames 108-139, samples 1726-2213) did. Times on the
+    // file's base: sample 1725 at 1725 / 960 s from frame 1.
     assert!(
-        t.contains("contact frames 108-139 (samples 1726-2213, 1.798-2.305 s), peak 521.6 N"),
+        t.contains("contact frames 108-141 (samples 1725-2246, 1.797-2.340 s), peak 528.0 N"),
         "{t}"
     );
     assert!(t.contains("contact frames 134-164"), "{t}");
@@ -74,6 +78,7 @@ fn forces_reports_both_plates_of_the_amti_sample() {
         "free_moment",
         "peak_force",
         "contacts",
+        "baseline",
         "units",
     ] {
         assert!(plates[0].get(key).is_some(), "{key} missing");
@@ -87,9 +92,21 @@ fn forces_reports_both_plates_of_the_amti_sample() {
     let c = &plates[0]["contacts"][0];
     assert_eq!(
         [&c["first_frame"], &c["last_frame"]],
-        [&Json::from(108), &Json::from(139)]
+        [&Json::from(108), &Json::from(141)]
     );
-    assert_eq!(plates[1]["contacts"].as_array().unwrap().len(), 8);
+    assert!(close(
+        c["first_time"].as_f64().unwrap(),
+        1725.0 / 960.0,
+        1e-12
+    ));
+    assert_eq!(plates[0]["baseline"]["source"], "FORCE_PLATFORM:ZERO");
+    assert!(close(
+        plates[0]["baseline"]["level"].as_f64().unwrap(),
+        -6.3,
+        0.01
+    ));
+    // One footfall, one contact: the raw reading's 8 were noise around a pull of 5.4 N.
+    assert_eq!(plates[1]["contacts"].as_array().unwrap().len(), 1);
     // Unloaded: the COP and free moment are undefined, written as null; the force is not.
     assert_eq!(plates[0]["cop"][0], serde_json::json!([null, null, null]));
     assert_eq!(
@@ -97,12 +114,14 @@ fn forces_reports_both_plates_of_the_amti_sample() {
         serde_json::json!([null, null, null])
     );
     assert!(plates[0]["force"][0][2].is_number());
-    // Mid-stance on plate 1: the lab's Z is up, so the reaction's z is the body's weight share.
+    // Mid-stance on plate 1: the lab's Z is up, so the reaction's z is the body's weight
+    // share: 421.631 N with ZERO's pull of 6.3 N removed (415.315 raw), and the COP moves by
+    // the moments' offsets ZERO removes (382.125, 368.725 raw).
     let f = xyz(&plates[0]["force"][2000]);
-    assert!(close(f[2], 415.315, 1e-5), "{f:?}");
+    assert!(close(f[2], 421.6305, 1e-5), "{f:?}");
     let cop = xyz(&plates[0]["cop"][2000]);
     assert!(
-        close(cop[0], 382.125, 1e-5) && close(cop[1], 368.725, 1e-5),
+        close(cop[0], 381.765, 1e-5) && close(cop[1], 364.06, 1e-5),
         "{cop:?}"
     );
     assert_eq!(v["warnings"], serde_json::json!([]));
@@ -191,7 +210,8 @@ fn a_bad_plate_is_left_out_with_a_warning_and_the_other_computed() {
             "{w:?}"
         );
         let peak = plates[0]["peak_force"].as_f64().unwrap();
-        let want = if kept == 1 { 521.6 } else { 582.8 };
+        // The raw peaks 521.6 and 582.8 N plus the pulls of 6.3 and 5.4 N ZERO removes.
+        let want = if kept == 1 { 528.0 } else { 588.2 };
         assert!((peak - want).abs() < 0.05, "{peak}");
         // info names the same plate and parameter.
         let out = c3dfix(&["info", s(path)]);
@@ -211,17 +231,19 @@ fn info_lists_the_plates() {
     let t = stdout(&out);
     assert!(t.contains("plates       2 force platforms"), "{t}");
     assert!(
-        t.contains("plate 1  type 2  channels 1,2,3,4,5,6  centre (254.0, 232.0, 0.0) mm  peak |Fz| 521.6 N  2 contacts"),
+        // One contact per plate: the raw reading's 2 and 8 were noise around a pull of 6 N
+        // crossing |Fz| = 10 N.
+        t.contains("plate 1  type 2  channels 1,2,3,4,5,6  centre (254.0, 232.0, 0.0) mm  peak push 528.0 N  1 contact"),
         "{t}"
     );
-    assert!(t.contains("plate 2  type 2  channels 7,8,9,10,11,12  centre (762.0, 325.0, 0.0) mm  peak |Fz| 582.8 N  8 contacts"), "{t}");
+    assert!(t.contains("plate 2  type 2  channels 7,8,9,10,11,12  centre (762.0, 325.0, 0.0) mm  peak push 588.2 N  1 contact"), "{t}");
     let out = c3dfix(&["info", "--json", s(&file)]);
     let v: Json = serde_json::from_slice(&out.stdout).unwrap();
     let p = v["force_platforms"].as_array().unwrap();
     assert_eq!(p.len(), 2);
     assert_eq!(p[0]["type"], 2);
     assert_eq!(p[0]["channels"], serde_json::json!([1, 2, 3, 4, 5, 6]));
-    assert_eq!(p[1]["contacts"], 8);
+    assert_eq!(p[1]["contacts"], 1);
     assert_eq!(xyz(&p[1]["centre"]), [762.0, 325.0, 0.0]);
     assert_eq!(v["force_platform_warnings"], serde_json::json!([]));
     // A file without plates lists none (and says nothing of plates in text).
@@ -314,7 +336,9 @@ fn mot_export_is_opensim_ground_reaction_in_si_units() {
         assert!(close(r[4 + k], cop[k] / 1000.0, 1e-5), "{r:?} {cop:?}");
         assert!((r[7 + k] - tz[k] / 1000.0).abs() < 2e-6, "{r:?} {tz:?}");
     }
-    assert!(close(r[9], 2.42175, 1e-4), "{r:?}");
+    // 1.06042 N·m, not the raw 2.42175: ZERO's means of Fx, Fy and Mz, subtracted, were part
+    // of the raw free moment.
+    assert!(close(r[9], 1.060421, 1e-4), "{r:?}");
     // Unloaded (sample 0 on plate 1, COP null in JSON): no force or torque, at the centre.
     assert!(p1["cop"][0][0].is_null());
     assert_eq!(&rows[0][1..4], [0.0, 0.0, 0.0]);
@@ -534,4 +558,119 @@ fn mot_export_of_every_plate_type_in_the_corpora_is_complete_and_finite() {
         }
     }
     assert_eq!(types.into_iter().collect::<Vec<_>>(), [2, 3, 4]);
+}
+
+/// The user's trial (`walking2`: plates resting at a pull of 14 and 20 N): in the MOT every
+/// row outside the footfall is exactly zero in force and torque, the COP at the plate's
+/// centre; `--no-zero-baseline` keeps the raw values; `plot --forces` takes the same options.
+#[test]
+fn an_unloaded_plate_is_exactly_zero_in_the_mot() {
+    let Some(more) = testkit::c3d_more() else {
+        return;
+    };
+    let file = more.join("opensim-org__opensim-core__walking2.c3d");
+    let dir = tempfile::tempdir().unwrap();
+    let mot = dir.path().join("w.mot");
+    let out = c3dfix(&["export", s(&file), "--format", "mot", "-o", s(&mot)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&mot).unwrap();
+    let rows: Vec<Vec<f64>> = text
+        .split("endheader\n")
+        .nth(1)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split('\t').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    let v = forces_json(&file);
+    for (k, p) in v["platforms"].as_array().unwrap().iter().enumerate() {
+        let contacts = p["contacts"].as_array().unwrap();
+        assert_eq!(contacts.len(), 1, "plate {}", k + 1);
+        let (a, b) = (
+            contacts[0]["first_sample"].as_u64().unwrap() as usize,
+            contacts[0]["last_sample"].as_u64().unwrap() as usize,
+        );
+        let col = 1 + 9 * k;
+        let mut unloaded = 0;
+        for (i, r) in rows.iter().enumerate() {
+            if i < a || i > b {
+                unloaded += 1;
+                assert_eq!(&r[col..col + 3], [0.0; 3], "row {i}");
+                assert_eq!(&r[col + 6..col + 9], [0.0; 3], "row {i}");
+            }
+        }
+        assert!(unloaded > rows.len() / 2, "{unloaded} of {}", rows.len());
+    }
+    let out = c3dfix(&["forces", s(&file), "--no-zero-baseline"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(!stdout(&out).contains("unloaded level"), "{}", stdout(&out));
+    let png = dir.path().join("f.svg");
+    let out = c3dfix(&[
+        "plot",
+        s(&file),
+        "--forces",
+        "--threshold",
+        "20",
+        "--no-zero-baseline",
+        "--lowpass",
+        "butterworth:4:50",
+        "-o",
+        s(&png),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let out = c3dfix(&[
+        "plot",
+        s(&file),
+        "--marker",
+        "X",
+        "--threshold",
+        "20",
+        "-o",
+        s(&png),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+}
+
+/// Frames and times on the file's own base: `FMC_MH0222_BP15` starts at frame 260 (100 Hz),
+/// so its first sample is at 2.59 s, and plate 3's contact starts at the file's Right Foot
+/// Strike (3.273 s) within a frame.
+#[test]
+fn contacts_and_times_are_on_the_files_base() {
+    let Some(more) = testkit::c3d_more() else {
+        return;
+    };
+    let file = more.join("tsalemink__C3D-parser__FMC_MH0222_BP15.c3d");
+    let v = forces_json(&file);
+    assert!(
+        close(v["start_time"].as_f64().unwrap(), 2.59, 1e-9),
+        "{}",
+        v["start_time"]
+    );
+    let p3 = &v["platforms"][2];
+    let k = &p3["contacts"][0];
+    assert_eq!(k["first_frame"], 328);
+    assert!(
+        (k["first_time"].as_f64().unwrap() - 3.273).abs() < 0.01,
+        "{k}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("f.csv");
+    let out = c3dfix(&["forces", s(&file), "-o", s(&csv)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("contact frames 328-388"),
+        "{}",
+        stdout(&out)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let first: f64 = text
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(close(first, 2.59, 1e-9), "{first}");
 }

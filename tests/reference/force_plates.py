@@ -97,7 +97,12 @@ Centre of pressure and free moment (from M_C and F, plate frame)
     The COP is the point P = C + d, d = (dx, dy, 0) on the working surface, about which the
     moment has no component in the surface's plane: M_P = M_C - d x F gives
         dx = -M_Cy / Fz,  dy = M_Cx / Fz,  Tz = M_Cz - (dx Fy - dy Fx).
-    Null (NaN) where |Fz| < 10 N (Fz = the plate-normal force); the free moment is NaN there too.
+    Null (NaN) where the push -Fz < 10 N (Fz = the plate-normal force); the free moment is NaN
+    there too. The push: the plate's z points down into the floor
+    (https://c3d.org/HTML/Documents/forceplatformorigin.htm: "the force plate coordinate system
+    z-axis is directed downwards") and the channels carry the force on the body, which points
+    up, so a foot pushing the plate down reads a negative Fz; a positive Fz is a pull, which no
+    foot exerts on a floor plate (an offset or a drift), and has no COP.
 
 Output frame and units
     force  = R F (N; the wrench as the plate reports it, no sign flip).
@@ -143,7 +148,7 @@ Analog layout
     512-byte block, that one is used ("layout_note" says so).
 
 Samples checked (`check`): 24 evenly spaced over all samples plus 24 evenly spaced over the
-samples where |Fz| >= 100 N, sorted and unique.
+samples where the push -Fz >= 100 N, sorted and unique.
 """
 
 import json
@@ -377,7 +382,7 @@ def plate_axes(corners):
 def check_indices(fz):
     n = len(fz)
     idx = set(np.unique(np.round(np.linspace(0, n - 1, min(N_EVEN, n))).astype(int)).tolist())
-    loaded = np.nonzero(np.abs(fz) >= LOADED_FZ)[0]
+    loaded = np.nonzero(-fz >= LOADED_FZ)[0]
     if len(loaded):
         pos = np.unique(np.round(np.linspace(0, len(loaded) - 1, min(N_EVEN, len(loaded)))))
         idx.update(loaded[pos.astype(int)].tolist())
@@ -415,9 +420,11 @@ def kistler_correct(d, px, py):
 
 
 def cop_and_free(F, Mc):
-    """COP offset d (plate frame, from the surface centre) and free moment Tz, NaN if |Fz|<10."""
+    """COP offset d (plate frame, from the surface centre) and free moment Tz, NaN where the
+    push -Fz < 10 N."""
     fz = F[:, 2]
-    ok = np.abs(fz) >= COP_MIN_FZ
+    with np.errstate(invalid="ignore"):
+        ok = -fz >= COP_MIN_FZ
     with np.errstate(divide="ignore", invalid="ignore"):
         dx = np.where(ok, -Mc[:, 1] / fz, np.nan)
         dy = np.where(ok, Mc[:, 0] / fz, np.nan)
@@ -595,7 +602,8 @@ def compute_file(path, zero_baseline, full=False):
             fz = F[:, 2]
             idx = check_indices(fz)
             # COP on the plate: within the corners' bounding box in the plate frame, 1 mm margin
-            loaded = np.abs(fz) >= LOADED_FZ
+            with np.errstate(invalid="ignore"):
+                loaded = -fz >= LOADED_FZ
             half = np.abs((cor - center) @ R).max(axis=0)
             margin = 1.0 / (point_len * 1000.0) if point_len else 1.0
             off = (np.abs(d[:, 0]) > half[0] + margin) | (np.abs(d[:, 1]) > half[1] + margin)

@@ -41,7 +41,10 @@ pub use options::{
     fill_method, filter_spec, max_expected_error, method_name, spike_options, RepairOptions,
     DEFAULT_MAX_EXPECTED_ERROR_MM,
 };
-pub use platforms::{force_platforms, ForceOptions, ForcePlatforms, PlateWarning, Platform};
+pub use platforms::{
+    force_platforms, Baseline, BaselineSource, Contact, ForceOptions, ForcePlatforms, PlateWarning,
+    Platform,
+};
 pub use repair::{repair, GapBrief, Repaired, Summary};
 pub use trial::{open, open_mapped};
 

@@ -1,5 +1,9 @@
-//! Contact intervals: where the plate carries a load, as gait labs read foot-strike and
+//! Contact intervals: where a foot pushes on the plate, as gait labs read foot-strike and
 //! foot-off from the vertical force.
+//!
+//! The series judged is the push (see [`crate::plate::PlateOutput::push`]), never |Fz|: a
+//! plate whose unloaded reading sits at a pull of 15 N is no contact, and a pull is nothing
+//! a standing or walking foot can exert.
 //!
 //! A force hovering at the threshold crosses it back and forth on noise alone, which would
 //! cut one footfall into many or add contacts of a few samples. So runs closer than
@@ -11,10 +15,10 @@
 /// The shortest contact, and the shortest break between two, in seconds.
 pub const MIN_CONTACT_S: f64 = 0.02;
 
-/// Inclusive sample ranges where |`normal`| is at or above `threshold` (N), sampled at
+/// Inclusive sample ranges where `push` is at or above `threshold` (N), sampled at
 /// `rate` Hz, joined across breaks shorter than [`MIN_CONTACT_S`] and keeping those at
 /// least that long. A NaN counts as no load: an unknown force is not a contact.
-pub fn contacts(normal: &[f64], threshold: f64, rate: f64) -> Vec<[usize; 2]> {
+pub fn contacts(push: &[f64], threshold: f64, rate: f64) -> Vec<[usize; 2]> {
     let min = if rate.is_finite() && rate > 0.0 {
         (MIN_CONTACT_S * rate).ceil() as usize
     } else {
@@ -23,8 +27,9 @@ pub fn contacts(normal: &[f64], threshold: f64, rate: f64) -> Vec<[usize; 2]> {
     .max(1);
     let mut runs: Vec<[usize; 2]> = Vec::new();
     let mut start = None;
-    for (i, v) in normal.iter().enumerate() {
-        let on = v.abs() >= threshold;
+    for (i, v) in push.iter().enumerate() {
+        // NaN compares false: no contact.
+        let on = *v >= threshold;
         match (on, start) {
             (true, None) => start = Some(i),
             (false, Some(s)) => {
@@ -35,7 +40,7 @@ pub fn contacts(normal: &[f64], threshold: f64, rate: f64) -> Vec<[usize; 2]> {
         }
     }
     if let Some(s) = start {
-        runs.push([s, normal.len() - 1]);
+        runs.push([s, push.len() - 1]);
     }
     let mut joined: Vec<[usize; 2]> = Vec::new();
     for r in runs {
@@ -54,9 +59,11 @@ mod tests {
 
     #[test]
     fn runs_above_the_threshold() {
-        let fz = [0.0, 5.0, 20.0, -30.0, 8.0, 12.0, f64::NAN, 15.0];
+        let push = [0.0, 5.0, 20.0, 30.0, 8.0, 12.0, f64::NAN, 15.0, -40.0];
         // At 1 Hz every run and break is long enough to stand alone.
-        assert_eq!(contacts(&fz, 10.0, 1.0), vec![[2, 3], [5, 5], [7, 7]]);
+        assert_eq!(contacts(&push, 10.0, 1.0), vec![[2, 3], [5, 5], [7, 7]]);
+        // A pull, however strong, is no contact.
+        assert!(contacts(&[-50.0; 10], 10.0, 1.0).is_empty());
         assert!(contacts(&[], 10.0, 1000.0).is_empty());
     }
 

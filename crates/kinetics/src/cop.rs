@@ -4,9 +4,11 @@
 //! On the surface (z = 0 from C) a load F at the COP (x, y, 0) with a free moment Tz about
 //! the plate's normal has, about C, the moment M_C = (x, y, 0) × F + (0, 0, Tz):
 //!   M_Cx = y·Fz,  M_Cy = −x·Fz,  M_Cz = x·Fy − y·Fx + Tz,
-//! so x = −M_Cy / Fz, y = M_Cx / Fz and Tz = M_Cz − (x·Fy − y·Fx). Where |Fz| is small the
-//! COP is noise divided by nearly nothing: below the threshold it is undefined (NaN), and so
-//! is the free moment about it.
+//! so x = −M_Cy / Fz, y = M_Cx / Fz and Tz = M_Cz − (x·Fy − y·Fx). Where the push (−Fz, see
+//! [`crate::plate::PlateOutput::push`]) is small the COP is noise divided by nearly nothing:
+//! below the threshold it is undefined (NaN), and so is the free moment about it. A pull is
+//! below any threshold: no foot pulls a floor plate up, so the "COP" of a pull is that of an
+//! offset or a drift, not of a load.
 
 use crate::V3;
 
@@ -37,7 +39,7 @@ impl CopCorrection {
 }
 
 /// The COP (plate frame, from C, z = 0) and the free moment Tz of one sample, or `None`
-/// where |Fz| is below `threshold` or the wrench is not finite.
+/// where the push −Fz is below `threshold` or the wrench is not finite.
 pub fn cop_and_free_moment(
     force: V3,
     moment_c: V3,
@@ -45,7 +47,8 @@ pub fn cop_and_free_moment(
     correction: Option<&CopCorrection>,
 ) -> Option<(V3, f64)> {
     let fz = force[2];
-    if fz.abs() < threshold || force.iter().chain(&moment_c).any(|v| !v.is_finite()) {
+    let push = -fz;
+    if push.is_nan() || push < threshold || force.iter().chain(&moment_c).any(|v| !v.is_finite()) {
         return None;
     }
     let mut x = -moment_c[1] / fz;
@@ -64,17 +67,17 @@ mod tests {
 
     #[test]
     fn cop_of_a_point_load() {
-        let f = [15.0, -30.0, 650.0];
+        let f = [15.0, -30.0, -650.0];
         let at = [42.0, -17.0, 0.0];
         let m = cross(at, f);
         let (cop, tz) =
             cop_and_free_moment(f, [m[0], m[1], m[2] + 3.0], 10.0, None).expect("loaded");
         assert!((cop[0] - 42.0).abs() < 1e-12 && (cop[1] + 17.0).abs() < 1e-12);
         assert!((tz - 3.0).abs() < 1e-9);
-        assert!(cop_and_free_moment([0.0, 0.0, 9.9], [1.0; 3], 10.0, None).is_none());
+        assert!(cop_and_free_moment([0.0, 0.0, -9.9], [1.0; 3], 10.0, None).is_none());
         assert!(cop_and_free_moment([0.0, 0.0, f64::NAN], [1.0; 3], 10.0, None).is_none());
-        // A pull (negative Fz) is as much a load as a push.
-        assert!(cop_and_free_moment([0.0, 0.0, -50.0], [1.0; 3], 10.0, None).is_some());
+        // A pull (Fz positive along the plate's downward z) is no load.
+        assert!(cop_and_free_moment([0.0, 0.0, 50.0], [1.0; 3], 10.0, None).is_none());
     }
 
     #[test]

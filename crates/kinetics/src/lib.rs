@@ -1,8 +1,9 @@
 //! Force-platform maths on plain arrays, as the C3D manual defines it: the plate's frame from
 //! its corners ([`frame`]), its wrench about the centre of the working surface from the
 //! analog channels of plate types 1–4 ([`wrench`]), the centre of pressure and free moment
-//! ([`cop`]), the lab-frame outputs of a whole plate ([`plate`]) and the intervals of
-//! contact ([`contact`]).
+//! ([`cop`]), the lab-frame outputs of a whole plate ([`plate`]), the intervals of contact
+//! ([`contact`]) and the plate's unloaded level ([`baseline`]). A plate's load is its push
+//! (−Fz of its own frame, see [`PlateOutput::push`]), never |Fz|.
 //!
 //! Like `repair`, this crate knows nothing of C3D bytes: the format crate reads
 //! FORCE_PLATFORM, the `c3dfix` library scales the analog channels and joins the two.
@@ -12,6 +13,7 @@
 //! moments in N × that unit. The force is the one the plate measures (the load applied to
 //! it), rotated into the lab frame — as ezc3d and BTK give it.
 
+pub mod baseline;
 pub mod contact;
 pub mod cop;
 pub mod frame;

@@ -26,7 +26,8 @@ pub struct PlateSpec<'a> {
 /// A plate's outputs, one entry per analog sample, all in the lab frame: `force` in N,
 /// `moment` about the centre of the working surface in N × position units, `cop` in
 /// position units and `free_moment` (the torque about the COP, along the plate's normal)
-/// in N × position units; `cop` and `free_moment` are NaN where |Fz| is below the threshold.
+/// in N × position units; `cop` and `free_moment` are NaN where the push is below the
+/// threshold.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlateOutput {
     pub kind: PlateKind,
@@ -36,9 +37,19 @@ pub struct PlateOutput {
     pub moment: Vec<V3>,
     pub cop: Vec<V3>,
     pub free_moment: Vec<V3>,
-    /// The force along the plate's own z axis (plate frame): what the threshold and contact
-    /// intervals judge.
-    pub normal: Vec<f64>,
+    /// The push: how hard a foot presses the plate into the floor, −Fz of the plate's own
+    /// frame (N). What the threshold, the COP's validity and the contact intervals judge.
+    ///
+    /// Why −Fz, for every type: the manual's plate frame has z pointing down into the floor
+    /// (FORCE_PLATFORM:ORIGIN; CORNERS numbered by the quadrants of that frame), and the
+    /// channels of types 1–4 carry the force the plate exerts on the body, the reaction,
+    /// which points up, out of the floor: a foot's push reads as a negative Fz. Every loaded
+    /// plate of the corpora agrees (types 1–4; AMTI, Bertec, Kistler; Vicon, Qualisys,
+    /// Motion Analysis, Codamotion writers): stance reads Fz from −200 to −2 800 N with the
+    /// plate's z pointing away from the markers, and the COP of those samples lies under
+    /// the foot markers. A positive Fz is a pull — an offset or a drift, since no foot pulls
+    /// a floor plate up — and is never a contact.
+    pub push: Vec<f64>,
     /// Samples where a channel was not finite (their outputs are NaN).
     pub non_finite: usize,
 }
@@ -77,7 +88,7 @@ pub fn compute(spec: &PlateSpec, channels: &[&[f64]], threshold: f64) -> Result<
         moment: Vec::with_capacity(n),
         cop: Vec::with_capacity(n),
         free_moment: Vec::with_capacity(n),
-        normal: Vec::with_capacity(n),
+        push: Vec::with_capacity(n),
         non_finite: 0,
     };
     let mut ch = vec![0.0; channels.len()];
@@ -95,13 +106,13 @@ pub fn compute(spec: &PlateSpec, channels: &[&[f64]], threshold: f64) -> Result<
             ] {
                 v.push(nan);
             }
-            out.normal.push(f64::NAN);
+            out.push.push(f64::NAN);
             continue;
         }
         let w = maker.wrench(&ch);
         out.force.push(frame.to_lab(w.force));
         out.moment.push(frame.to_lab(w.moment));
-        out.normal.push(w.force[2]);
+        out.push.push(-w.force[2]);
         match cop_and_free_moment(w.force, w.moment, threshold, correction.as_ref()) {
             Some((cop, tz)) => {
                 out.cop.push(frame.point_to_lab(cop));
@@ -133,9 +144,10 @@ mod tests {
             [800.0, 800.0, 0.0],
         ];
         let origin = [0.0, 0.0, -40.0];
-        // A subject pushing down (lab −z) at lab (1050, 600, 0): plate coordinates from the
-        // centre (100, 50, 0); in plate axes the push is +z.
-        let f_plate = [5.0, -8.0, 700.0];
+        // A subject pushing down at lab (1050, 600, 0): plate coordinates from the centre
+        // (100, 50, 0); the channels carry the reaction on the foot, up, which is −z in
+        // plate axes.
+        let f_plate = [5.0, -8.0, -700.0];
         let p_plate = [100.0, 50.0, -40.0]; // from O
         let tz = 1.5;
         let mo = {
@@ -158,7 +170,7 @@ mod tests {
         let out = compute(&spec, &refs, 10.0).expect("plate");
         let close = |a: V3, b: V3| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-9);
         assert!(
-            close(out.force[0], [-8.0, 5.0, -700.0]),
+            close(out.force[0], [-8.0, 5.0, 700.0]),
             "{:?}",
             out.force[0]
         );
@@ -176,6 +188,7 @@ mod tests {
             "{:?}",
             out.moment[0]
         );
+        assert_eq!(out.push[0], 700.0);
         // The unloaded sample has a force (zero) but no COP.
         assert!(out.cop[1][0].is_nan() && out.free_moment[1][2].is_nan());
         assert_eq!(out.force[1], [0.0, 0.0, 0.0]);

@@ -251,21 +251,25 @@ impl PyC3d {
             .map_err(err)
     }
 
-    /// force_platforms(threshold=10.0, zero_baseline=False, lowpass=None) -> list[dict]
+    /// force_platforms(threshold=10.0, zero_baseline=True, lowpass=None) -> list[dict]
     ///
     /// Every force plate of the trial (FORCE_PLATFORM, plate types 1-4), at the analog rate,
     /// in the lab frame: `force` (N), `moment` about the centre of the working surface
     /// (N x POINT:UNITS), `cop` (POINT:UNITS) and `free_moment` (the torque about the COP,
-    /// along the plate's normal), each (samples, 3) float64; `cop` and `free_moment` are NaN
-    /// where |Fz| < threshold N. Also `index` (1-based), `type`, `rate`, `channels`
-    /// (1-based), `corners` (4, 3), `centre`, `origin` (as used), `origin_corrected`,
-    /// `peak_force`, `contacts` (foot-strike to foot-off, frames and samples),
-    /// `zero_applied`, `filtered` and `units` {force, moment, position}. zero_baseline
-    /// subtracts each channel's mean over FORCE_PLATFORM:ZERO's frames; lowpass is a
-    /// zero-phase "butterworth:ORDER:CUTOFF_HZ" or "cheby2:ORDER:CUTOFF_HZ:ATTEN_DB" filter of
-    /// the channels. A plate that cannot be computed is left out with a UserWarning naming
-    /// the plate and the parameter.
-    #[pyo3(signature = (threshold=c3dfix::platforms::DEFAULT_THRESHOLD_N, zero_baseline=false, lowpass=None))]
+    /// along the plate's normal), each (samples, 3) float64; `push` (samples,), how hard a
+    /// foot presses the plate down (-Fz of the plate's frame, N; a pull is negative);
+    /// `cop` and `free_moment` are NaN where the push < threshold N. Also `index`
+    /// (1-based), `type`, `rate`, `channels` (1-based), `corners` (4, 3), `centre`, `origin`
+    /// (as used), `origin_corrected`, `peak_force` (largest push), `contacts` (foot-strike to
+    /// foot-off: samples, the file's frame numbers and times on its events' time base),
+    /// `baseline` (the unloaded level subtracted: source, samples, frames, level in N; None
+    /// when none), `filtered` and `units` {force, moment, position}. zero_baseline (on by
+    /// default) subtracts each channel's mean over FORCE_PLATFORM:ZERO's frames, or over the
+    /// plate's quietest low stretch; False keeps the raw values. lowpass is a zero-phase
+    /// "butterworth:ORDER:CUTOFF_HZ" or "cheby2:ORDER:CUTOFF_HZ:ATTEN_DB" filter of the
+    /// channels. A plate that cannot be computed is left out with a UserWarning naming the
+    /// plate and the parameter.
+    #[pyo3(signature = (threshold=c3dfix::platforms::DEFAULT_THRESHOLD_N, zero_baseline=true, lowpass=None))]
     fn force_platforms(
         &self,
         py: Python<'_>,

@@ -49,7 +49,20 @@ pub fn force_platforms(
         d.set_item("cop", array3(py, &p.cop)?)?;
         d.set_item("free_moment", array3(py, &p.free_moment)?)?;
         d.set_item("peak_force", p.peak_force)?;
-        d.set_item("zero_applied", p.zero_applied.map(|z| z.to_vec()))?;
+        d.set_item("push", p.push.clone().into_pyarray(py))?;
+        match &p.baseline {
+            Some(b) => {
+                let bd = PyDict::new(py);
+                bd.set_item("source", b.source.name())?;
+                bd.set_item("first_sample", b.first_sample)?;
+                bd.set_item("last_sample", b.last_sample)?;
+                bd.set_item("first_frame", b.first_frame)?;
+                bd.set_item("last_frame", b.last_frame)?;
+                bd.set_item("level", b.level)?;
+                d.set_item("baseline", bd)?;
+            }
+            None => d.set_item("baseline", py.None())?,
+        }
         d.set_item("filtered", p.filtered.clone())?;
         let contacts = PyList::empty(py);
         for k in &p.contacts {
@@ -58,6 +71,8 @@ pub fn force_platforms(
             kd.set_item("last_sample", k.last_sample)?;
             kd.set_item("first_frame", k.first_frame)?;
             kd.set_item("last_frame", k.last_frame)?;
+            kd.set_item("first_time", k.first_time)?;
+            kd.set_item("last_time", k.last_time)?;
             kd.set_item("peak", k.peak)?;
             contacts.append(kd)?;
         }

@@ -35,8 +35,9 @@ def plates(path, **kw):
 
 
 def readable_plates(path):
+    # Raw values, as ezc3d reads them: no unloaded level removed.
     try:
-        return plates(path)
+        return plates(path, zero_baseline=False)
     except c3dfix.C3dError:  # the corpora's broken files (btkdata_Empty, …)
         return []
 
@@ -102,8 +103,9 @@ def test_every_corpus_plate_of_types_2_to_4_agrees_with_ezc3d():
                 # a and b the sensors' distances, so only the depth turns (sample_17, 27).
                 assert np.all(p["origin"][:2] >= 0)
                 continue
-            fz = np.abs(p["force"] @ np.cross(*_axes(p["corners"])))
-            loaded = fz >= 100.0
+            # Loaded: a foot pushes 100 N or more (the push, -Fz of the plate's frame); a
+            # pull has no COP in c3dfix, whatever ezc3d gives it.
+            loaded = p["push"] >= 100.0
             if not loaded.any():
                 continue
             mm = MM_PER_UNIT.get(p["units"]["position"], 1.0)
@@ -135,13 +137,6 @@ def test_every_corpus_plate_of_types_2_to_4_agrees_with_ezc3d():
     }, set(wrapped)
 
 
-def _axes(corners):
-    c = np.asarray(corners)
-    x = (c[0] + c[3]) - (c[1] + c[2])
-    y = (c[0] + c[1]) - (c[2] + c[3])
-    return x / np.linalg.norm(x), y / np.linalg.norm(y)
-
-
 def test_unsigned_offsets_read_as_the_manual_says():
     """ANALOG:FORMAT "UNSIGNED": OFFSETs are 0..65535. HansUniVie stores 32777 and 32822 as
     the int16 words -32759 and -32714; ezc3d subtracts 32759 and 32714. Only the unsigned
@@ -170,14 +165,21 @@ def test_force_platform_dicts_carry_arrays_and_units():
     assert p["corners"].shape == (4, 3) and p["origin"].shape == (3,)
     assert p["units"] == {"force": "N", "moment": "Nmm", "position": "mm"}
     assert p["type"] == 4 and p["rate"] == 960.0 and p["channels"] == [1, 2, 3, 4, 5, 6]
-    # Unloaded samples have no COP; loaded ones do.
-    fz = np.abs(p["force"][:, 2])
-    assert np.isnan(p["cop"][fz < 10]).all() and np.isfinite(p["cop"][fz > 50]).all()
-    # A higher threshold leaves fewer COPs; the baseline is said when applied.
-    hi = plates(d / "sample_10/TYPE-4a.c3d", threshold=100.0, zero_baseline=True)[0]
+    # Unloaded samples have no COP; loaded ones do. The push is -Fz of the plate's frame,
+    # whose z points down: here the lab's z up, so the push is the lab force's z.
+    push = p["push"]
+    assert push.shape == (n,) and np.allclose(push, p["force"][:, 2])
+    assert np.isnan(p["cop"][push < 10]).all() and np.isfinite(p["cop"][push > 50]).all()
+    # A higher threshold leaves fewer COPs; the baseline (on by default: ZERO's frames 1-10
+    # read a pull of 6.4 N) is said when applied, and zero_baseline=False keeps the raw values.
+    hi = plates(d / "sample_10/TYPE-4a.c3d", threshold=100.0)[0]
     assert np.isfinite(hi["cop"][:, 0]).sum() < np.isfinite(p["cop"][:, 0]).sum()
-    assert hi["zero_applied"] == [1, 10] and p["zero_applied"] is None
+    b = p["baseline"]
+    assert b["source"] == "FORCE_PLATFORM:ZERO" and (b["first_frame"], b["last_frame"]) == (1, 10)
+    raw = plates(d / "sample_10/TYPE-4a.c3d", zero_baseline=False)[0]
+    assert raw["baseline"] is None
     assert p["contacts"][0]["first_frame"] == 108
+    assert abs(p["contacts"][0]["first_time"] - p["contacts"][0]["first_sample"] / 960.0) < 1e-9
 
 
 def test_bad_plates_warn_and_the_file_still_reads():

@@ -6,6 +6,12 @@
 //! manual says). Units: forces in N; positions in POINT:UNITS; moments in N × POINT:UNITS
 //! (see `units` for why ANALOG:UNITS labels are not applied).
 //!
+//! A plate's load is its push (−Fz of its own frame, [`kinetics::plate::PlateOutput::push`]),
+//! never |Fz|: the threshold, the COP's validity, the free moment and the contacts judge it.
+//! Its unloaded level is removed by default ([`Baseline`]): FORCE_PLATFORM:ZERO's frames
+//! where they name an unloaded stretch, else the plate's quietest low stretch
+//! ([`kinetics::baseline`]).
+//!
 //! A plate that cannot be computed (an unsupported type, a CHANNEL beyond the analog data,
 //! CORNERS of the wrong size or enclosing no area, a type 4 without CAL_MATRIX) is left out
 //! with a warning naming the plate and the parameter; the others are computed.
@@ -17,13 +23,18 @@ use crate::error::{Error, Result};
 use c3d::C3d;
 use kinetics::PlateSpec;
 use serde::Serialize;
+use std::ops::Range;
 
 /// What to compute, as a person asks for it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ForceOptions {
-    /// |Fz| below which the COP and free moment are undefined (N).
+    /// The push (N) below which the COP and free moment are undefined and which bounds the
+    /// contacts.
     pub threshold: f64,
-    /// Subtract each channel's mean over FORCE_PLATFORM:ZERO's frames first.
+    /// Remove each plate's unloaded level first: each channel's mean over
+    /// FORCE_PLATFORM:ZERO's frames where they hold the unloaded plate, else over the plate's
+    /// quietest low stretch ([`kinetics::baseline`]). On by default: an offset left in is a
+    /// load in every exported row, or contacts made of noise.
     pub zero_baseline: bool,
     /// A zero-phase low-pass filter of the channels, as for markers:
     /// `butterworth:ORDER:CUTOFF_HZ` or `cheby2:ORDER:CUTOFF_HZ:ATTEN_DB`.
@@ -37,7 +48,7 @@ impl Default for ForceOptions {
     fn default() -> Self {
         ForceOptions {
             threshold: DEFAULT_THRESHOLD_N,
-            zero_baseline: false,
+            zero_baseline: true,
             lowpass: None,
         }
     }
@@ -51,19 +62,58 @@ pub struct Units {
     pub position: String,
 }
 
-/// A stretch where the plate carried at least the threshold: gait's foot-strike to
-/// foot-off.
+/// A stretch where a foot pushed the plate with at least the threshold: gait's foot-strike
+/// to foot-off.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Contact {
     /// First and last analog sample (0-based), inclusive.
     pub first_sample: usize,
     pub last_sample: usize,
-    /// The point frames they fall in, numbered as the file numbers them (from its first
-    /// frame).
+    /// The point frames they fall in, numbered as the file numbers them
+    /// ([`C3d::frame_number`]).
     pub first_frame: usize,
     pub last_frame: usize,
-    /// Largest |Fz| in the stretch (N).
+    /// The times of the first and last sample in seconds, on the file's time base
+    /// ([`C3d::analog_time`], the EVENT group's base).
+    pub first_time: f64,
+    pub last_time: f64,
+    /// Largest push in the stretch (N).
     pub peak: f64,
+}
+
+/// Where a plate's unloaded level was read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum BaselineSource {
+    /// FORCE_PLATFORM:ZERO's frames.
+    #[serde(rename = "FORCE_PLATFORM:ZERO")]
+    Zero,
+    /// The plate's quietest low stretch ([`kinetics::baseline::quiet_stretch`]).
+    #[serde(rename = "quiet")]
+    Quiet,
+}
+
+impl BaselineSource {
+    pub fn name(self) -> &'static str {
+        match self {
+            BaselineSource::Zero => "FORCE_PLATFORM:ZERO",
+            BaselineSource::Quiet => "quiet",
+        }
+    }
+}
+
+/// The unloaded level subtracted from a plate's channels: each channel's mean over these
+/// samples.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Baseline {
+    pub source: BaselineSource,
+    /// First and last analog sample (0-based), inclusive.
+    pub first_sample: usize,
+    pub last_sample: usize,
+    /// The point frames they fall in, numbered as the file numbers them.
+    pub first_frame: usize,
+    pub last_frame: usize,
+    /// The push the plate read there (N), now removed: negative for a pull.
+    pub level: f64,
 }
 
 /// One plate's outputs at the analog rate, all in the lab frame (see [`kinetics::compute`]).
@@ -84,20 +134,21 @@ pub struct Platform {
     pub origin: [f64; 3],
     /// ORIGIN's z had the unexpected sign and was turned round (see the warnings).
     pub origin_corrected: bool,
-    /// FORCE_PLATFORM:ZERO's frames, when their mean was subtracted.
-    pub zero_applied: Option<[usize; 2]>,
+    /// The unloaded level subtracted, if any.
+    pub baseline: Option<Baseline>,
     /// The low-pass filter applied to the channels, if any.
     pub filtered: Option<String>,
     pub force: Vec<[f64; 3]>,
     /// About the centre of the working surface.
     pub moment: Vec<[f64; 3]>,
-    /// NaN (null in JSON) where |Fz| is below the threshold.
+    /// NaN (null in JSON) where the push is below the threshold.
     pub cop: Vec<[f64; 3]>,
     pub free_moment: Vec<[f64; 3]>,
-    /// The force along the plate's own z axis, which the threshold judges.
+    /// The push: −Fz of the plate's own frame (N), which the threshold judges
+    /// ([`kinetics::plate::PlateOutput::push`]).
     #[serde(skip)]
-    pub normal: Vec<f64>,
-    /// Largest |Fz| over the trial (N).
+    pub push: Vec<f64>,
+    /// Largest push over the trial (N).
     pub peak_force: f64,
     pub contacts: Vec<Contact>,
     pub units: Units,
@@ -137,6 +188,9 @@ pub struct ForcePlatforms {
     /// The file's first frame number.
     #[serde(skip)]
     pub first_frame: usize,
+    /// The time of the first analog sample on the file's time base ([`C3d::analog_time`]).
+    #[serde(skip)]
+    pub start_time: f64,
     /// The threshold used (N).
     #[serde(skip)]
     pub threshold: f64,
@@ -151,6 +205,15 @@ impl ForcePlatforms {
             .map(|p| p.force.len())
             .max()
             .unwrap_or(0)
+    }
+
+    /// The time of analog sample `i` in seconds on the file's time base (frame `n` at
+    /// (`n` − 1) / POINT:RATE, the EVENT group's base), as [`C3d::analog_time`] gives it.
+    pub fn time(&self, i: usize) -> f64 {
+        match self.platforms.first() {
+            Some(p) if p.rate > 0.0 && p.rate.is_finite() => self.start_time + i as f64 / p.rate,
+            _ => self.start_time,
+        }
     }
 }
 
@@ -199,6 +262,7 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
             .collect(),
         samples_per_frame: c.analog().samples_per_frame().max(1),
         first_frame: c.first_frame(),
+        start_time: c.analog_time(0),
         threshold: opts.threshold,
     };
     if fp.plates.is_empty() {
@@ -230,18 +294,9 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
         })
     };
 
-    // The baseline's samples, when asked for and possible.
+    // FORCE_PLATFORM:ZERO's samples, when asked for and within the data; absent or [0, 0],
+    // each plate's quiet stretch is used, as it is when ZERO's frames carry a load.
     let zero = match (opts.zero_baseline, fp.zero) {
-        (false, _) => None,
-        (true, None) => {
-            warn(
-                &mut out,
-                0,
-                "ZERO",
-                "names no frames ([0, 0] or absent): no baseline subtracted".into(),
-            );
-            None
-        }
         (true, Some([a, b])) => {
             let (s0, s1) = ((a - 1) * spf, (b * spf).min(samples));
             if s0 >= s1 {
@@ -249,13 +304,14 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
                     &mut out,
                     0,
                     "ZERO",
-                    format!("frames {a}..{b} lie beyond the trial's analog data: no baseline subtracted"),
+                    format!("frames {a}..{b} lie beyond the trial's analog data: each plate's quiet stretch is used instead"),
                 );
                 None
             } else {
                 Some(([a, b], s0..s1))
             }
         }
+        _ => None,
     };
 
     for p in &fp.plates {
@@ -304,10 +360,41 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
             continue;
         }
         let mut ch = channels::physical(analog, &cal, used);
-        let mut zero_applied = None;
-        if let Some((frames, range)) = &zero {
-            channels::subtract_baseline(&mut ch, range);
-            zero_applied = Some(*frames);
+        let spec = PlateSpec {
+            kind: p.kind,
+            corners,
+            origin,
+            cal_matrix: p.cal_matrix.as_deref(),
+            cop_poly: p.cop_poly,
+            mm_per_unit: point_mm,
+        };
+        let mut baseline = None;
+        if opts.zero_baseline {
+            let (found, message) = unloaded_stretch(&spec, &ch, zero.as_ref(), rate);
+            if let Some(message) = message {
+                // Named for ZERO when the file set one; else the rule's own.
+                let parameter = if zero.is_some() {
+                    "FORCE_PLATFORM:ZERO"
+                } else {
+                    "baseline"
+                };
+                out.warnings.push(PlateWarning {
+                    plate: p.index,
+                    parameter: parameter.into(),
+                    message,
+                });
+            }
+            if let Some((source, range, level)) = found {
+                channels::subtract_baseline(&mut ch, &range);
+                baseline = Some(Baseline {
+                    source,
+                    first_sample: range.start,
+                    last_sample: range.end - 1,
+                    first_frame: c.frame_number(range.start / spf),
+                    last_frame: c.frame_number((range.end - 1) / spf),
+                    level,
+                });
+            }
         }
         let bad = channels::non_finite(&ch);
         if bad > 0 {
@@ -359,14 +446,6 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
                 ),
             );
         }
-        let spec = PlateSpec {
-            kind: p.kind,
-            corners,
-            origin,
-            cal_matrix: p.cal_matrix.as_deref(),
-            cop_poly: p.cop_poly,
-            mm_per_unit: point_mm,
-        };
         let refs: Vec<&[f64]> = ch.iter().map(|v| v.as_slice()).collect();
         let r = match kinetics::compute(&spec, &refs, opts.threshold) {
             Ok(r) => r,
@@ -423,18 +502,20 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
             );
         }
         let peak_force = r
-            .normal
+            .push
             .iter()
             .filter(|v| v.is_finite())
-            .fold(0.0f64, |m, v| m.max(v.abs()));
-        let contacts = kinetics::contacts(&r.normal, opts.threshold, rate)
+            .fold(0.0f64, |m, &v| m.max(v));
+        let contacts = kinetics::contacts(&r.push, opts.threshold, rate)
             .into_iter()
             .map(|[a, b]| Contact {
                 first_sample: a,
                 last_sample: b,
-                first_frame: out.first_frame + a / spf,
-                last_frame: out.first_frame + b / spf,
-                peak: r.normal[a..=b].iter().fold(0.0f64, |m, v| m.max(v.abs())),
+                first_frame: c.frame_number(a / spf),
+                last_frame: c.frame_number(b / spf),
+                first_time: c.analog_time(a),
+                last_time: c.analog_time(b),
+                peak: r.push[a..=b].iter().fold(0.0f64, |m, &v| m.max(v)),
             })
             .collect();
         out.platforms.push(Platform {
@@ -446,13 +527,13 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
             centre: r.frame.centre,
             origin: r.origin.used,
             origin_corrected: r.origin.corrected,
-            zero_applied,
+            baseline,
             filtered,
             force: r.force,
             moment: r.moment,
             cop: r.cop,
             free_moment: r.free_moment,
-            normal: r.normal,
+            push: r.push,
             peak_force,
             contacts,
             units: Units {
@@ -463,4 +544,62 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
         });
     }
     Ok(out)
+}
+
+/// The stretch whose channel means are the plate's unloaded level: ZERO's samples where the
+/// plate reads no load there, else the quiet stretch of [`kinetics::baseline`]; with what to
+/// tell the user when the rule had to depart from ZERO or found nothing.
+#[allow(clippy::type_complexity)]
+fn unloaded_stretch(
+    spec: &PlateSpec,
+    ch: &[Vec<f64>],
+    zero: Option<&([usize; 2], Range<usize>)>,
+    rate: f64,
+) -> (Option<(BaselineSource, Range<usize>, f64)>, Option<String>) {
+    let refs: Vec<&[f64]> = ch.iter().map(|v| v.as_slice()).collect();
+    // The raw plate, only for its push and force; errors are the caller's to report.
+    let Ok(raw) = kinetics::compute(spec, &refs, f64::INFINITY) else {
+        return (None, None);
+    };
+    let mut note = None;
+    if let Some(([a, b], range)) = zero {
+        let level = kinetics::baseline::level(&raw.push, range);
+        let long = range.len() as f64 >= kinetics::baseline::MIN_ZERO_S * rate;
+        if !long {
+            note = Some(format!(
+                "frames {a}..{b} span less than {} s: too short to average the plate's noise",
+                kinetics::baseline::MIN_ZERO_S
+            ));
+        } else if kinetics::baseline::unloaded(level) {
+            return (Some((BaselineSource::Zero, range.clone(), level)), None);
+        } else {
+            note = Some(if level.is_finite() {
+                format!(
+                "frames {a}..{b} carry a push of {level:.0} N, a load (an unloaded plate reads at most {} N): not taken as its zero",
+                kinetics::baseline::MAX_UNLOADED_N
+            )
+            } else {
+                format!("frames {a}..{b} hold samples that are not finite: not taken as its zero")
+            });
+        }
+    }
+    match kinetics::baseline::quiet_stretch(&raw.push, &raw.force, rate) {
+        Some(q) if kinetics::baseline::unloaded(q.level) => {
+            let found = (BaselineSource::Quiet, q.range, q.level);
+            let note = note.map(|n| format!("{n}; its quietest low stretch is used"));
+            (Some(found), note)
+        }
+        Some(q) => {
+            let m = format!(
+                "the plate carries at least {:.0} N throughout (a subject standing on it?): no unloaded stretch, nothing subtracted",
+                q.level
+            );
+            (None, Some(note.map_or(m.clone(), |n| format!("{n}; {m}"))))
+        }
+        None => {
+            let m = "no stretch of finite samples as long as a baseline window: nothing subtracted"
+                .to_string();
+            (None, Some(note.map_or(m.clone(), |n| format!("{n}; {m}"))))
+        }
+    }
 }

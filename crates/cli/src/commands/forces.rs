@@ -6,7 +6,7 @@ use crate::commands::info::read_c3d;
 use crate::console::{errln, outln};
 use crate::output::{refuse_input, write_atomic};
 use anyhow::{bail, Result};
-use c3dfix::{ForceOptions, ForcePlatforms};
+use c3dfix::ForcePlatforms;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -16,17 +16,8 @@ pub struct Args {
     /// Print JSON (every sample of every plate) instead of a summary.
     #[arg(long)]
     pub json: bool,
-    /// |Fz| in N below which the COP and free moment are undefined, and which bounds the
-    /// contact intervals.
-    #[arg(long, default_value_t = c3dfix::platforms::DEFAULT_THRESHOLD_N)]
-    pub threshold: f64,
-    /// Subtract each channel's mean over FORCE_PLATFORM:ZERO's frames first.
-    #[arg(long)]
-    pub zero_baseline: bool,
-    /// Zero-phase low-pass filter of the plates' channels: butterworth:ORDER:CUTOFF_HZ or
-    /// cheby2:ORDER:CUTOFF_HZ:ATTEN_DB (as for markers).
-    #[arg(long)]
-    pub lowpass: Option<String>,
+    #[command(flatten)]
+    pub plates: crate::plates::PlateArgs,
     /// Write every sample to a file: JSON (`.json`) or CSV (`.csv`).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
@@ -51,12 +42,7 @@ pub fn run(a: Args) -> Result<i32> {
         None => None,
     };
     let c = read_c3d(&a.file)?;
-    let opts = ForceOptions {
-        threshold: a.threshold,
-        zero_baseline: a.zero_baseline,
-        lowpass: a.lowpass.clone(),
-    };
-    let fp = c3dfix::force_platforms(&c, &opts)?;
+    let fp = crate::plates::compute_with(&c, &a.plates.options())?;
     for w in &fp.warnings {
         errln!("c3dfix: warning: {}: {w}", a.file.display());
     }
@@ -80,6 +66,9 @@ fn json(file: &Path, fp: &ForcePlatforms) -> Result<String> {
     let v = serde_json::json!({
         "file": file.display().to_string(),
         "threshold": fp.threshold,
+        // Sample i of every plate is at start_time + i / rate s, on the file's time base
+        // (the EVENT group's): the contacts' times are on it too.
+        "start_time": fp.start_time,
         "platforms": fp.platforms,
         "warnings": fp.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
     });
@@ -100,7 +89,7 @@ fn summary(file: &Path, fp: &ForcePlatforms) -> Result<()> {
         return Ok(());
     }
     outln!(
-        "{}: {} force platform{} (COP where |Fz| >= {} N)",
+        "{}: {} force platform{} (COP where the push >= {} N)",
         file.display(),
         fp.platforms.len(),
         if fp.platforms.len() == 1 { "" } else { "s" },
@@ -109,15 +98,21 @@ fn summary(file: &Path, fp: &ForcePlatforms) -> Result<()> {
     for p in &fp.platforms {
         let channels: Vec<String> = p.channels.iter().map(|c| c.to_string()).collect();
         outln!(
-            "  plate {}  type {}  channels {}  {} Hz  peak |Fz| {:.1} {}{}{}",
+            "  plate {}  type {}  channels {}  {} Hz  peak push {:.1} {}{}{}",
             p.index,
             p.kind,
             channels.join(","),
             p.rate,
             p.peak_force,
             p.units.force,
-            match p.zero_applied {
-                Some([a, b]) => format!("  baseline frames {a}-{b} subtracted"),
+            match p.baseline {
+                Some(b) => format!(
+                    "  unloaded level {:.1} N subtracted (frames {}-{}, {})",
+                    b.level,
+                    b.first_frame,
+                    b.last_frame,
+                    b.source.name()
+                ),
                 None => String::new(),
             },
             match &p.filtered {
@@ -135,8 +130,8 @@ fn summary(file: &Path, fp: &ForcePlatforms) -> Result<()> {
                 k.last_frame,
                 k.first_sample,
                 k.last_sample,
-                k.first_sample as f64 / p.rate,
-                k.last_sample as f64 / p.rate,
+                k.first_time,
+                k.last_time,
                 k.peak
             )?;
         }
@@ -144,7 +139,8 @@ fn summary(file: &Path, fp: &ForcePlatforms) -> Result<()> {
     Ok(())
 }
 
-/// Every sample as CSV: time, then per plate force, moment, COP and free moment.
+/// Every sample as CSV: time (the file's time base, as its events), then per plate force,
+/// moment, COP and free moment.
 fn csv_table(fp: &ForcePlatforms) -> Result<String> {
     let mut s = String::from("time");
     for p in &fp.platforms {
@@ -161,9 +157,8 @@ fn csv_table(fp: &ForcePlatforms) -> Result<String> {
     }
     s.push('\n');
     let n = fp.samples();
-    let rate = fp.platforms.first().map(|p| p.rate).unwrap_or(1.0);
     for i in 0..n {
-        write!(s, "{}", i as f64 / rate)?;
+        write!(s, "{}", fp.time(i))?;
         for p in &fp.platforms {
             for v in [&p.force, &p.moment, &p.cop, &p.free_moment] {
                 for x in v.get(i).copied().unwrap_or([f64::NAN; 3]) {

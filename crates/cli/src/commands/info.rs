@@ -34,9 +34,9 @@ struct PlateInfo {
     channels: Vec<usize>,
     /// The centre of the corners, POINT:UNITS.
     centre: [f64; 3],
-    /// Largest |Fz| over the trial (N).
+    /// Largest push over the trial (N), its unloaded level removed.
     peak_force: f64,
-    /// Stretches carrying at least the threshold.
+    /// Stretches where a foot pushes with at least the threshold.
     contacts: usize,
 }
 
@@ -348,7 +348,7 @@ fn print_text(r: &Report) -> Result<()> {
         for p in &r.force_platforms {
             let channels: Vec<String> = p.channels.iter().map(|c| c.to_string()).collect();
             outln!(
-                "    plate {}  type {}  channels {}  centre ({:.1}, {:.1}, {:.1}) {}  peak |Fz| {:.1} N  {} contact{}",
+                "    plate {}  type {}  channels {}  centre ({:.1}, {:.1}, {:.1}) {}  peak push {:.1} N  {} contact{}",
                 p.index,
                 p.kind,
                 channels.join(","),

@@ -24,6 +24,9 @@ pub struct Args {
     /// An analog channel (label or 1-based number) drawn in physical units below.
     #[arg(long)]
     pub analog: Option<String>,
+    /// With --forces: the plates' options, as for `forces`.
+    #[command(flatten)]
+    pub plates: crate::plates::PlateArgs,
     /// Output picture: .svg or .png.
     #[arg(short, long)]
     pub output: PathBuf,
@@ -39,9 +42,12 @@ pub fn run(a: Args) -> Result<i32> {
         .flatten()
         .collect();
     crate::output::refuse_input(&a.output, &inputs, "output")?;
+    if !a.forces && a.plates.given() {
+        anyhow::bail!("--threshold, --no-zero-baseline and --lowpass apply to --forces only");
+    }
     let c = read_c3d(&a.file)?;
     if a.forces {
-        let fp = crate::plates::compute(&c)?;
+        let fp = crate::plates::compute_with(&c, &a.plates.options())?;
         for w in &fp.warnings {
             crate::console::errln!("c3dfix: warning: {}: {w}", a.file.display());
         }

@@ -60,15 +60,18 @@ class C3d:
     def force_platforms(
         self,
         threshold: float = 10.0,
-        zero_baseline: bool = False,
+        zero_baseline: bool = True,
         lowpass: Optional[str] = None,
     ) -> List[Dict[str, Any]]:
         """Every force plate (types 1-4), lab frame, at the analog rate: `force` (N),
         `moment` about the working surface's centre (N x POINT:UNITS), `cop` (POINT:UNITS,
-        NaN where |Fz| < threshold N), `free_moment`, each (samples, 3) float64; with
+        NaN where the push < threshold N), `free_moment`, each (samples, 3) float64, and
+        `push` (samples,): -Fz of the plate's frame, how hard a foot presses it down; with
         `index`, `type`, `rate`, `channels`, `corners` (4, 3), `centre`, `origin`,
-        `origin_corrected`, `peak_force`, `contacts`, `zero_applied`, `filtered` and
-        `units` {force, moment, position}. Plates that cannot be computed are left out
+        `origin_corrected`, `peak_force`, `contacts` (samples, frames, times on the
+        events' time base), `baseline` (the unloaded level subtracted, or None; pass
+        zero_baseline=False for raw values), `filtered` and `units` {force, moment,
+        position}. Plates that cannot be computed are left out
         with a UserWarning naming the plate and the parameter."""
         ...
     def write(self, path: _Path) -> None:
