@@ -21,7 +21,7 @@ pub mod pool;
 mod processor;
 mod read;
 mod text;
-mod units;
+pub mod units;
 mod write;
 
 pub use analog::{Analog, Calibration};
@@ -35,4 +35,4 @@ pub use parameters::{Group, Parameter, Parameters, Record, Value};
 pub use points::{is_missing, Points};
 pub use processor::Processor;
 pub use read::{read, read_file, read_file_mapped};
-pub use units::mm_per_unit;
+pub use units::{length_mm, mm_per_unit, UnknownUnit};

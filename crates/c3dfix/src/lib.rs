@@ -20,8 +20,10 @@
 //! # Ok::<(), c3dfix::Error>(())
 //! ```
 
+pub mod axes;
 mod error;
 pub mod evaluate;
+pub mod export;
 pub mod files;
 mod gaps;
 pub mod markers;
@@ -30,10 +32,12 @@ pub mod platforms;
 mod repair;
 pub mod save;
 pub mod trial;
+pub mod units;
 
 pub use ::c3d;
 pub use ::kinetics;
 pub use ::repair as repair_lib;
+pub use axes::{Axes, Direction, Up, UpSource};
 pub use error::{Error, Result};
 pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
 pub use gaps::{gaps, GapInfo};

@@ -3,10 +3,11 @@
 //! foot-off.
 
 use crate::commands::info::read_c3d;
+use crate::commands::plate_args::PlateArgs;
 use crate::console::{errln, outln};
 use crate::output::{refuse_input, write_atomic};
 use anyhow::{bail, Result};
-use c3dfix::{ForceOptions, ForcePlatforms};
+use c3dfix::ForcePlatforms;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -16,17 +17,8 @@ pub struct Args {
     /// Print JSON (every sample of every plate) instead of a summary.
     #[arg(long)]
     pub json: bool,
-    /// |Fz| in N below which the COP and free moment are undefined, and which bounds the
-    /// contact intervals.
-    #[arg(long, default_value_t = c3dfix::platforms::DEFAULT_THRESHOLD_N)]
-    pub threshold: f64,
-    /// Subtract each channel's mean over FORCE_PLATFORM:ZERO's frames first.
-    #[arg(long)]
-    pub zero_baseline: bool,
-    /// Zero-phase low-pass filter of the plates' channels: butterworth:ORDER:CUTOFF_HZ or
-    /// cheby2:ORDER:CUTOFF_HZ:ATTEN_DB (as for markers).
-    #[arg(long)]
-    pub lowpass: Option<String>,
+    #[command(flatten)]
+    pub plates: PlateArgs,
     /// Write every sample to a file: JSON (`.json`) or CSV (`.csv`).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
@@ -51,12 +43,7 @@ pub fn run(a: Args) -> Result<i32> {
         None => None,
     };
     let c = read_c3d(&a.file)?;
-    let opts = ForceOptions {
-        threshold: a.threshold,
-        zero_baseline: a.zero_baseline,
-        lowpass: a.lowpass.clone(),
-    };
-    let fp = c3dfix::force_platforms(&c, &opts)?;
+    let fp = c3dfix::force_platforms(&c, &a.plates.options())?;
     for w in &fp.warnings {
         errln!("c3dfix: warning: {}: {w}", a.file.display());
     }

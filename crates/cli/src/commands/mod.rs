@@ -11,6 +11,7 @@ pub mod gaps;
 pub mod info;
 pub mod keyframes;
 pub mod parallel;
+pub mod plate_args;
 pub mod plot;
 pub mod repair;
 pub mod repair_io;
