@@ -7,7 +7,8 @@
 //! ([`markers`]), trajectories in and repaired samples back with the C3D manual's flags
 //! ([`trial`]), options as people write them ([`RepairOptions`]), reports, and atomic
 //! writing ([`save()`], [`mod@save`]); a file in and a file out, as the command does, in
-//! [`files`].
+//! [`files`]; the text exports (TRC, MOT, CSV, JSON, the OpenSim pair) in [`export`], the
+//! lab's up and axis rotations in [`axes`], length units in [`units`].
 //!
 //! ```no_run
 //! use c3dfix::{RepairOptions, SaveOptions};

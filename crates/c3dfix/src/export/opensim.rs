@@ -29,7 +29,7 @@ pub struct OpenSimOptions {
 #[derive(Debug, Clone)]
 pub struct OpenSimExport {
     pub trc: PathBuf,
-    /// `None` when the trial has no force plates.
+    /// `None` when the trial has no force plates that can be computed.
     pub mot: Option<PathBuf>,
     /// The rotation applied (lab axes as OpenSim's X, Y, Z).
     pub axes: Axes,
@@ -82,9 +82,16 @@ pub fn opensim(
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
     let t = trc(c, &name, &points, &rotation)?;
     let has_plates = !c.platform_params().plates.is_empty();
+    // A file whose FORCE_PLATFORM names plates none of which can be computed gets its TRC
+    // and the plates' warnings.
     let (mot_text, warnings) = if has_plates {
         let fp = crate::force_platforms(c, &opts.forces)?;
-        (Some(mot(c, &fp, input, &rotation)?), fp.warnings)
+        let text = if fp.platforms.is_empty() {
+            None
+        } else {
+            Some(mot(c, &fp, input, &rotation)?)
+        };
+        (text, fp.warnings)
     } else {
         (None, Vec::new())
     };

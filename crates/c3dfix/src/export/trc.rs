@@ -6,7 +6,7 @@ use crate::error::Result;
 use std::fmt::Write as _;
 
 /// A TRC file's text, and the labels that had to be changed to fit it (a tab or line break
-/// became a space).
+/// became a space; an empty label became `PointN`, N the point's 1-based number).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Trc {
     pub text: String,
@@ -42,8 +42,13 @@ pub fn trc(c: &c3d::C3d, name: &str, points: &[usize], axes: &Axes) -> Result<Tr
     s.push_str("Frame#\tTime");
     for &i in points {
         let l = labels.get(i).map_or("", String::as_str);
-        let (clean, was_changed) = header_label(l);
-        if was_changed {
+        let (mut clean, was_changed) = header_label(l);
+        // OpenSim drops empty label fields and then counts too few: an unnamed point is
+        // named by its number.
+        if clean.trim().is_empty() {
+            clean = format!("Point{}", i + 1);
+            changed.push(l.to_string());
+        } else if was_changed {
             changed.push(l.to_string());
         }
         let _ = write!(s, "\t{clean}\t\t");

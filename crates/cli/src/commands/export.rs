@@ -165,7 +165,7 @@ pub fn run(a: Args) -> Result<i32> {
 fn warn_labels(file: &std::path::Path, changed: &[String]) -> Result<()> {
     for l in changed {
         errln!(
-            "c3dfix: warning: {}: label {l:?} holds a tab or line break, which TRC cannot; written with spaces",
+            "c3dfix: warning: {}: label {l:?} is empty or holds a tab or line break, which TRC cannot; written as a point number or with spaces",
             file.display()
         );
     }
