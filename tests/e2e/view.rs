@@ -562,8 +562,13 @@ fn every_corpus_trial_has_the_expected_up() {
     }
     // Labs whose data is not Z-up, each known from its source: OpenSim-style Y-up trials
     // (nimblephysics' own captures), MotionMonitor and ezc3d's metre trial whose plates face
-    // +y, NexGen's Y-up markers.
+    // +y, NexGen's Y-up markers, BTS systems (sample_28, BTK's 561xxa01) whose plates face +y
+    // and whose lowest markers stay at one y.
     let y_up = [
+        "btkdata_561xxa01_anonym.C3D",
+        "dynamic.C3D",
+        "standing.C3D",
+        "type1.C3D",
         "keenon__nimblephysics__nick_freeform_001.c3d",
         "keenon__nimblephysics__squat.c3d",
         "pyomeca__ezc3d-testFiles__FP_Type1.c3d",

@@ -33,6 +33,9 @@ struct Meta<'a> {
     up: usize,
     /// Whether up is the axis' positive direction (else the page turns the scene over).
     up_positive: bool,
+    /// Whether the file marks fills (residual 0 among positive residuals): the legend shows
+    /// "filled" only then.
+    fills_marked: bool,
     sticks: Vec<(usize, usize)>,
     /// Points whose traces are drawn from the start.
     traced: Vec<usize>,
@@ -263,6 +266,7 @@ pub fn render(
         count: p.count(),
         up: up.axis,
         up_positive: up.positive,
+        fills_marked: style.fills_marked,
         sticks: style.sticks,
         traced: style.traced,
         shadow: style.shadow,

@@ -221,5 +221,13 @@ mod tests {
             k.flags,
             vec![VALID, VALID | FILLED, 0, 0, VALID, 0, 0, 0, 0]
         );
+        // A file whose residuals mark no fills: residual 0 is no fill there.
+        assert_eq!(
+            pack(&p, &order, 3, false).flags,
+            vec![VALID, VALID, 0, 0, VALID, 0, 0, 0, 0]
+        );
+        assert!(super::super::fills_marked(&p));
+        p.residual = vec![0.0, 0.0, -1.0, 0.0];
+        assert!(!super::super::fills_marked(&p));
     }
 }

@@ -324,7 +324,9 @@
   const frameEl = $('frame'), slider = $('slider'), hud = $('hud');
   slider.max = String(Math.max(0, N - 1));
   function updateText(meanErr) {
-    const t = meta.rate > 0 ? (frame / meta.rate).toFixed(3) + ' s' : '';
+    // A C3D frame n is at (n - 1) / rate, the file's one time base (EVENT times, exports).
+    const t0 = skeleton ? 0 : Math.max(meta.first_frame - 1, 0);
+    const t = meta.rate > 0 ? ((t0 + frame) / meta.rate).toFixed(3) + ' s' : '';
     frameEl.textContent = 'Frame ' + (meta.first_frame + frame) + ' (' + (frame + 1) + '/' + N + ') ' + t;
     slider.value = String(frame);
     let h = '<b></b>';
@@ -336,7 +338,7 @@
     } else {
       h += ' · ' + M + ' markers, ' + hz + ' Hz';
       h += '<br><span class="k" style="background:' + COL.marker + '"></span>measured';
-      h += '<span class="k" style="background:' + COL.filled + '"></span>filled (residual 0)';
+      if (meta.fills_marked !== false) h += '<span class="k" style="background:' + COL.filled + '"></span>filled (residual 0)';
       h += '<span class="k" style="border:1px dashed ' + COL.ghost + '"></span>missing (last seen)';
     }
     if (P) {
