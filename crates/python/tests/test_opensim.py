@@ -29,6 +29,9 @@ except ImportError as e:  # pragma: no cover - depends on the machine
         raise AssertionError(f"CI needs OpenSim for these tests: import opensim failed: {e}")
     pytest.skip(f"OpenSim not installed (pip install opensim): {e}", allow_module_level=True)
 
+# OpenSim logs to opensim.log in the working folder: not from a test run.
+osim.Logger.removeFileSink()
+
 MODEL_OUTPUT_PARAMS = ("ANGLES", "FORCES", "MOMENTS", "POWERS", "SCALARS", "REACTIONS")
 MM = {"mm": 1.0, "m": 1000.0, "mete": 1000.0, "cm": 10.0}
 
