@@ -17,7 +17,7 @@ venv="${C3DFIX_VENV:-$root/target/venv}"
 if [ ! -x "$venv/bin/python" ]; then
   python3 -m venv "$venv"
 fi
-"$venv/bin/python" -m pip install -q --disable-pip-version-check numpy pytest ezc3d maturin 'dask[distributed]'
+"$venv/bin/python" -m pip install -q --disable-pip-version-check numpy pytest ezc3d maturin opensim 'dask[distributed]'
 # The wheel users get (abi3, release), built once into a fresh folder and installed as a user
 # installs it; the installed package is tested, not the source tree.
 wheels="$root/target/wheels-test"

@@ -396,7 +396,7 @@ fn axes_must_be_a_rotation_and_mot_needs_plates() {
     }
     let out = c3dfix(&["export", s(&walk), "--format", "csv", "--axes", "x,z,-y"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(stderr(&out).contains("--axes applies to --format trc and mot only"));
+    assert!(stderr(&out).contains("--axes applies to --format trc, mot and opensim only"));
 
     let mot = dir.path().join("walk.mot");
     let out = c3dfix(&["export", s(&walk), "--format", "mot", "-o", s(&mot)]);
@@ -426,8 +426,10 @@ fn trc_export_turns_the_markers_with_axes() {
         assert_eq!(fa[..2], fb[..2]);
         for m in 0..(fa.len() - 2) / 3 {
             let (x, y, z) = (fa[2 + 3 * m], fa[3 + 3 * m], fa[4 + 3 * m]);
-            if x.is_empty() {
-                assert!(fb[2 + 3 * m..5 + 3 * m].iter().all(|v| v.is_empty()));
+            if x == "NaN" {
+                // A missing sample is NaN in all three fields, so every row is whole.
+                assert!(fb[2 + 3 * m..5 + 3 * m].iter().all(|v| *v == "NaN"));
+                assert_eq!((y, z), ("NaN", "NaN"));
                 continue;
             }
             let num = |t: &str| t.parse::<f32>().unwrap();
@@ -673,4 +675,106 @@ fn contacts_and_times_are_on_the_files_base() {
         .parse()
         .unwrap();
     assert!(close(first, 2.59, 1e-9), "{first}");
+}
+
+/// `export --format opensim` writes NAME.trc and NAME.mot into --out-dir, turned so that the
+/// plates' up (+z) is OpenSim's Y; `export --format mot` takes the plate options of `forces`.
+#[test]
+fn opensim_export_writes_both_files_y_up_and_mot_takes_the_plate_options() {
+    let Some(file) = type2a() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let out = c3dfix(&[
+        "export",
+        s(&file),
+        "--format",
+        "opensim",
+        "--out-dir",
+        s(dir.path()),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("up +z from the force plates"),
+        "{}",
+        stdout(&out)
+    );
+    let (trc, mot) = (
+        dir.path().join("TYPE-2a.trc"),
+        dir.path().join("TYPE-2a.mot"),
+    );
+    let (_, columns, rows) = read_mot(&mot);
+    assert_eq!(columns[2], "ground_force_1_vy");
+    let plain = dir.path().join("plain.mot");
+    let out = c3dfix(&["export", s(&file), "--format", "mot", "-o", s(&plain)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let (_, _, lab) = read_mot(&plain);
+    // The lab's vertical force (z) is OpenSim's y, whatever the direction of travel.
+    for i in [0, 2000, 4000] {
+        assert_eq!(rows[i][2], lab[i][3], "row {i}");
+    }
+    let text = std::fs::read_to_string(&trc).unwrap();
+    assert!(text.starts_with("PathFileType\t4\t(X/Y/Z)\tTYPE-2a.c3d\n"));
+    // Written again only with --force.
+    let out = c3dfix(&[
+        "export",
+        s(&file),
+        "--format",
+        "opensim",
+        "--out-dir",
+        s(dir.path()),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("exists"), "{}", stderr(&out));
+
+    // The plate options of `forces`: a higher threshold leaves more rows unloaded.
+    let high = dir.path().join("high.mot");
+    let out = c3dfix(&[
+        "export",
+        s(&file),
+        "--format",
+        "mot",
+        "--threshold",
+        "400",
+        "-o",
+        s(&high),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let (_, _, hi) = read_mot(&high);
+    let unloaded = |rows: &[Vec<f64>]| rows.iter().filter(|r| r[3] == 0.0).count();
+    assert!(
+        unloaded(&hi) > unloaded(&lab),
+        "{} {}",
+        unloaded(&hi),
+        unloaded(&lab)
+    );
+    let out = c3dfix(&["export", s(&file), "--format", "opensim"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("--format opensim needs --out-dir DIR"));
+}
+
+/// `--markers` chooses the exported points, in the order given; an unknown label is an
+/// error that lists the file's labels.
+#[test]
+fn markers_choose_the_exported_points() {
+    let walk = sample("walk_int.c3d");
+    let out = c3dfix(&[
+        "export",
+        s(&walk),
+        "--format",
+        "trc",
+        "--markers",
+        "RKNE,LASI",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(lines[2].starts_with("100\t100\t400\t2\tmm"), "{}", lines[2]);
+    assert_eq!(lines[3], "Frame#\tTime\tRKNE\t\t\tLASI\t\t");
+    assert!(lines[6..].iter().all(|l| l.split('\t').count() == 8));
+    let out = c3dfix(&["export", s(&walk), "--format", "csv", "--markers", "NOPE"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("no marker \"NOPE\""),
+        "{}",
+        stderr(&out)
+    );
 }

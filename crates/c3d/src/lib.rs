@@ -20,7 +20,7 @@ mod points;
 mod processor;
 mod read;
 mod text;
-mod units;
+pub mod units;
 mod write;
 
 pub use analog::{Analog, Calibration};
@@ -34,4 +34,4 @@ pub use parameters::{Group, Parameter, Parameters, Record, Value};
 pub use points::{is_missing, Points};
 pub use processor::Processor;
 pub use read::{read, read_file, read_file_mapped};
-pub use units::mm_per_unit;
+pub use units::{length_mm, mm_per_unit, UnknownUnit};

@@ -26,6 +26,16 @@ pub enum Error {
     /// The trial cannot be processed as asked (no points, too few markers).
     #[error("{}: {what}", path.display())]
     Trial { path: PathBuf, what: String },
+    /// A parameter names a unit the output cannot convert (an export to metres from a
+    /// POINT:UNITS no table knows).
+    #[error("{}: {parameter} {source}", path.display())]
+    Unit {
+        path: PathBuf,
+        /// The parameter that holds the unit, e.g. "POINT:UNITS".
+        parameter: String,
+        #[source]
+        source: c3d::UnknownUnit,
+    },
     /// The repair library refused the data or configuration.
     #[error("{}: {source}", path.display())]
     Repair {

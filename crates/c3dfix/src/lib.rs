@@ -7,7 +7,8 @@
 //! ([`markers`]), trajectories in and repaired samples back with the C3D manual's flags
 //! ([`trial`]), options as people write them ([`RepairOptions`]), reports, and atomic
 //! writing ([`save()`], [`mod@save`]); a file in and a file out, as the command does, in
-//! [`files`].
+//! [`files`]; the text exports (TRC, MOT, CSV, JSON, the OpenSim pair) in [`export`], the
+//! lab's up and axis rotations in [`axes`], length units in [`units`].
 //!
 //! ```no_run
 //! use c3dfix::{RepairOptions, SaveOptions};
@@ -20,8 +21,10 @@
 //! # Ok::<(), c3dfix::Error>(())
 //! ```
 
+pub mod axes;
 mod error;
 pub mod evaluate;
+pub mod export;
 pub mod files;
 mod gaps;
 pub mod markers;
@@ -30,10 +33,12 @@ pub mod platforms;
 mod repair;
 pub mod save;
 pub mod trial;
+pub mod units;
 
 pub use ::c3d;
 pub use ::kinetics;
 pub use ::repair as repair_lib;
+pub use axes::{Axes, Direction, Up, UpSource};
 pub use error::{Error, Result};
 pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
 pub use gaps::{gaps, GapInfo};

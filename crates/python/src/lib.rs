@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
 
+mod export;
 mod files;
 mod pickling;
 mod platforms;
@@ -482,6 +483,10 @@ fn _c3dfix(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(files::repair_file, m)?)?;
     m.add_function(wrap_pyfunction!(files::convert_file, m)?)?;
+    m.add_function(wrap_pyfunction!(export::export_trc, m)?)?;
+    m.add_function(wrap_pyfunction!(export::export_mot, m)?)?;
+    m.add_function(wrap_pyfunction!(export::export_opensim, m)?)?;
+    m.add_function(wrap_pyfunction!(export::lab_up, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

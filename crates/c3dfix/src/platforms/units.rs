@@ -8,16 +8,10 @@
 
 use kinetics::PlateKind;
 
-/// Millimetres per unit of a length unit's name, or `None` for a name that is no length.
+/// Millimetres per unit of a length unit's name, or `None` for a name that is no length
+/// (the workspace's one table, [`c3d::units::length_mm`]).
 pub(super) fn length_mm(unit: &str) -> Option<f64> {
-    match unit.trim().to_ascii_lowercase().as_str() {
-        "mm" => Some(1.0),
-        "m" => Some(1000.0),
-        "cm" => Some(10.0),
-        "dm" => Some(100.0),
-        "in" => Some(25.4),
-        _ => None,
-    }
+    c3d::units::length_mm(unit).ok()
 }
 
 /// Millimetres per unit of a moment unit's length ("Nmm", "N.m", "N*mm", "N·m", "N-m").

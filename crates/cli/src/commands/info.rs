@@ -64,6 +64,11 @@ pub struct Report<'a> {
     points: usize,
     point_units: String,
     point_scale: f32,
+    /// The lab's up ("+z"), from the plates' corners or else the markers; null when neither
+    /// tells.
+    up: Option<c3dfix::Direction>,
+    /// What `up` was read from: "plates" or "markers".
+    up_source: Option<c3dfix::UpSource>,
     analog_channels: usize,
     analog_rate: f32,
     analog_samples_per_frame: usize,
@@ -147,6 +152,7 @@ pub fn describe<'a>(c: &'a c3d::C3d, file: &Path) -> Report<'a> {
     let frames = c.frames();
     let rate = c.point_rate();
     let (force_platforms, force_platform_warnings) = plates(c);
+    let up = c3dfix::axes::up(c);
     Report {
         file: file.display().to_string(),
         bytes: c.source_bytes().map_or(0, |b| b.len()),
@@ -167,6 +173,8 @@ pub fn describe<'a>(c: &'a c3d::C3d, file: &Path) -> Report<'a> {
             .parameters
             .get_f32("POINT", "SCALE")
             .unwrap_or(c.header.scale),
+        up: up.map(|u| u.up),
+        up_source: up.map(|u| u.source),
         analog_channels: c.analog_channels(),
         analog_rate: if c.analog_channels() > 0 {
             c.analog_rate()
@@ -260,6 +268,10 @@ fn print_text(r: &Report) -> Result<()> {
         r.point_units,
         r.point_scale
     )?;
+    match (r.up, r.up_source) {
+        (Some(up), Some(source)) => outln!("  up           {up} (from {source})")?,
+        _ => outln!("  up           unknown (no force plates, no marker samples)")?,
+    }
     if r.analog_channels > 0 {
         outln!(
             "  analog       {} channels at {} Hz ({} samples per frame)",

@@ -2,15 +2,15 @@
 //! centres of pressure over the plates' outlines seen from above.
 //!
 //! The force drawn is the lab-frame force's component along the lab's vertical axis (the
-//! axis the plates' surfaces face, [`crate::plates::vertical_axis`]), as `forces` reports
+//! axis the plates' surfaces face, [`c3dfix::axes::platforms_up`]), as `forces` reports
 //! it: the reaction on the body, positive while a foot pushes on the plate in a lab whose
 //! vertical axis points up. The plate-frame normal force is not drawn,
 //! because its sign follows each plate's own axes, which differ between plates of one lab.
 
 use super::decimate;
 use super::draw::{font, png_bytes, Format};
-use crate::plates::{horizontal_axes, vertical_axis};
 use anyhow::{anyhow, bail, Result};
+use c3dfix::axes::{horizontal_axes, platforms_up};
 use c3dfix::ForcePlatforms;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -82,7 +82,7 @@ fn draw<DB: DrawingBackend>(
         .map_err(err)?;
     let (_, h) = body.dim_in_pixel();
     let (top, bottom) = body.split_vertically(h * 2 / 5);
-    let up = vertical_axis(&fp.platforms[0]);
+    let up = platforms_up(fp).map_or(2, |d| d.axis);
     draw_vertical(fp, up, family, &top)?;
     draw_top_view(fp, up, family, &bottom)?;
     Ok(())

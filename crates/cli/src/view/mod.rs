@@ -31,6 +31,11 @@ struct Meta<'a> {
     count: usize,
     /// Vertical axis of the data (0 x, 1 y, 2 z).
     up: usize,
+    /// Whether up is the axis' positive direction (else the page turns the scene over).
+    up_positive: bool,
+    /// Whether the file marks fills (residual 0 among positive residuals): the legend shows
+    /// "filled" only then.
+    fills_marked: bool,
     sticks: Vec<(usize, usize)>,
     /// Points whose traces are drawn from the start.
     traced: Vec<usize>,
@@ -78,6 +83,41 @@ pub struct Style {
     pub shadow: bool,
     /// Force plates with their ground reaction per frame.
     pub plates: Option<pack::PlateFrames>,
+    /// The lab's up ([`c3dfix::axes::up`]); `None`: the axis of largest spread, [`up_axis`].
+    pub up: Option<c3dfix::Direction>,
+    /// Whether a residual of 0 marks a computed sample in this file (see [`fills_marked`]).
+    pub fills_marked: bool,
+}
+
+/// Whether the file's residuals tell filled samples from measured ones: a residual of 0
+/// marks a computed sample (the C3D manual's mark, which repair writes), but only where the
+/// writer records residuals at all. A file whose every valid sample has residual 0 (some
+/// writers store 0 everywhere) marks no fills, so nothing is shown as filled.
+pub fn fills_marked(p: &Points) -> bool {
+    (0..p.xyz.len()).any(|k| p.is_valid_at(k) && p.residual[k] > 0.0)
+}
+
+/// The markers of `c` (model outputs left out: angles and moments are no positions to draw)
+/// as their own points, labels, and for each point of `c` its index among them.
+fn markers_only(c: &C3d) -> (Points, Vec<String>, Vec<Option<usize>>) {
+    let keep = c3dfix::markers::marker_indices(c);
+    let src = c.points();
+    let mut p = Points::new(src.frames(), keep.len());
+    let mut new_index = vec![None; src.count()];
+    for (j, &i) in keep.iter().enumerate() {
+        new_index[i] = Some(j);
+    }
+    for f in 0..src.frames() {
+        for (j, &i) in keep.iter().enumerate() {
+            let (from, to) = (src.index(f, i), p.index(f, j));
+            p.xyz[to] = src.xyz[from];
+            p.residual[to] = src.residual[from];
+            p.camera_mask[to] = src.camera_mask[from];
+        }
+    }
+    let all = c.point_labels();
+    let labels = keep.iter().map(|&i| all[i].clone()).collect();
+    (p, labels, new_index)
 }
 
 /// The axis along which markers spread most within a frame: a standing body is taller than it
@@ -135,7 +175,8 @@ fn script_json<T: Serialize>(v: &T) -> Result<String> {
 }
 
 /// The viewer page for `file` (the repaired data when comparing), with `original` drawn beside
-/// it and its markers matched by label. Stick pairs index `file`'s markers.
+/// it and its markers matched by label. Stick pairs index `file`'s points; model outputs are
+/// not drawn, nor sticks to them. The scene stands on the lab's up ([`c3dfix::axes::up`]).
 pub fn page(
     file: (&C3d, &str),
     original: Option<(&C3d, &str)>,
@@ -143,7 +184,14 @@ pub fn page(
     plates: Option<&c3dfix::ForcePlatforms>,
 ) -> Result<String> {
     let (c, name) = file;
-    let labels = c.point_labels();
+    let (points, labels, new_index) = markers_only(c);
+    if points.count() == 0 && c.point_count() > 0 {
+        bail!("{name} has only model outputs (angles, moments, …), no markers to show");
+    }
+    let sticks = sticks
+        .into_iter()
+        .filter_map(|(a, b)| Some((*new_index.get(a)?.as_ref()?, *new_index.get(b)?.as_ref()?)))
+        .collect();
     let orig = match original {
         Some((o, oname)) => {
             if o.points().count() == 0 {
@@ -165,8 +213,18 @@ pub fn page(
         plates: plates
             .filter(|fp| !fp.platforms.is_empty())
             .map(|fp| pack::plate_frames(fp, c.frames())),
+        up: c3dfix::axes::up(c).map(|u| u.up),
+        fills_marked: fills_marked(&points),
     };
-    render(Trial::c3d(c, name), orig, style)
+    let trial = Trial {
+        name,
+        points: &points,
+        labels,
+        units: c.point_units(),
+        rate: c.point_rate(),
+        first_frame: c.first_frame(),
+    };
+    render(trial, orig, style)
 }
 
 /// The viewer page for any trial; `original` comes with, for each of `file`'s points, the
@@ -182,10 +240,14 @@ pub fn render(
         bail!("{name} has no 3D points to show");
     }
     let all: Vec<Option<usize>> = (0..p.count()).map(Some).collect();
-    let packed = pack::pack(p, &all, p.frames());
+    let packed = pack::pack(p, &all, p.frames(), style.fills_marked);
     let orig = original
         .as_ref()
-        .map(|(o, order)| pack::pack(o.points, order, p.frames()));
+        .map(|(o, order)| pack::pack(o.points, order, p.frames(), false));
+    let up = style.up.unwrap_or(c3dfix::Direction {
+        axis: up_axis(p),
+        positive: true,
+    });
     let oname = original.as_ref().map(|(o, _)| o.name);
     let title = match oname {
         Some(oname) => format!("{name} vs {oname}"),
@@ -202,7 +264,9 @@ pub fn render(
         first_frame: file.first_frame,
         frames: p.frames(),
         count: p.count(),
-        up: up_axis(p),
+        up: up.axis,
+        up_positive: up.positive,
+        fills_marked: style.fills_marked,
         sticks: style.sticks,
         traced: style.traced,
         shadow: style.shadow,

@@ -5,7 +5,8 @@ use c3d::Points;
 
 /// Flag bit: the sample is valid (not missing by `c3d::is_missing`).
 pub const VALID: u8 = 1;
-/// Flag bit: the sample was computed, not measured (residual exactly 0).
+/// Flag bit: the sample was computed, not measured (residual exactly 0 in a file that marks
+/// fills, see [`super::fills_marked`]).
 pub const FILLED: u8 = 2;
 
 /// Coordinates as little-endian f32, frame-major (`(frame * count + marker) * 3 + axis`),
@@ -18,8 +19,9 @@ pub struct Packed {
 
 /// Pack `frames` frames of `points`, with marker `i` of the output taken from point
 /// `order[i]` (`None`, or a frame past the end, gives invalid samples). This lines an original
-/// file's markers up with the repaired file's by label.
-pub fn pack(points: &Points, order: &[Option<usize>], frames: usize) -> Packed {
+/// file's markers up with the repaired file's by label. `fills_marked`: whether a residual
+/// of 0 means filled in this file.
+pub fn pack(points: &Points, order: &[Option<usize>], frames: usize, fills_marked: bool) -> Packed {
     let n = frames * order.len();
     let mut xyz = Vec::with_capacity(n * 12);
     let mut flags = Vec::with_capacity(n);
@@ -31,7 +33,7 @@ pub fn pack(points: &Points, order: &[Option<usize>], frames: usize) -> Packed {
                 .filter(|&i| points.is_valid_at(i));
             let (v, fl) = match sample {
                 Some(i) => {
-                    let fl = if points.residual[i] == 0.0 {
+                    let fl = if fills_marked && points.residual[i] == 0.0 {
                         VALID | FILLED
                     } else {
                         VALID
@@ -207,7 +209,7 @@ mod tests {
         ];
         p.residual = vec![1.5, 0.0, -1.0, 2.0];
         let order = [Some(0), Some(1), None];
-        let k = pack(&p, &order, 3);
+        let k = pack(&p, &order, 3, true);
         let back = unpack(&unbase64(&base64(&k.xyz)).unwrap());
         assert_eq!(back.len(), 3 * 3 * 3);
         assert_eq!(&back[0..6], &[1.0, 2.0, 3.0, 4.5, -5.25, 6.0]);
@@ -219,5 +221,13 @@ mod tests {
             k.flags,
             vec![VALID, VALID | FILLED, 0, 0, VALID, 0, 0, 0, 0]
         );
+        // A file whose residuals mark no fills: residual 0 is no fill there.
+        assert_eq!(
+            pack(&p, &order, 3, false).flags,
+            vec![VALID, VALID, 0, 0, VALID, 0, 0, 0, 0]
+        );
+        assert!(super::super::fills_marked(&p));
+        p.residual = vec![0.0, 0.0, -1.0, 0.0];
+        assert!(!super::super::fills_marked(&p));
     }
 }

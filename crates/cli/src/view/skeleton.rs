@@ -78,6 +78,8 @@ pub fn page(file: (&bvh::Bvh, &str), against: Option<(&bvh::Bvh, &str)>) -> Resu
         traced: pos.end_sites.clone(),
         shadow: true,
         plates: None,
+        up: None,
+        fills_marked: false,
     };
     let trial = Trial {
         name,

@@ -36,19 +36,22 @@
 
   // Data axes → view axes (view z is up); a cyclic permutation keeps the handedness.
   const perm = meta.up === 2 ? [0, 1, 2] : meta.up === 1 ? [2, 0, 1] : [1, 2, 0];
+  // A lab whose up is an axis' negative direction is turned over (half a turn about the view's
+  // x), which keeps the handedness too.
+  const sgn = meta.up_positive === false ? [1, -1, -1] : [1, 1, 1];
   const axisNames = ['X', 'Y', 'Z'];
   function get(arr, f, m, out) {
     const i = (f * M + m) * 3;
-    out[0] = arr[i + perm[0]]; out[1] = arr[i + perm[1]]; out[2] = arr[i + perm[2]];
+    out[0] = arr[i + perm[0]] * sgn[0]; out[1] = arr[i + perm[1]] * sgn[1]; out[2] = arr[i + perm[2]] * sgn[2];
     return out[0] === out[0];
   }
 
-  const plateCorners = plates.map((p) => p.corners.map((c) => [c[perm[0]], c[perm[1]], c[perm[2]]]));
+  const plateCorners = plates.map((p) => p.corners.map((c) => [c[perm[0]] * sgn[0], c[perm[1]] * sgn[1], c[perm[2]] * sgn[2]]));
   // Plate k at frame f into cop and force (view axes); false where the COP is undefined.
   function plateAt(f, k, cop, force) {
     if (!fdata) return false;
     const i = (f * P + k) * 6;
-    for (let a = 0; a < 3; a++) { cop[a] = fdata[i + perm[a]]; force[a] = fdata[i + 3 + perm[a]]; }
+    for (let a = 0; a < 3; a++) { cop[a] = fdata[i + perm[a]] * sgn[a]; force[a] = fdata[i + 3 + perm[a]] * sgn[a]; }
     return cop[0] === cop[0] && force[0] === force[0];
   }
 
@@ -167,7 +170,7 @@
       ctx.strokeStyle = cols[a];
       ctx.beginPath(); line(o, e); ctx.stroke();
       const p = project(e);
-      if (p) { ctx.fillStyle = cols[a]; ctx.fillText(axisNames[perm[a]], p[0] + 3, p[1] - 3); }
+      if (p) { ctx.fillStyle = cols[a]; ctx.fillText((sgn[a] < 0 ? '-' : '') + axisNames[perm[a]], p[0] + 3, p[1] - 3); }
     }
   }
 
@@ -321,7 +324,9 @@
   const frameEl = $('frame'), slider = $('slider'), hud = $('hud');
   slider.max = String(Math.max(0, N - 1));
   function updateText(meanErr) {
-    const t = meta.rate > 0 ? (frame / meta.rate).toFixed(3) + ' s' : '';
+    // A C3D frame n is at (n - 1) / rate, the file's one time base (EVENT times, exports).
+    const t0 = skeleton ? 0 : Math.max(meta.first_frame - 1, 0);
+    const t = meta.rate > 0 ? ((t0 + frame) / meta.rate).toFixed(3) + ' s' : '';
     frameEl.textContent = 'Frame ' + (meta.first_frame + frame) + ' (' + (frame + 1) + '/' + N + ') ' + t;
     slider.value = String(frame);
     let h = '<b></b>';
@@ -333,7 +338,7 @@
     } else {
       h += ' · ' + M + ' markers, ' + hz + ' Hz';
       h += '<br><span class="k" style="background:' + COL.marker + '"></span>measured';
-      h += '<span class="k" style="background:' + COL.filled + '"></span>filled (residual 0)';
+      if (meta.fills_marked !== false) h += '<span class="k" style="background:' + COL.filled + '"></span>filled (residual 0)';
       h += '<span class="k" style="border:1px dashed ' + COL.ghost + '"></span>missing (last seen)';
     }
     if (P) {

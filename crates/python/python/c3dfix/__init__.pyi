@@ -145,3 +145,47 @@ def convert_file(
 ) -> Dict[str, Any]:
     """`c3dfix convert` on one file (processor "intel", "dec" or "sgi"; format "int" or
     "float"): the command's bytes, written atomically; returns what was done."""
+
+def export_trc(
+    c3d: C3d,
+    path: _Path,
+    markers: Optional[Sequence[str]] = None,
+    all_points: bool = False,
+    axes: Optional[str] = None,
+    force: bool = False,
+) -> None:
+    """Write the trial's markers as TRC (`c3dfix export --format trc`), atomically: Frame#
+    the file's frame numbers, Time on its time base, NaN for missing samples, model outputs
+    left out unless all_points or named in markers; axes a rotation such as "x,z,-y"."""
+
+def export_mot(
+    c3d: C3d,
+    path: _Path,
+    axes: Optional[str] = None,
+    threshold: float = 10.0,
+    zero_baseline: bool = False,
+    lowpass: Optional[str] = None,
+    force: bool = False,
+) -> None:
+    """Write the force plates' ground reaction as OpenSim's MOT (`c3dfix export --format
+    mot`), atomically: per plate force (N), point (m) and free torque (N·m) per analog
+    sample, on the file's time base."""
+
+def export_opensim(
+    c3d: C3d,
+    out_dir: _Path,
+    markers: Optional[Sequence[str]] = None,
+    all_points: bool = False,
+    axes: Optional[str] = None,
+    threshold: float = 10.0,
+    zero_baseline: bool = False,
+    lowpass: Optional[str] = None,
+    force: bool = False,
+) -> Dict[str, Any]:
+    """Write NAME.trc and (with force plates) NAME.mot into out_dir on one time base, in
+    OpenSim's frame (the lab's up as Y, the direction of travel as X when there is one, or
+    the rotation axes). Returns {trc, mot, axes, up, up_source, forward}."""
+
+def lab_up(c3d: C3d) -> Optional[Tuple[str, str]]:
+    """The lab's up as `c3dfix info` reports it: ("+z", "plates") from the force plates'
+    corners, else from the markers; None when neither tells."""

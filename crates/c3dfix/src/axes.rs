@@ -1,0 +1,462 @@
+//! The lab's axes: which way is up, found once for every output (`info`, the viewer, plots,
+//! the OpenSim export), and [`Axes`], the proper rotation that turns the lab's axes into
+//! another program's (`--axes`, OpenSim's Y-up frame).
+//!
+//! Up comes from the plates when the file has any: a plate lies in the floor, so the normal
+//! of its CORNERS' plane is the lab's vertical, and the manual's corner order (quadrants
+//! +x+y, −x+y, −x−y, +x−y of the plate's own axes, whose z points down into the plate) gives
+//! its sign. Without plates it comes from the markers (never model outputs, whose angles and
+//! moments are no positions): a person is taller than wide or deep, so the axis along which
+//! the markers of one frame spread most is vertical, and they stand above the floor, so the
+//! sign is that of their median height.
+
+use crate::error::{Error, Result};
+use serde::Serialize;
+use std::fmt;
+
+/// A lab axis with a sign: `+z`, `-y`, ….
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Direction {
+    /// 0 x, 1 y, 2 z.
+    pub axis: usize,
+    /// True for the axis' positive direction.
+    pub positive: bool,
+}
+
+impl Direction {
+    /// The direction as a unit vector of the lab frame.
+    pub fn vector(self) -> [f64; 3] {
+        let mut v = [0.0; 3];
+        v[self.axis] = if self.positive { 1.0 } else { -1.0 };
+        v
+    }
+
+    fn sign(self) -> f64 {
+        if self.positive {
+            1.0
+        } else {
+            -1.0
+        }
+    }
+}
+
+impl fmt::Display for Direction {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = if self.positive { '+' } else { '-' };
+        write!(f, "{s}{}", ['x', 'y', 'z'][self.axis.min(2)])
+    }
+}
+
+impl Serialize for Direction {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+/// What the lab's up was read from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum UpSource {
+    /// The normal of the force plates' CORNERS.
+    Plates,
+    /// The markers' spread and height.
+    Markers,
+}
+
+impl fmt::Display for UpSource {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            UpSource::Plates => "the force plates",
+            UpSource::Markers => "the markers",
+        })
+    }
+}
+
+/// The lab's vertical, and what it was read from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Up {
+    pub up: Direction,
+    pub source: UpSource,
+}
+
+/// The lab's up for `c`: from the plates when their CORNERS say it, else from the markers;
+/// `None` when neither does (no plates and no valid marker sample).
+pub fn up(c: &c3d::C3d) -> Option<Up> {
+    plates_up(c)
+        .map(|up| Up {
+            up,
+            source: UpSource::Plates,
+        })
+        .or_else(|| {
+            markers_up(c).map(|up| Up {
+                up,
+                source: UpSource::Markers,
+            })
+        })
+}
+
+/// The up the plates' corners give: each plate's working surface faces the opposite of the
+/// plate's own z, i.e. −(c1 − c3) × (c2 − c4) in the manual's corner order. Plates whose
+/// corners are absent, not finite or degenerate are skipped; the plates that remain vote,
+/// each for the lab axis its normal is closest to.
+pub fn plates_up(c: &c3d::C3d) -> Option<Direction> {
+    vote(c.platform_params().plates.iter().filter_map(|p| p.corners))
+}
+
+/// [`plates_up`] for plates already computed.
+pub fn platforms_up(fp: &crate::ForcePlatforms) -> Option<Direction> {
+    vote(fp.platforms.iter().map(|p| p.corners))
+}
+
+/// The direction most plates' corners give (ties: the earlier axis, +z before others only
+/// through the vote).
+fn vote(corners: impl Iterator<Item = [[f64; 3]; 4]>) -> Option<Direction> {
+    let mut votes = [0usize; 6];
+    for k in corners {
+        if let Some(d) = corners_up(&k) {
+            votes[d.axis * 2 + usize::from(d.positive)] += 1;
+        }
+    }
+    let (best, &n) = votes
+        .iter()
+        .enumerate()
+        .max_by_key(|&(i, &n)| (n, std::cmp::Reverse(i)))?;
+    (n > 0).then_some(Direction {
+        axis: best / 2,
+        positive: best % 2 == 1,
+    })
+}
+
+/// The up of one plate from its four corners (see [`plates_up`]). `None` for corners that
+/// are no plate lying in a lab plane: not finite, degenerate, diagonals of unequal length
+/// (vendor test files hold 0 and 1e10 there), or a normal more than ~25° off every lab axis.
+pub fn corners_up(k: &[[f64; 3]; 4]) -> Option<Direction> {
+    let d1 = [k[0][0] - k[2][0], k[0][1] - k[2][1], k[0][2] - k[2][2]];
+    let d2 = [k[1][0] - k[3][0], k[1][1] - k[3][1], k[1][2] - k[3][2]];
+    let norm = |v: [f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let (l1, l2) = (norm(d1), norm(d2));
+    // A rectangle's diagonals are equally long.
+    if !(l1.is_finite() && l2.is_finite() && l1 > 0.0 && l2 > 0.0)
+        || (l1 - l2).abs() > 0.1 * l1.max(l2)
+    {
+        return None;
+    }
+    // The plate's z (down into it) is d1 × d2; its surface faces the opposite.
+    let n = [
+        -(d1[1] * d2[2] - d1[2] * d2[1]),
+        -(d1[2] * d2[0] - d1[0] * d2[2]),
+        -(d1[0] * d2[1] - d1[1] * d2[0]),
+    ];
+    let len = norm(n);
+    if !(len.is_finite() && len > 0.0) {
+        return None;
+    }
+    let axis = (0..3).max_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))?;
+    (n[axis].abs() >= 0.9 * len).then_some(Direction {
+        axis,
+        positive: n[axis] > 0.0,
+    })
+}
+
+/// The up the markers give (model outputs left out): the axis of the largest median spread
+/// within a frame, over up to 64 frames spread through the trial, signed by the markers'
+/// median coordinate along it (a body stands above a floor at 0). The spread is that of the
+/// middle 80 % of the frame's markers (10th to 90th percentile), so a hockey stick's blade
+/// or a few points computed far from the body (Plug-in Gait's segment axes) do not outweigh
+/// the body's height. `None` without a frame holding two valid markers.
+pub fn markers_up(c: &c3d::C3d) -> Option<Direction> {
+    let p = c.points();
+    let markers = crate::markers::marker_indices(c);
+    let step = (p.frames() / 64).max(1);
+    let mut spread = [Vec::new(), Vec::new(), Vec::new()];
+    let mut heights = [Vec::new(), Vec::new(), Vec::new()];
+    let mut frame: [Vec<f32>; 3] = [Vec::new(), Vec::new(), Vec::new()];
+    for f in (0..p.frames()).step_by(step) {
+        for v in frame.iter_mut() {
+            v.clear();
+        }
+        for &i in &markers {
+            if p.is_valid(f, i) {
+                let v = p.xyz[p.index(f, i)];
+                for a in 0..3 {
+                    frame[a].push(v[a]);
+                    heights[a].push(v[a]);
+                }
+            }
+        }
+        if frame[0].len() >= 2 {
+            for a in 0..3 {
+                frame[a].sort_by(f32::total_cmp);
+                let n = frame[a].len() - 1;
+                let at = |q: usize| frame[a][(n * q + 50) / 100];
+                spread[a].push(at(90) - at(10));
+            }
+        }
+    }
+    let median = |v: &mut Vec<f32>| {
+        v.sort_by(f32::total_cmp);
+        v.get(v.len() / 2).copied()
+    };
+    let m: Vec<f32> = spread
+        .iter_mut()
+        .map(median)
+        .collect::<Option<Vec<f32>>>()?;
+    // Ties go to z, then y: the conventions labs use most.
+    let axis = (0..3).max_by(|&a, &b| m[a].total_cmp(&m[b]).then(a.cmp(&b)))?;
+    let h = median(&mut heights[axis]).unwrap_or(0.0);
+    Some(Direction {
+        axis,
+        positive: h >= 0.0,
+    })
+}
+
+/// The direction of travel on the floor: the horizontal lab axis along which the markers'
+/// centroid moves furthest from the first frame to the last, signed by that move. `None`
+/// when the centroid moves less than `min_travel` (POINT:UNITS) along every horizontal axis,
+/// or comes back most of the way (a walk there and back, a standing trial): there is no
+/// one direction to turn to OpenSim's X then.
+pub fn travel(c: &c3d::C3d, up: Direction, min_travel: f64) -> Option<Direction> {
+    let p = c.points();
+    let markers = crate::markers::marker_indices(c);
+    let centroid = |f: usize| -> Option<[f64; 3]> {
+        let mut s = [0.0f64; 3];
+        let mut n = 0usize;
+        for &i in &markers {
+            if p.is_valid(f, i) {
+                let v = p.xyz[p.index(f, i)];
+                for a in 0..3 {
+                    s[a] += f64::from(v[a]);
+                }
+                n += 1;
+            }
+        }
+        (n * 2 >= markers.len() && n > 0).then(|| s.map(|x| x / n as f64))
+    };
+    let path: Vec<[f64; 3]> = (0..p.frames()).filter_map(centroid).collect();
+    let (first, last) = (path.first()?, path.last()?);
+    let mut best: Option<(f64, Direction)> = None;
+    for axis in (0..3).filter(|&a| a != up.axis) {
+        let net = last[axis] - first[axis];
+        let (lo, hi) = path
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v[axis]), hi.max(v[axis]))
+            });
+        // Straight travel: the net move is most of the range covered.
+        if net.abs() >= min_travel && net.abs() >= 0.8 * (hi - lo) {
+            let d = Direction {
+                axis,
+                positive: net > 0.0,
+            };
+            if best.is_none_or(|(b, _)| net.abs() > b) {
+                best = Some((net.abs(), d));
+            }
+        }
+    }
+    best.map(|(_, d)| d)
+}
+
+/// A proper rotation of the lab's axes: output axis `k` is `sign × lab[axis]`. Parsed from
+/// `--axes`, e.g. `x,z,-y` for OpenSim's Y-up frame from a Z-up lab, or built from the lab's
+/// up ([`Axes::opensim`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Axes {
+    rows: [(usize, f64); 3],
+}
+
+impl Default for Axes {
+    fn default() -> Self {
+        Axes {
+            rows: [(0, 1.0), (1, 1.0), (2, 1.0)],
+        }
+    }
+}
+
+impl fmt::Display for Axes {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let names: Vec<String> = self
+            .rows
+            .iter()
+            .map(|&(axis, sign)| {
+                Direction {
+                    axis,
+                    positive: sign > 0.0,
+                }
+                .to_string()
+                .trim_start_matches('+')
+                .to_string()
+            })
+            .collect();
+        f.write_str(&names.join(","))
+    }
+}
+
+impl Axes {
+    /// Parse `a,b,c` where each is `x`, `y` or `z` with an optional sign. Only a permutation
+    /// with signs and determinant +1 is taken: anything else would mirror the data (a left
+    /// foot becomes a right one, moments change sign), which no export should do silently.
+    pub fn parse(spec: &str) -> Result<Axes> {
+        let hint = "expected three lab axes with signs, a rotation such as x,z,-y (OpenSim's Y-up from a Z-up lab)";
+        let bad = |why: String| Error::options(format!("--axes {spec}: {why}"));
+        let parts: Vec<&str> = spec.split(',').map(str::trim).collect();
+        if parts.len() != 3 {
+            return Err(bad(hint.to_string()));
+        }
+        let mut rows = [(0usize, 1.0f64); 3];
+        let mut seen = [false; 3];
+        for (k, part) in parts.iter().enumerate() {
+            let (sign, name) = match part.strip_prefix('-') {
+                Some(rest) => (-1.0, rest),
+                None => (1.0, part.strip_prefix('+').unwrap_or(part)),
+            };
+            let axis = match name.to_ascii_lowercase().as_str() {
+                "x" => 0,
+                "y" => 1,
+                "z" => 2,
+                _ => return Err(bad(format!("{part:?} is no lab axis; {hint}"))),
+            };
+            if seen[axis] {
+                return Err(bad(format!("lab axis {name} is used twice; {hint}")));
+            }
+            seen[axis] = true;
+            rows[k] = (axis, sign);
+        }
+        let a = Axes { rows };
+        if a.determinant() < 0.0 {
+            return Err(bad(format!(
+                "not a rotation (determinant -1: it mirrors the data, turning left into right); {hint}"
+            )));
+        }
+        Ok(a)
+    }
+
+    /// OpenSim's frame (X forward, Y up, Z to the right) from the lab's `up` and, when
+    /// known, the direction of travel `forward` (horizontal). Without one, X is the first
+    /// horizontal axis in cyclic order after up (x under +z, so a Z-up lab gives `x,z,-y`).
+    pub fn opensim(up: Direction, forward: Option<Direction>) -> Axes {
+        let forward = forward.filter(|f| f.axis != up.axis).unwrap_or(Direction {
+            axis: horizontal_axes(up.axis)[0],
+            positive: true,
+        });
+        // Z = X × Y: a unit axis too, since X and Y are two different lab axes.
+        let (x, y) = (forward.vector(), up.vector());
+        let z = [
+            x[1] * y[2] - x[2] * y[1],
+            x[2] * y[0] - x[0] * y[2],
+            x[0] * y[1] - x[1] * y[0],
+        ];
+        let z_axis = 3 - forward.axis - up.axis;
+        Axes {
+            rows: [
+                (forward.axis, forward.sign()),
+                (up.axis, up.sign()),
+                (z_axis, z[z_axis].signum()),
+            ],
+        }
+    }
+
+    /// +1 for a rotation, −1 for a reflection: the permutation's parity times the signs.
+    fn determinant(&self) -> f64 {
+        let p = self.rows.map(|r| r.0);
+        let inversions = (0..3)
+            .flat_map(|i| (i + 1..3).map(move |j| (i, j)))
+            .filter(|&(i, j)| p[i] > p[j])
+            .count();
+        let parity = if inversions % 2 == 0 { 1.0 } else { -1.0 };
+        parity * self.rows.iter().map(|r| r.1).product::<f64>()
+    }
+
+    /// `v` (lab frame) in the output's axes.
+    pub fn apply(&self, v: [f64; 3]) -> [f64; 3] {
+        self.rows.map(|(axis, sign)| sign * v[axis])
+    }
+
+    /// [`Axes::apply`] for single-precision samples.
+    pub fn apply_f32(&self, v: [f32; 3]) -> [f32; 3] {
+        self.rows.map(|(axis, sign)| sign as f32 * v[axis])
+    }
+}
+
+/// The two horizontal lab axes for a vertical one, in the cyclic order that keeps a top view
+/// right-handed (x, y under z; z, x under y; y, z under x).
+pub fn horizontal_axes(up: usize) -> [usize; 2] {
+    [(up + 1) % 3, (up + 2) % 3]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dir(axis: usize, positive: bool) -> Direction {
+        Direction { axis, positive }
+    }
+
+    #[test]
+    fn axes_take_rotations_and_refuse_reflections() {
+        let a = Axes::parse("x,z,-y").unwrap();
+        assert_eq!(a.apply([1.0, 2.0, 3.0]), [1.0, 3.0, -2.0]);
+        assert_eq!(Axes::parse(" X , Y , +Z ").unwrap(), Axes::default());
+        assert_eq!(
+            Axes::parse("y,z,x").unwrap().apply([1.0, 2.0, 3.0]),
+            [2.0, 3.0, 1.0]
+        );
+        assert_eq!(
+            Axes::parse("-x,-y,z").unwrap().apply([1.0, 2.0, 3.0]),
+            [-1.0, -2.0, 3.0]
+        );
+        for bad in [
+            "x,z,y", "x,y,-z", "-x,y,z", "y,x,z", "x,x,z", "x,y", "x,y,w", "",
+        ] {
+            assert!(Axes::parse(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn opensim_axes_are_rotations_with_up_as_y() {
+        assert_eq!(Axes::opensim(dir(2, true), None).to_string(), "x,z,-y");
+        assert_eq!(Axes::opensim(dir(1, true), None).to_string(), "z,y,-x");
+        assert_eq!(
+            Axes::opensim(dir(2, true), Some(dir(1, true))).to_string(),
+            "y,z,x"
+        );
+        assert_eq!(
+            Axes::opensim(dir(2, true), Some(dir(0, false))).to_string(),
+            "-x,z,y"
+        );
+        for axis in 0..3 {
+            for positive in [true, false] {
+                let up = dir(axis, positive);
+                for f in [None, Some(dir((axis + 1) % 3, false))] {
+                    let a = Axes::opensim(up, f);
+                    assert_eq!(a.determinant(), 1.0, "{up} {f:?}");
+                    assert_eq!(a.apply(up.vector()), [0.0, 1.0, 0.0]);
+                    assert_eq!(Axes::parse(&a.to_string()).unwrap(), a);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_plate_faces_up_in_the_manuals_corner_order() {
+        // Quadrants +x+y, −x+y, −x−y, +x−y of a plate whose z points down: seen from above
+        // (lab +z) the corners go clockwise.
+        let k = [
+            [500.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0],
+            [0.0, 600.0, 0.0],
+            [500.0, 600.0, 0.0],
+        ];
+        assert_eq!(corners_up(&k), Some(dir(2, true)));
+        let mut rev = k;
+        rev.reverse();
+        assert_eq!(corners_up(&rev), Some(dir(2, false)));
+        assert_eq!(corners_up(&[[0.0; 3]; 4]), None);
+    }
+
+    #[test]
+    fn horizontal_axes_keep_the_top_view_right_handed() {
+        assert_eq!(horizontal_axes(2), [0, 1]);
+        assert_eq!(horizontal_axes(1), [2, 0]);
+        assert_eq!(horizontal_axes(0), [1, 2]);
+    }
+}
