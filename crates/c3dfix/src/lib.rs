@@ -22,6 +22,7 @@
 
 mod error;
 pub mod evaluate;
+pub mod events;
 pub mod files;
 mod gaps;
 pub mod markers;
@@ -32,10 +33,12 @@ pub mod save;
 pub mod trial;
 
 pub use ::c3d;
+pub use ::gait;
 pub use ::kinetics;
 pub use ::repair as repair_lib;
 pub use error::{Error, Result};
 pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
+pub use events::{detect_events, Detected, EventOptions, EventSource, TrialEvent};
 pub use gaps::{gaps, GapInfo};
 pub use options::{
     fill_method, filter_spec, max_expected_error, method_name, spike_options, RepairOptions,

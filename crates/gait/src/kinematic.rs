@@ -30,9 +30,18 @@ pub struct KinematicOptions {
     /// Width (s) of the moving average applied to the heel and toe signals (0 for none).
     pub smooth_s: f64,
     /// Added to every detected strike and off (s): the method's mean lead or lag against
-    /// force plates, chosen on the tuning labs (see `docs/events.md`).
+    /// force plates and the labs' events, chosen on the tuning labs (c3d-samples; see
+    /// `docs/events.md`): Zeni's toe extreme comes about 10 ms after the foot leaves.
     pub strike_offset_s: f64,
     pub off_offset_s: f64,
+    /// Refine Zeni's strikes by the feet's heights ([`refine_strike`]): how near (mm) its
+    /// stance level a heel or toe must be for its descent's end to be the landing. `None`
+    /// keeps Zeni's instants. (Offs are Zeni's: the toe's rise gave no better instant on
+    /// the tuning labs.)
+    pub touch_mm: Option<f64>,
+    /// Added to strikes found with an ankle marker standing in for the heel (s): the
+    /// malleolus peaks forward about 20 ms before the landing on the tuning labs.
+    pub ankle_strike_offset_s: f64,
 }
 
 impl Default for KinematicOptions {
@@ -43,7 +52,9 @@ impl Default for KinematicOptions {
             min_half_stride_s: 0.25,
             smooth_s: 0.0,
             strike_offset_s: 0.0,
-            off_offset_s: 0.0,
+            off_offset_s: -0.01,
+            touch_mm: Some(10.0),
+            ankle_strike_offset_s: 0.02,
         }
     }
 }
@@ -163,6 +174,13 @@ pub fn kinematic_events(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Resu
             };
             let prominence = (0.25 * range).max(40.0);
             for i in signal::maxima(x, half, reach, prominence) {
+                let i = match (opts.touch_mm, kind) {
+                    (Some(d), Kind::FootStrike) if !feet.heel_is_ankle(side) => {
+                        refine_strike(feet, side, vertical, i, rate, d)
+                    }
+                    (_, Kind::FootStrike) => i + opts.ankle_strike_offset_s * rate,
+                    (_, Kind::FootOff) => i,
+                };
                 let index = i + offset * rate;
                 if index >= 0.0 && index <= (n - 1) as f64 {
                     out.push(Event {
@@ -178,6 +196,60 @@ pub fn kinematic_events(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Resu
     }
     crate::sort_events(&mut out);
     Ok(out)
+}
+
+/// Heights of a foot's heel and toe per frame (NaN where missing).
+fn heights(feet: &Feet, side: Side, v: Vertical) -> (Vec<f64>, Vec<f64>) {
+    let (heel, toe) = feet.foot(side);
+    (
+        heel.iter().map(|p| v.height(*p)).collect(),
+        toe.iter().map(|p| v.height(*p)).collect(),
+    )
+}
+
+/// The lowest finite value of `x` over `[a, b)` (clamped), NaN if none.
+fn lowest(x: &[f64], a: f64, b: f64) -> f64 {
+    let n = x.len();
+    let (a, b) = (a.max(0.0) as usize, (b.max(0.0) as usize).min(n));
+    x[a.min(n)..b]
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(f64::NAN, f64::min)
+}
+
+/// Foot strike refined from Zeni's heel extremum at `i0`: the first local minimum of the
+/// heel's or the toe's height in the 0.25 s after `i0` (whichever part lands first) that
+/// lies within `touch` mm of that part's lowest height in the 0.5 s after `i0` (its stance
+/// level, taken after the event so stairs and slopes follow). The heel's forward extreme
+/// comes while the foot still descends; the landing stops the descent, and the marker
+/// rises again as the foot rolls over. Falls back to `i0` when no such minimum exists.
+pub fn refine_strike(feet: &Feet, side: Side, v: Vertical, i0: f64, rate: f64, touch: f64) -> f64 {
+    let (heel, toe) = heights(feet, side, v);
+    let n = heel.len();
+    let first_min = |x: &[f64]| -> Option<f64> {
+        let base = lowest(x, i0, i0 + 0.5 * rate);
+        let (a, b) = (
+            i0.floor().max(1.0) as usize,
+            ((i0 + 0.25 * rate) as usize).min(n - 1),
+        );
+        (a..b).find_map(|k| {
+            let (y0, y1, y2) = (x[k - 1], x[k], x[k + 1]);
+            (y1.is_finite()
+                && y0.is_finite()
+                && y2.is_finite()
+                && y1 < y0
+                && y1 <= y2
+                && y1 - base <= touch)
+                .then(|| k as f64 + signal::parabolic(y0, y1, y2))
+        })
+    };
+    match (first_min(&heel), first_min(&toe)) {
+        (Some(h), Some(t)) => h.min(t),
+        (Some(h), None) => h,
+        (None, Some(t)) => t,
+        (None, None) => i0,
+    }
 }
 
 #[cfg(test)]

@@ -111,12 +111,23 @@ pub struct Feet {
     pub right_toe: Vec<[f64; 3]>,
     /// The sacrum, or the mean of the pelvis markers.
     pub pelvis: Vec<[f64; 3]>,
+    /// Left and right: the "heel" is the lateral malleolus standing in for a missing heel
+    /// marker (its height says nothing of the landing, so strikes are not refined by it).
+    pub heel_is_ankle: [bool; 2],
 }
 
 impl Feet {
     /// Frames (the length of the pelvis trajectory).
     pub fn frames(&self) -> usize {
         self.pelvis.len()
+    }
+
+    /// Whether `side`'s heel is an ankle marker standing in.
+    pub fn heel_is_ankle(&self, side: Side) -> bool {
+        self.heel_is_ankle[match side {
+            Side::Left => 0,
+            Side::Right => 1,
+        }]
     }
 
     /// Heel and toe of one side.

@@ -57,6 +57,8 @@ pub struct MarkerChoice {
     pub left_toe: Vec<usize>,
     pub right_toe: Vec<usize>,
     pub pelvis: Vec<usize>,
+    /// Left and right: no heel marker was found and the ankle stands in for it.
+    pub heel_is_ankle: [bool; 2],
 }
 
 /// Names given by a person for some roles (each a list whose mean is used).
@@ -145,6 +147,13 @@ fn by_names(labels: &[String], role: &str, names: &[String]) -> Result<Vec<usize
         .collect()
 }
 
+/// The ankle marker of `side` (`'l'` or `'r'`) among `labels`, to stand in for a heel
+/// marker that is named but never seen.
+pub fn ankle_for(labels: &[String], side: char) -> Option<usize> {
+    let norm: Vec<String> = labels.iter().map(|l| normalise(l)).collect();
+    find_sided(&norm, side, ANKLE)
+}
+
 /// Choose the markers of each role among `labels` (the point labels, in file order),
 /// taking `names` first where given.
 pub fn find_markers(labels: &[String], names: &MarkerNames) -> Result<MarkerChoice> {
@@ -172,6 +181,10 @@ pub fn find_markers(labels: &[String], names: &MarkerNames) -> Result<MarkerChoi
     };
     let left_heel = foot(&names.left_heel, "lheel", 'l', &[HEEL, ANKLE])?;
     let right_heel = foot(&names.right_heel, "rheel", 'r', &[HEEL, ANKLE])?;
+    let ankle = |given: &Option<Vec<String>>, side: char| {
+        given.is_none() && find_sided(&norm, side, HEEL).is_none()
+    };
+    let heel_is_ankle = [ankle(&names.left_heel, 'l'), ankle(&names.right_heel, 'r')];
     let left_toe = foot(&names.left_toe, "ltoe", 'l', &[TOE])?;
     let right_toe = foot(&names.right_toe, "rtoe", 'r', &[TOE])?;
     let pelvis = match &names.pelvis {
@@ -198,6 +211,7 @@ pub fn find_markers(labels: &[String], names: &MarkerNames) -> Result<MarkerChoi
         left_toe,
         right_toe,
         pelvis,
+        heel_is_ankle,
     })
 }
 
@@ -237,6 +251,7 @@ mod tests {
         let l = labels(&["LANK", "RANK", "LTOE", "RTOE", "SACR"]);
         let m = find_markers(&l, &MarkerNames::default()).unwrap();
         assert_eq!((m.left_heel[0], m.pelvis.clone()), (0, vec![4]));
+        assert_eq!(m.heel_is_ankle, [true, true]);
         let l = labels(&["l heel", "r heel", "l toe", "r toe", "sacrum"]);
         assert!(find_markers(&l, &MarkerNames::default()).is_ok());
     }

@@ -204,6 +204,7 @@ mod tests {
             right_heel: vec![[500.0, 0.0, 50.0]; frames],
             right_toe: vec![[700.0, 0.0, 30.0]; frames],
             pelvis: vec![[300.0, 0.0, 950.0]; frames],
+            heel_is_ankle: [false; 2],
         };
         let mut normal = vec![3.0; 100];
         for (i, v) in normal.iter_mut().enumerate().take(75).skip(25) {
