@@ -229,18 +229,15 @@ pub fn refine_strike(feet: &Feet, side: Side, v: Vertical, i0: f64, rate: f64, t
     let n = heel.len();
     let first_min = |x: &[f64]| -> Option<f64> {
         let base = lowest(x, i0, i0 + 0.5 * rate);
+        // Two samples either side must be known: the edge of a gap is no landing.
         let (a, b) = (
-            i0.floor().max(1.0) as usize,
-            ((i0 + 0.25 * rate) as usize).min(n - 1),
+            i0.floor().max(2.0) as usize,
+            ((i0 + 0.25 * rate) as usize).min(n.saturating_sub(2)),
         );
         (a..b).find_map(|k| {
             let (y0, y1, y2) = (x[k - 1], x[k], x[k + 1]);
-            (y1.is_finite()
-                && y0.is_finite()
-                && y2.is_finite()
-                && y1 < y0
-                && y1 <= y2
-                && y1 - base <= touch)
+            let known = x[k - 2..=k + 2].iter().all(|v| v.is_finite());
+            (known && y1 < y0 && y1 <= y2 && y1 - base <= touch)
                 .then(|| k as f64 + signal::parabolic(y0, y1, y2))
         })
     };
