@@ -173,6 +173,9 @@ fn the_synthetic_walk_gives_one_strike_and_one_off_per_foot_per_stride() {
     assert!(stderr(&out).contains("no force plates"), "{}", stderr(&out));
 }
 
+/// A sample of a marker at a frame (None: missing).
+type Sample = Box<dyn Fn(usize, usize) -> Option<[f32; 3]>>;
+
 /// A float C3D file of `frames` frames with the Plug-in Gait foot and pelvis markers, each
 /// sample given by `at(frame, marker)` (None: missing, residual −1).
 fn write_trial(path: &Path, frames: usize, at: impl Fn(usize, usize) -> Option<[f32; 3]>) {
@@ -208,12 +211,7 @@ fn trials_without_walking_get_a_clear_error_and_exit_2() {
             _ => [i as f32 * 100.0, 0.0, 40.0],
         })
     };
-    let cases: Vec<(
-        &str,
-        usize,
-        Box<dyn Fn(usize, usize) -> Option<[f32; 3]>>,
-        &str,
-    )> = vec![
+    let cases: Vec<(&str, usize, Sample, &str)> = vec![
         (
             "one_frame.c3d",
             1,

@@ -75,6 +75,6 @@ mod tests {
                 sign: -1.0
             })
         );
-        assert_eq!(vertical(&pelvis, &[&vec![[f64::NAN; 3]; 3]]), None);
+        assert_eq!(vertical(&pelvis, &[&[[f64::NAN; 3]; 3]]), None);
     }
 }
