@@ -6,8 +6,9 @@
 //! side (`l`/`left`, `r`/`right`, leading) and its part are matched against the lists below,
 //! in order of preference. The lists are the names of Plug-in Gait and CGM (LHEE, LTOE,
 //! SACR, LPSI, LASI), Motion Analysis' Helen Hayes set (LHEE, LTOE), Qualisys/IOR (L_FCC,
-//! L_FM2, L_IPS, L_IAS), Codamotion (L.Heel, L.MT2), OpenSim's examples (LCAL, LMT2) and
-//! other exports found in gait files (LHEEL, LP1MT, "l heel").
+//! L_FM2, L_IPS, L_IAS), Codamotion (L.Heel, L.MT2), OpenSim's examples (LCAL, LMT2), Helen
+//! Hayes' VSAC and L.TO, and other exports found in gait files (LHEEL, LP1MT, "l heel",
+//! "l met", "l mall").
 //!
 //! Where a set has no heel marker (some Plug-in Gait models keep only LANK and LTOE), the
 //! lateral malleolus stands in for it: it lies a few centimetres above and in front of the
@@ -27,15 +28,17 @@ const HEEL: &[&str] = &[
     "heelcenter",
     "hl",
 ];
-const ANKLE: &[&str] = &["ank", "lmal", "fal", "ankle", "lma", "mal", "mm"];
+const ANKLE: &[&str] = &["ank", "lmal", "fal", "ankle", "lma", "mal", "mall", "mm"];
 /// Toe names, best first: the second metatarsal head (Plug-in Gait's TOE) before the first
 /// and fifth.
 const TOE: &[&str] = &[
-    "toe", "mt2", "fm2", "toetip", "ttoe", "toefoot", "mt1", "fm1", "p1mt", "met1", "mt5", "fm5",
-    "p5mt", "met5", "mh1", "mh5",
+    "toe", "to", "mt2", "fm2", "toetip", "ttoe", "toefoot", "met", "mt1", "fm1", "p1mt", "met1",
+    "mt5", "fm5", "p5mt", "met5", "mh1", "mh5",
 ];
 /// Markers standing alone for the pelvis (sacrum, mid-PSIS).
-const SACRUM: &[&str] = &["sacr", "sacrum", "sac", "mpsi", "sacral", "s1", "ppsi"];
+const SACRUM: &[&str] = &[
+    "sacr", "sacrum", "sac", "vsac", "mpsi", "sacral", "s1", "ppsi",
+];
 /// Paired pelvis markers: PSIS first (their mean is the sacrum), then ASIS.
 const PSIS: &[&str] = &["psi", "psis", "ips", "pis"];
 const ASIS: &[&str] = &["asi", "asis", "ias", "ais"];
