@@ -260,3 +260,84 @@ fn trials_without_walking_get_a_clear_error_and_exit_2() {
         stdout(&out)
     );
 }
+
+/// The bytes of `path` from its data section on, and the offset of that section.
+fn data_section(path: &Path) -> (usize, Vec<u8>) {
+    let c = c3d::read_file(path).unwrap();
+    let at = c.data_offset().unwrap();
+    (at, c.source_bytes().unwrap()[at..].to_vec())
+}
+
+#[test]
+fn events_are_written_into_the_event_group_as_nexus_writes_them() {
+    let Some(file) = rbwh() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.c3d");
+    let printed = events_json(&["-o", s(&out), "--replace", s(&file)]);
+    assert_eq!(printed.len(), 7);
+    // Read back by this reader: the lab's seven events replaced by ours, same times.
+    let back = lab_events(&out);
+    assert_eq!(back.len(), 7);
+    for (b, p) in back.iter().zip(&printed) {
+        let p = key(p);
+        assert_eq!((&b.0, &b.1), (&p.0, &p.1));
+        assert!((b.2 - p.2).abs() < 1e-6, "{b:?} {p:?}");
+    }
+    // Every other byte: the data section is unchanged (and at the same place here).
+    assert_eq!(data_section(&out), data_section(&file));
+    // c3dio reads the group back (it takes the count from EVENT:USED and the times from
+    // the header's block, which is left as the file has it, so only the rest is compared).
+    let c = c3dio::C3d::load(s(&out)).unwrap();
+    assert_eq!(c.events.len(), 7);
+    for (e, p) in c.events.iter().zip(&printed) {
+        assert_eq!(e.label, p["label"].as_str().unwrap());
+        assert_eq!(e.context, p["context"].as_str().unwrap());
+        let strike = e.label == "Foot Strike";
+        assert_eq!(e.icon_id, if strike { 1 } else { 2 });
+        assert_eq!(e.generic_flag, 0);
+        assert!(e.description.starts_with(if strike {
+            "The moment any part of the foot first contacts the floor"
+        } else {
+            "The moment the foot ceases all contact with the floor"
+        }));
+    }
+    // The same again gives the same bytes; without --replace the lab's events are kept.
+    let again = dir.path().join("again.c3d");
+    events_json(&["-o", s(&again), "--replace", s(&out)]);
+    assert!(std::fs::read(&again).unwrap() == std::fs::read(&out).unwrap());
+    let kept = dir.path().join("kept.c3d");
+    events_json(&["-o", s(&kept), s(&file)]);
+    let both = lab_events(&kept);
+    assert_eq!(both.len(), 14);
+    assert_eq!(both[..7], lab_events(&file)[..]);
+    // An existing OUT needs --force.
+    let o = c3dfix(&["events", "-o", s(&kept), s(&file)]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--force"), "{}", stderr(&o));
+}
+
+#[test]
+fn in_place_with_a_backup_and_the_options_that_need_a_destination() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("walk.c3d");
+    let original = std::fs::read(sample("walk_truth.c3d")).unwrap();
+    std::fs::write(&f, &original).unwrap();
+    let printed = events_json(&["--in-place", "--backup", "--replace", s(&f)]);
+    assert_eq!(printed.len(), 14);
+    assert!(std::fs::read(dir.path().join("walk.c3d.bak")).unwrap() == original);
+    // The synthetic walk's seven Foot Strike events are replaced by the fourteen found.
+    let back = lab_events(&f);
+    assert_eq!(back.len(), 14);
+    assert_eq!(
+        data_section(&f).1,
+        data_section(&sample("walk_truth.c3d")).1
+    );
+    for args in [
+        vec!["events", "--replace", s(&f)],
+        vec!["events", "-o", "x.c3d", s(&f), s(&f)],
+    ] {
+        let o = c3dfix(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(stdout(&o).is_empty());
+    }
+}

@@ -22,6 +22,7 @@
 
 mod error;
 pub mod evaluate;
+pub mod event_group;
 pub mod events;
 pub mod files;
 mod gaps;

@@ -26,11 +26,59 @@ pub struct Args {
     /// repeated.
     #[arg(long, value_name = "ROLE=NAME")]
     pub markers: Vec<String>,
+    /// Write the trial with the events added to its EVENT group (as Nexus writes it) to OUT
+    /// (one input file).
+    #[arg(short = 'o', long, value_name = "OUT", conflicts_with = "in_place")]
+    pub output: Option<PathBuf>,
+    /// Write the events into each input file itself (atomically).
+    #[arg(long)]
+    pub in_place: bool,
+    /// With --in-place, keep each original as FILE.bak first.
+    #[arg(long, requires = "in_place")]
+    pub backup: bool,
+    /// Remove the file's own Foot Strike and Foot Off events first (other events are kept).
+    #[arg(long)]
+    pub replace: bool,
+    /// Replace an existing OUT.
+    #[arg(long)]
+    pub force: bool,
 }
 
-fn one(path: &std::path::Path, opts: &EventOptions) -> Result<Detected> {
-    let c = read_c3d(path)?;
-    Ok(detect_events(&c, opts, path)?)
+/// Where the events go, besides standard output.
+enum Write<'a> {
+    Nowhere,
+    To(&'a std::path::Path),
+    InPlace { backup: bool },
+}
+
+fn one(path: &std::path::Path, opts: &EventOptions, write: &Write, a: &Args) -> Result<Detected> {
+    if let Write::Nowhere = write {
+        let c = read_c3d(path)?;
+        return Ok(detect_events(&c, opts, path)?);
+    }
+    // A file to be written is read into memory, not mapped: it may be the file replaced.
+    let mut c = c3dfix::open(path)?;
+    let d = detect_events(&c, opts, path)?;
+    c3dfix::event_group::write_events(&mut c, &d.events, a.replace)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let (dest, save) = match write {
+        Write::To(out) => (
+            *out,
+            c3dfix::SaveOptions {
+                force: a.force,
+                backup: false,
+            },
+        ),
+        _ => (
+            path,
+            c3dfix::SaveOptions {
+                force: true,
+                backup: matches!(write, Write::InPlace { backup: true }),
+            },
+        ),
+    };
+    c3dfix::save(&c, dest, &save)?;
+    Ok(d)
 }
 
 fn as_json(path: &std::path::Path, d: &Detected) -> serde_json::Value {
@@ -54,8 +102,23 @@ pub fn run(a: Args) -> Result<i32> {
         markers: MarkerNames::parse(&a.markers)?,
         ..EventOptions::default()
     };
+    let write = match (&a.output, a.in_place) {
+        (Some(out), _) => {
+            if a.files.len() != 1 {
+                anyhow::bail!("-o takes one input file; use --in-place for several");
+            }
+            Write::To(out.as_path())
+        }
+        (None, true) => Write::InPlace { backup: a.backup },
+        (None, false) => {
+            if a.replace || a.force {
+                anyhow::bail!("--replace and --force apply to writing: add -o OUT or --in-place");
+            }
+            Write::Nowhere
+        }
+    };
     if a.files.len() == 1 {
-        let d = one(&a.files[0], &opts)?;
+        let d = one(&a.files[0], &opts, &write, &a)?;
         if a.json {
             outln!(
                 "{}",
@@ -71,7 +134,7 @@ pub fn run(a: Args) -> Result<i32> {
     let mut failed = 0;
     let mut docs = Vec::new();
     for f in &a.files {
-        match one(f, &opts) {
+        match one(f, &opts, &write, &a) {
             Ok(d) if a.json => docs.push(as_json(f, &d)),
             Ok(d) => print_text(f, &d)?,
             Err(e) => {
