@@ -175,11 +175,11 @@ pub fn kinematic_events(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Resu
             let prominence = (0.25 * range).max(40.0);
             for i in signal::maxima(x, half, reach, prominence) {
                 let i = match (opts.touch_mm, kind) {
-                    (Some(d), Kind::FootStrike) if !feet.heel_is_ankle(side) => {
-                        refine_strike(feet, side, vertical, i, rate, d)
+                    (_, Kind::FootStrike) if feet.heel_is_ankle(side) => {
+                        i + opts.ankle_strike_offset_s * rate
                     }
-                    (_, Kind::FootStrike) => i + opts.ankle_strike_offset_s * rate,
-                    (_, Kind::FootOff) => i,
+                    (Some(d), Kind::FootStrike) => refine_strike(feet, side, vertical, i, rate, d),
+                    _ => i,
                 };
                 let index = i + offset * rate;
                 if index >= 0.0 && index <= (n - 1) as f64 {
@@ -297,6 +297,66 @@ mod tests {
             .filter(|e| e.side == Side::Right && e.kind == Kind::FootOff)
             .count();
         assert!(offs >= 3, "{ev:?}");
+    }
+
+    /// Position and heading (horizontal x, z) after `s` mm along a path: 3.6 m straight along
+    /// +z, a half circle of radius 1.5 m, 3.6 m back along −z.
+    fn u_turn(s: f64) -> ([f64; 2], [f64; 2]) {
+        let (l1, r) = (3600.0, 1500.0);
+        let arc = std::f64::consts::PI * r;
+        if s < l1 {
+            ([0.0, s], [0.0, 1.0])
+        } else if s < l1 + arc {
+            let th = (s - l1) / r;
+            ([r - r * th.cos(), l1 + r * th.sin()], [th.sin(), th.cos()])
+        } else {
+            ([2.0 * r, l1 - (s - l1 - arc)], [0.0, -1.0])
+        }
+    }
+
+    #[test]
+    fn a_u_turn_in_a_y_up_lab() {
+        let rate = 100.0;
+        let frames = 990;
+        let mut f = Feet::default();
+        let tau = 2.0 * std::f64::consts::PI;
+        for i in 0..frames {
+            let t = i as f64 / rate;
+            let (p, d) = u_turn(1200.0 * t);
+            f.pelvis.push([p[0], 950.0, p[1]]);
+            for (phase, heel, toe) in [
+                (0.0, &mut f.left_heel, &mut f.left_toe),
+                (0.5, &mut f.right_heel, &mut f.right_toe),
+            ] {
+                let h = 300.0 * (tau * (t - phase)).cos();
+                let o = 300.0 * (tau * (t - phase - 0.4)).cos() + 150.0;
+                heel.push([p[0] + d[0] * h, 60.0, p[1] + d[1] * h]);
+                toe.push([p[0] + d[0] * o, 40.0, p[1] + d[1] * o]);
+            }
+        }
+        let opts = KinematicOptions {
+            touch_mm: None,
+            off_offset_s: 0.0,
+            ..KinematicOptions::default()
+        };
+        let ev = kinematic_events(&f, rate, &opts).unwrap();
+        // The left heel is forward at t = 1, 2, … 9 s: one strike each, straight, on the
+        // curve and after the turn, and nothing else.
+        let strikes: Vec<f64> = ev
+            .iter()
+            .filter(|e| e.side == Side::Left && e.kind == Kind::FootStrike)
+            .map(|e| e.index / rate)
+            .collect();
+        assert_eq!(strikes.len(), 9, "{strikes:?}");
+        for (k, s) in strikes.iter().enumerate() {
+            assert!((s - (k + 1) as f64).abs() < 0.02, "{strikes:?}");
+        }
+        let offs = ev
+            .iter()
+            .filter(|e| e.side == Side::Right && e.kind == Kind::FootOff)
+            .count();
+        // The right toe is farthest back at t = 0.4, 1.4, … 9.4 s.
+        assert_eq!(offs, 10, "{ev:?}");
     }
 
     #[test]
