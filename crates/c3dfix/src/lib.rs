@@ -24,6 +24,8 @@
 pub mod axes;
 mod error;
 pub mod evaluate;
+pub mod event_group;
+pub mod events;
 pub mod export;
 pub mod files;
 mod gaps;
@@ -36,11 +38,13 @@ pub mod trial;
 pub mod units;
 
 pub use ::c3d;
+pub use ::gait;
 pub use ::kinetics;
 pub use ::repair as repair_lib;
 pub use axes::{Axes, Direction, Up, UpSource};
 pub use error::{Error, Result};
 pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
+pub use events::{detect_events, Detected, EventOptions, EventSource, TrialEvent};
 pub use gaps::{gaps, GapInfo};
 pub use options::{
     fill_method, filter_spec, max_expected_error, method_name, spike_options, RepairOptions,

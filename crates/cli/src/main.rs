@@ -36,6 +36,9 @@ enum Command {
     /// Force platforms: ground reaction force, moment, centre of pressure, free moment and
     /// contact intervals of every plate.
     Forces(commands::forces::Args),
+    /// Gait events: foot strike and foot off of each foot, from the force plates and the
+    /// heel, toe and pelvis markers.
+    Events(commands::events::Args),
     /// Remove spikes, fill gaps and low-pass filter one file.
     Repair(commands::repair::Args),
     /// Repair many files (folders recursively, lists, shards), in parallel.
@@ -77,6 +80,7 @@ fn main() {
         Command::Export(a) => commands::export::run(a),
         Command::Gaps(a) => commands::gaps::run(a),
         Command::Forces(a) => commands::forces::run(a),
+        Command::Events(a) => commands::events::run(a),
         Command::Repair(a) => commands::repair::run(a),
         Command::Batch(a) => commands::batch::run(a),
         Command::Evaluate(a) => commands::evaluate::run(a),

@@ -5,6 +5,7 @@ pub mod bvh_info;
 pub mod convert;
 pub mod diff;
 pub mod evaluate;
+pub mod events;
 pub mod export;
 pub mod forces;
 pub mod gaps;

@@ -1,0 +1,396 @@
+//! How well gait events are found, per lab, on the corpora's walking trials.
+//!
+//! ```sh
+//! cargo run --release -p c3dfix --example events_eval            # the constants as shipped
+//! cargo run --release -p c3dfix --example events_eval -- --strike-offset 0.01 --off-offset -0.02 --smooth 0.04 --threshold 20
+//! ```
+//!
+//! Every C3D file of `c3d-samples`, `c3d-more`, `c3d-extra` and `c3d-fullbody` whose foot
+//! and pelvis markers are found is read once (copies of one trial in other formats are
+//! counted once: same frame count and same left-heel trajectory). Two truths:
+//!
+//! - **lab**: the file's own Foot Strike / Foot Off events (EVENT group, Left/Right);
+//! - **plate**: foot strikes and offs where one foot alone loads a force plate
+//!   ([`gait::plate_events`]).
+//!
+//! Compared against them: the kinematic detector (Zeni 2008) and, against the lab's events,
+//! the plate detector. An event is found when a detected event of the same foot and kind
+//! lies within ±150 ms; its |error| enters the median and 95th percentile. Extra: detected
+//! events of a foot and kind within the span of that foot's and kind's lab events (±150 ms)
+//! matched to none (only against lab events: a plate covers one step, so the markers' other
+//! events are no extras there).
+//!
+//! Labs: each `sample_NN` folder of c3d-samples is a lab, each `owner__repository` of
+//! c3d-more (and its trial's name, for the three labs of `tsalemink__C3D-parser`), c3d-extra
+//! is BTK's, c3d-fullbody's CMU and numediart. Constants are chosen on the c3d-samples labs
+//! ("tuning") and reported on the others ("held out"), printed apart.
+//!
+//! The time base check: where a file has both its lab's events and plate events, the signed
+//! median of (plate − lab) per event kind shows whether EVENT:TIMES and `frame_time` share
+//! their origin (0 ms) or differ by a frame (one frame period).
+
+use c3dfix::events::{self, EventOptions};
+use gait::{Event, Kind, Side};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+const WINDOW_S: f64 = 0.15;
+
+#[derive(Default)]
+struct Tally {
+    trials: usize,
+    truth: [usize; 2],
+    errors: [Vec<f64>; 2],
+    signed: [Vec<f64>; 2],
+    spanned: usize,
+    extra: usize,
+}
+
+impl Tally {
+    fn add(&mut self, truth: &[(Side, Kind, f64)], found: &[(Side, Kind, f64)], count_extra: bool) {
+        self.trials += 1;
+        for &(side, kind, t) in truth {
+            let k = kind_index(kind);
+            self.truth[k] += 1;
+            let best = found
+                .iter()
+                .filter(|f| f.0 == side && f.1 == kind)
+                .map(|f| f.2 - t)
+                .filter(|d| d.abs() <= WINDOW_S)
+                .min_by(|a, b| a.abs().total_cmp(&b.abs()));
+            if let Some(d) = best {
+                self.errors[k].push(d.abs() * 1000.0);
+                self.signed[k].push(d * 1000.0);
+            }
+        }
+        if !count_extra {
+            return;
+        }
+        for side in Side::BOTH {
+            for kind in [Kind::FootStrike, Kind::FootOff] {
+                let ts: Vec<f64> = truth
+                    .iter()
+                    .filter(|e| e.0 == side && e.1 == kind)
+                    .map(|e| e.2)
+                    .collect();
+                let (Some(lo), Some(hi)) = (
+                    ts.iter().copied().reduce(f64::min),
+                    ts.iter().copied().reduce(f64::max),
+                ) else {
+                    continue;
+                };
+                for f in found.iter().filter(|f| {
+                    f.0 == side && f.1 == kind && f.2 >= lo - WINDOW_S && f.2 <= hi + WINDOW_S
+                }) {
+                    self.spanned += 1;
+                    if !ts.iter().any(|t| (t - f.2).abs() <= WINDOW_S) {
+                        self.extra += 1;
+                    }
+                }
+            }
+        }
+    }
+
+    fn merge(&mut self, o: &Tally) {
+        self.trials += o.trials;
+        for k in 0..2 {
+            self.truth[k] += o.truth[k];
+            self.errors[k].extend_from_slice(&o.errors[k]);
+            self.signed[k].extend_from_slice(&o.signed[k]);
+        }
+        self.spanned += o.spanned;
+        self.extra += o.extra;
+    }
+
+    fn line(&self, name: &str, extra: bool) -> String {
+        let mut s = format!("{name:<44} {:>3}", self.trials);
+        for k in 0..2 {
+            let e = &self.errors[k];
+            let found = if self.truth[k] > 0 {
+                100.0 * e.len() as f64 / self.truth[k] as f64
+            } else {
+                f64::NAN
+            };
+            s += &format!(
+                " | {:>4} {:>5.1}% {:>6.1} {:>6.1} {:>+6.1}",
+                self.truth[k],
+                found,
+                quantile(e, 0.5),
+                quantile(e, 0.95),
+                quantile(&self.signed[k], 0.5)
+            );
+        }
+        if extra && self.spanned > 0 {
+            s += &format!(
+                " | {:>5.1}%",
+                100.0 * self.extra as f64 / self.spanned as f64
+            );
+        } else {
+            s += " |     -";
+        }
+        s
+    }
+}
+
+fn kind_index(k: Kind) -> usize {
+    match k {
+        Kind::FootStrike => 0,
+        Kind::FootOff => 1,
+    }
+}
+
+fn quantile(x: &[f64], q: f64) -> f64 {
+    if x.is_empty() {
+        return f64::NAN;
+    }
+    let mut v = x.to_vec();
+    v.sort_by(f64::total_cmp);
+    // Linear interpolation between order statistics (numpy's default).
+    let pos = (v.len() - 1) as f64 * q;
+    let (i, f) = (pos.floor() as usize, pos - pos.floor());
+    if i + 1 < v.len() {
+        v[i] * (1.0 - f) + v[i + 1] * f
+    } else {
+        v[i]
+    }
+}
+
+fn lab_of(corpus: &str, path: &Path, root: &Path) -> String {
+    let rel = path.strip_prefix(root).unwrap_or(path);
+    let first = rel
+        .components()
+        .next()
+        .map(|c| c.as_os_str().to_string_lossy().to_string())
+        .unwrap_or_default();
+    match corpus {
+        "c3d-samples" => format!("c3d-samples/{first}"),
+        "c3d-more" => {
+            let parts: Vec<&str> = first.split("__").collect();
+            if parts.first() == Some(&"tsalemink") {
+                let trial = parts.get(2).and_then(|t| t.split('_').next()).unwrap_or("");
+                format!("c3d-more/tsalemink/{trial}")
+            } else {
+                format!("c3d-more/{}", parts.first().copied().unwrap_or(""))
+            }
+        }
+        "c3d-fullbody" => {
+            if first.starts_with("03_") {
+                "c3d-fullbody/numediart".into()
+            } else {
+                "c3d-fullbody/cmu".into()
+            }
+        }
+        _ => format!("{corpus}/btk"),
+    }
+}
+
+fn side_kind(context: &str, label: &str) -> Option<(Side, Kind)> {
+    let side = match context.trim().to_ascii_lowercase().as_str() {
+        "left" => Side::Left,
+        "right" => Side::Right,
+        _ => return None,
+    };
+    let kind = match label.trim().to_ascii_lowercase().as_str() {
+        "foot strike" => Kind::FootStrike,
+        "foot off" => Kind::FootOff,
+        _ => return None,
+    };
+    Some((side, kind))
+}
+
+fn arg(args: &[String], name: &str) -> Option<f64> {
+    args.iter()
+        .position(|a| a == name)
+        .and_then(|i| args.get(i + 1))
+        .and_then(|v| v.parse().ok())
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let mut opts = EventOptions::default();
+    if let Some(v) = arg(&args, "--strike-offset") {
+        opts.kinematic.strike_offset_s = v;
+    }
+    if let Some(v) = arg(&args, "--off-offset") {
+        opts.kinematic.off_offset_s = v;
+    }
+    if let Some(v) = arg(&args, "--smooth") {
+        opts.kinematic.smooth_s = v;
+    }
+    if let Some(v) = arg(&args, "--ankle-offset") {
+        opts.kinematic.ankle_strike_offset_s = v;
+    }
+    if let Some(v) = arg(&args, "--touch") {
+        opts.kinematic.touch_mm = (v > 0.0).then_some(v);
+    }
+    if let Some(v) = arg(&args, "--threshold") {
+        opts.plate.threshold_n = v;
+    }
+    if let Some(v) = arg(&args, "--min-speed") {
+        opts.kinematic.min_speed_mm_s = v;
+    }
+    let verbose = args.iter().any(|a| a == "-v");
+
+    let corpora: Vec<(&str, Option<PathBuf>)> = vec![
+        ("c3d-samples", testkit::c3d_samples()),
+        ("c3d-more", testkit::c3d_more()),
+        ("c3d-extra", testkit::c3d_extra()),
+        ("c3d-fullbody", testkit::c3d_fullbody()),
+    ];
+    // (truth, detector) → lab → tally
+    let mut table: BTreeMap<(&str, &str), BTreeMap<String, Tally>> = BTreeMap::new();
+    let mut seen: Vec<(usize, i64)> = Vec::new();
+    let mut skipped: Vec<String> = Vec::new();
+    for (corpus, root) in &corpora {
+        let Some(root) = root else { continue };
+        for path in testkit::files_with_ext(root, "c3d") {
+            let name = testkit::short(&path);
+            let Ok(c) = c3dfix::open(&path) else {
+                skipped.push(format!("{name}: unreadable"));
+                continue;
+            };
+            let mut choice = match events::choose_markers(&c, &opts.markers, &path) {
+                Ok(m) => m,
+                Err(e) => {
+                    skipped.push(format!("{name}: {e}"));
+                    continue;
+                }
+            };
+            let Ok(feet) = events::feet(&c, &mut choice, &path) else {
+                continue;
+            };
+            let key = (
+                c.frames(),
+                feet.left_heel
+                    .iter()
+                    .filter(|p| p[0].is_finite())
+                    .map(|p| p[0] + p[1] + p[2])
+                    .sum::<f64>()
+                    .div_euclid(1000.0) as i64,
+            );
+            if seen.contains(&key) {
+                skipped.push(format!("{name}: a copy of a trial already counted"));
+                continue;
+            }
+            seen.push(key);
+            let lab = lab_of(corpus, &path, root);
+            let rate = c.point_rate() as f64;
+            let at = |e: &Event| events::to_trial_event(&c, e).time;
+            let triple = |v: &[Event]| -> Vec<(Side, Kind, f64)> {
+                v.iter().map(|e| (e.side, e.kind, at(e))).collect()
+            };
+            let kin = match gait::kinematic_events(&feet, rate, &opts.kinematic) {
+                Ok(k) => Some(triple(&k)),
+                Err(e) => {
+                    skipped.push(format!("{name}: kinematics: {e}"));
+                    None
+                }
+            };
+            let plates = if c.platform_params().plates.is_empty() {
+                Vec::new()
+            } else {
+                events::plate_events(&c, &feet, &opts.plate)
+                    .map(|p| triple(&p))
+                    .unwrap_or_default()
+            };
+            let lab_events: Vec<(Side, Kind, f64)> = c
+                .events()
+                .iter()
+                .filter_map(|e| side_kind(&e.context, &e.label).map(|(s, k)| (s, k, e.time)))
+                .collect();
+            let group = if *corpus == "c3d-samples" {
+                "tuning"
+            } else {
+                "held out"
+            };
+            let _ = group;
+            if verbose {
+                println!(
+                    "{name} [{lab}] rate {rate} first frame {} lab events {} plate events {} kinematic {}",
+                    c.first_frame(),
+                    lab_events.len(),
+                    plates.len(),
+                    kin.as_ref().map_or(0, Vec::len)
+                );
+                let mut show: Vec<(&str, &(Side, Kind, f64))> = lab_events
+                    .iter()
+                    .map(|e| ("lab", e))
+                    .chain(plates.iter().map(|e| ("plate", e)))
+                    .chain(kin.iter().flatten().map(|e| ("kin", e)))
+                    .collect();
+                show.sort_by(|a, b| a.1 .2.total_cmp(&b.1 .2));
+                for (src, (s, k, t)) in show {
+                    println!("    {t:8.3} {src:<6} {:?} {:?}", s, k);
+                }
+            }
+            if !lab_events.is_empty() {
+                if let Some(k) = &kin {
+                    table
+                        .entry(("lab", "kinematics"))
+                        .or_default()
+                        .entry(lab.clone())
+                        .or_default()
+                        .add(&lab_events, k, true);
+                }
+                if !plates.is_empty() {
+                    table
+                        .entry(("lab", "plates"))
+                        .or_default()
+                        .entry(lab.clone())
+                        .or_default()
+                        .add(&lab_events, &plates, false);
+                }
+            }
+            if !plates.is_empty() {
+                if let Some(k) = &kin {
+                    table
+                        .entry(("plate", "kinematics"))
+                        .or_default()
+                        .entry(lab.clone())
+                        .or_default()
+                        .add(&plates, k, false);
+                }
+            }
+        }
+    }
+    println!(
+        "kinematic: strike offset {} s, off offset {} s, smoothing {} s, min speed {} mm/s, touch {:?} mm; plates: threshold {} N",
+        opts.kinematic.strike_offset_s,
+        opts.kinematic.off_offset_s,
+        opts.kinematic.smooth_s,
+        opts.kinematic.min_speed_mm_s,
+        opts.kinematic.touch_mm,
+        opts.plate.threshold_n
+    );
+    println!(
+        "found within ±{} ms; |error| in ms; signed = detected − truth (median)",
+        WINDOW_S * 1000.0
+    );
+    for ((truth, detector), labs) in &table {
+        println!();
+        println!("== {detector} against {truth} events");
+        println!(
+            "{:<44} {:>3} | {:>4} {:>6} {:>6} {:>6} {:>6} | {:>4} {:>6} {:>6} {:>6} {:>6} | extra",
+            "lab", "n", "FS", "found", "med", "p95", "sign", "FO", "found", "med", "p95", "sign"
+        );
+        let mut groups: BTreeMap<&str, Tally> = BTreeMap::new();
+        for (lab, t) in labs {
+            println!("{}", t.line(lab, *truth == "lab"));
+            let g = if lab.starts_with("c3d-samples") {
+                "ALL tuning (c3d-samples)"
+            } else {
+                "ALL held out (other corpora)"
+            };
+            groups.entry(g).or_default().merge(t);
+        }
+        for (g, t) in &groups {
+            println!("{}", t.line(g, *truth == "lab"));
+        }
+    }
+    if verbose {
+        println!();
+        for s in &skipped {
+            println!("skipped {s}");
+        }
+    }
+}

@@ -1,0 +1,332 @@
+//! Gait events of an opened trial: the markers and plates as the `gait` crate's arrays,
+//! and its events back with the file's time base and frame numbering.
+//!
+//! Times are on the EVENT group's base ([`c3d::C3d::frame_time`]: frame `n` of the capture
+//! at (`n` − 1) / POINT:RATE); a fractional event index `i` (0-based from the first stored
+//! frame) is at `frame_time(0) + i / rate`, and its frame is the nearest one, numbered as
+//! the file numbers frames ([`c3d::C3d::frame_number`]).
+
+use crate::error::{Error, Result};
+use crate::platforms::{force_platforms, ForceOptions};
+use gait::{Feet, KinematicOptions, MarkerChoice, MarkerNames, PlateInput, PlateOptions};
+use serde::Serialize;
+use std::path::Path;
+
+/// Where events come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EventSource {
+    /// The force plates only.
+    Plates,
+    /// The markers only (the file's own events are never read).
+    Kinematics,
+    /// Plate events where a foot lands on a plate, kinematic events elsewhere.
+    #[default]
+    Auto,
+}
+
+impl std::str::FromStr for EventSource {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "plates" | "plate" => Ok(EventSource::Plates),
+            "kinematics" | "kinematic" | "markers" => Ok(EventSource::Kinematics),
+            "auto" => Ok(EventSource::Auto),
+            _ => Err(Error::options(format!(
+                "--from {s}: expected plates, kinematics or auto"
+            ))),
+        }
+    }
+}
+
+/// How to detect events.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct EventOptions {
+    pub from: EventSource,
+    /// Marker names given by a person (`--markers lheel=…`).
+    pub markers: MarkerNames,
+    pub kinematic: KinematicOptions,
+    pub plate: PlateOptions,
+}
+
+/// One detected event, as printed and written.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TrialEvent {
+    /// "Left" or "Right".
+    pub context: &'static str,
+    /// "Foot Strike" or "Foot Off".
+    pub label: &'static str,
+    /// Seconds on the EVENT group's time base.
+    pub time: f64,
+    /// The nearest frame, in the file's numbering.
+    pub frame: usize,
+    /// "plate" or "kinematics".
+    pub source: &'static str,
+    /// The 1-based plate, for plate events.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plate: Option<usize>,
+}
+
+/// The events of a trial and what was used to find them.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Detected {
+    pub events: Vec<TrialEvent>,
+    /// The labels used for each role (`lheel`, `ltoe`, `rheel`, `rtoe`, `pelvis`).
+    pub markers: Vec<(String, Vec<String>)>,
+    /// What could not be used, in words (e.g. the markers show no walking, so only the
+    /// plates' events are given).
+    pub warnings: Vec<String>,
+}
+
+/// Half the window (s) within which a plate event replaces a kinematic event of the same
+/// foot and kind in `auto`: less than half the shortest step, more than any method's error.
+pub const AUTO_MERGE_S: f64 = 0.2;
+
+fn trial_error(path: &Path, e: impl std::fmt::Display) -> Error {
+    Error::Trial {
+        path: path.to_path_buf(),
+        what: e.to_string(),
+    }
+}
+
+/// The markers of each role (point indices), found among the markers of `c` (model outputs
+/// are never taken).
+pub fn choose_markers(c: &c3d::C3d, names: &MarkerNames, path: &Path) -> Result<MarkerChoice> {
+    let outputs = c.model_output_labels();
+    let labels: Vec<String> = c
+        .point_labels()
+        .into_iter()
+        .map(|l| {
+            if outputs.contains(&l) {
+                String::new()
+            } else {
+                l
+            }
+        })
+        .collect();
+    gait::find_markers(&labels, names).map_err(|e| trial_error(path, e))
+}
+
+/// The trajectories of the chosen markers in millimetres, NaN where missing (a role of
+/// several markers is their mean where all are present). A heel found by name whose every
+/// sample is missing is replaced by the ankle marker of its side, when there is one (the
+/// choice is updated to say so).
+pub fn feet(c: &c3d::C3d, choice: &mut MarkerChoice, path: &Path) -> Result<Feet> {
+    let f = feet_of(c, choice, path)?;
+    let outputs = c.model_output_labels();
+    let labels: Vec<String> = c
+        .point_labels()
+        .into_iter()
+        .map(|l| {
+            if outputs.contains(&l) {
+                String::new()
+            } else {
+                l
+            }
+        })
+        .collect();
+    let mut swapped = false;
+    for (k, (heel, side)) in [(&f.left_heel, 'l'), (&f.right_heel, 'r')]
+        .into_iter()
+        .enumerate()
+    {
+        let seen = heel.iter().any(|p| p[0].is_finite());
+        if !seen && !choice.heel_is_ankle[k] {
+            if let Some(a) = gait::markers::ankle_for(&labels, side) {
+                let slot = if k == 0 {
+                    &mut choice.left_heel
+                } else {
+                    &mut choice.right_heel
+                };
+                *slot = vec![a];
+                choice.heel_is_ankle[k] = true;
+                swapped = true;
+            }
+        }
+    }
+    if swapped {
+        feet_of(c, choice, path)
+    } else {
+        Ok(f)
+    }
+}
+
+fn feet_of(c: &c3d::C3d, choice: &MarkerChoice, path: &Path) -> Result<Feet> {
+    let roles = [
+        &choice.left_heel,
+        &choice.left_toe,
+        &choice.right_heel,
+        &choice.right_toe,
+        &choice.pelvis,
+    ];
+    let mut points: Vec<usize> = roles.iter().flat_map(|r| r.iter().copied()).collect();
+    points.sort_unstable();
+    points.dedup();
+    let trial = crate::trial::to_trial(c, &points, false).map_err(|e| trial_error(path, e))?;
+    let mm = c3d::mm_per_unit(&c.point_units());
+    let frames = c.frames();
+    let mean = |role: &[usize]| -> Vec<[f64; 3]> {
+        (0..frames)
+            .map(|f| {
+                let mut s = [0.0; 3];
+                for &p in role {
+                    let Ok(row) = points.binary_search(&p) else {
+                        return [f64::NAN; 3];
+                    };
+                    let v = trial.xyz[row][f];
+                    if !trial.valid[row][f] || !v.iter().all(|x| x.is_finite()) {
+                        return [f64::NAN; 3];
+                    }
+                    for k in 0..3 {
+                        s[k] += v[k] * mm / role.len() as f64;
+                    }
+                }
+                s
+            })
+            .collect()
+    };
+    Ok(Feet {
+        left_heel: mean(&choice.left_heel),
+        left_toe: mean(&choice.left_toe),
+        right_heel: mean(&choice.right_heel),
+        right_toe: mean(&choice.right_toe),
+        pelvis: mean(&choice.pelvis),
+        heel_is_ankle: choice.heel_is_ankle,
+    })
+}
+
+/// Plate events of `c` (fractional frame indices) from its computable plates.
+pub fn plate_events(c: &c3d::C3d, feet: &Feet, opts: &PlateOptions) -> Result<Vec<gait::Event>> {
+    let fp = force_platforms(c, &ForceOptions::default())?;
+    let mm = c3d::mm_per_unit(&c.point_units());
+    let cops: Vec<Vec<[f64; 3]>> = fp
+        .platforms
+        .iter()
+        .map(|p| {
+            p.cop
+                .iter()
+                .map(|v| [v[0] * mm, v[1] * mm, v[2] * mm])
+                .collect()
+        })
+        .collect();
+    let inputs: Vec<PlateInput> = fp
+        .platforms
+        .iter()
+        .zip(&cops)
+        .map(|(p, cop)| PlateInput {
+            index: p.index,
+            samples_per_frame: fp.samples_per_frame,
+            normal: &p.push,
+            cop,
+        })
+        .collect();
+    Ok(gait::plate_events(
+        &inputs,
+        feet,
+        c.analog_rate() as f64,
+        opts,
+    ))
+}
+
+/// An event at fractional index `e.index` on the file's time base and numbering.
+pub fn to_trial_event(c: &c3d::C3d, e: &gait::Event) -> TrialEvent {
+    let rate = c.point_rate() as f64;
+    let time = if rate > 0.0 && rate.is_finite() {
+        c.frame_time(0) + e.index / rate
+    } else {
+        0.0
+    };
+    TrialEvent {
+        context: e.side.context(),
+        label: e.kind.label(),
+        time,
+        frame: c.frame_number(e.index.round().max(0.0) as usize),
+        source: e.source.name(),
+        plate: e.plate,
+    }
+}
+
+/// `kinematic` events with those near a plate event of the same foot and kind replaced by
+/// it, sorted by time.
+pub fn merge_auto(
+    plates: &[gait::Event],
+    kinematic: &[gait::Event],
+    rate: f64,
+) -> Vec<gait::Event> {
+    let window = AUTO_MERGE_S * rate;
+    let mut out: Vec<gait::Event> = kinematic
+        .iter()
+        .filter(|k| {
+            !plates.iter().any(|p| {
+                p.side == k.side && p.kind == k.kind && (p.index - k.index).abs() <= window
+            })
+        })
+        .copied()
+        .collect();
+    out.extend_from_slice(plates);
+    gait::sort_events(&mut out);
+    out
+}
+
+/// Detect the gait events of `c` (`path` names it in messages).
+pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<Detected> {
+    let mut choice = choose_markers(c, &opts.markers, path)?;
+    let feet = feet(c, &mut choice, path)?;
+    let labels = c.point_labels();
+    let names = |r: &[usize]| {
+        r.iter()
+            .map(|&i| labels.get(i).cloned().unwrap_or_default())
+            .collect()
+    };
+    let markers = vec![
+        ("lheel".to_string(), names(&choice.left_heel)),
+        ("ltoe".to_string(), names(&choice.left_toe)),
+        ("rheel".to_string(), names(&choice.right_heel)),
+        ("rtoe".to_string(), names(&choice.right_toe)),
+        ("pelvis".to_string(), names(&choice.pelvis)),
+    ];
+    let frames = c.frames();
+    if frames < gait::kinematic::MIN_FRAMES {
+        return Err(trial_error(
+            path,
+            gait::Error::TooShort {
+                frames,
+                needed: gait::kinematic::MIN_FRAMES,
+            },
+        ));
+    }
+    let rate = c.point_rate() as f64;
+    let mut warnings = Vec::new();
+    let events = match opts.from {
+        EventSource::Kinematics => gait::kinematic_events(&feet, rate, &opts.kinematic)
+            .map_err(|e| trial_error(path, e))?,
+        EventSource::Plates => {
+            if c.platform_params().plates.is_empty() {
+                return Err(trial_error(
+                    path,
+                    "no force plates (FORCE_PLATFORM:USED is 0 or absent)",
+                ));
+            }
+            plate_events(c, &feet, &opts.plate)?
+        }
+        EventSource::Auto => {
+            let plates = if c.platform_params().plates.is_empty() {
+                Vec::new()
+            } else {
+                plate_events(c, &feet, &opts.plate)?
+            };
+            match gait::kinematic_events(&feet, rate, &opts.kinematic) {
+                Ok(k) => merge_auto(&plates, &k, rate),
+                Err(e) if !plates.is_empty() => {
+                    warnings.push(format!("markers: {e}; only the plates' events are given"));
+                    plates
+                }
+                Err(e) => return Err(trial_error(path, e)),
+            }
+        }
+    };
+    Ok(Detected {
+        events: events.iter().map(|e| to_trial_event(c, e)).collect(),
+        markers,
+        warnings,
+    })
+}

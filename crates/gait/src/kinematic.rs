@@ -1,0 +1,393 @@
+//! Foot strike and foot off from the markers, by Zeni, Richards & Higginson (2008), "Two
+//! simple methods for determining gait events during treadmill and overground walking
+//! using kinematic data", Gait & Posture 27(4): 710–714.
+//!
+//! Along the walking direction, relative to the sacrum, the heel reaches its most forward
+//! position at foot strike and the toe its most backward position at foot off. Here the
+//! walking direction is the pelvis' horizontal displacement over a window of about one
+//! step either side of each frame ([`KinematicOptions::direction_window_s`]), so it follows
+//! curved paths and turns and either direction of travel; frames where the pelvis moves
+//! slower than [`KinematicOptions::min_speed_mm_s`] are no walking and get no events.
+//! Gaps: an extremum counts only with valid samples on both sides of it, so no event is
+//! placed at the edge of a gap.
+
+use crate::axes::{self, Vertical};
+use crate::error::{Error, Result};
+use crate::signal;
+use crate::{Event, Feet, Kind, Side, Source};
+
+/// The method's constants.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KinematicOptions {
+    /// Half the window (s) over which the pelvis' displacement gives the walking direction:
+    /// about one step, so the side-to-side sway of each step cancels.
+    pub direction_window_s: f64,
+    /// Slowest pelvis speed taken as walking (mm/s).
+    pub min_speed_mm_s: f64,
+    /// Shortest time (s) between two strikes (or two offs) of one foot, halved: an
+    /// extremum must be the largest within this distance either side.
+    pub min_half_stride_s: f64,
+    /// Width (s) of the moving average applied to the heel and toe signals (0 for none).
+    pub smooth_s: f64,
+    /// Added to every detected strike and off (s): the method's mean lead or lag against
+    /// force plates and the labs' events, chosen on the tuning labs (c3d-samples; see
+    /// `docs/events.md`): Zeni's toe extreme comes about 10 ms after the foot leaves.
+    pub strike_offset_s: f64,
+    pub off_offset_s: f64,
+    /// Refine Zeni's strikes by the feet's heights ([`refine_strike`]): how near (mm) its
+    /// stance level a heel or toe must be for its descent's end to be the landing. `None`
+    /// keeps Zeni's instants. (Offs are Zeni's: the toe's rise gave no better instant on
+    /// the tuning labs.)
+    pub touch_mm: Option<f64>,
+    /// Added to strikes found with an ankle marker standing in for the heel (s): the
+    /// malleolus peaks forward about 20 ms before the landing on the tuning labs.
+    pub ankle_strike_offset_s: f64,
+}
+
+impl Default for KinematicOptions {
+    fn default() -> Self {
+        KinematicOptions {
+            direction_window_s: 0.5,
+            min_speed_mm_s: 200.0,
+            min_half_stride_s: 0.25,
+            smooth_s: 0.0,
+            strike_offset_s: 0.0,
+            off_offset_s: -0.01,
+            touch_mm: Some(10.0),
+            ankle_strike_offset_s: 0.02,
+        }
+    }
+}
+
+/// The fewest frames a trial needs: three, to see an extremum between two samples.
+pub const MIN_FRAMES: usize = 3;
+
+/// The walking direction per frame (unit, horizontal; NaN where the pelvis is unknown or
+/// slower than walking).
+pub fn walking_direction(
+    pelvis: &[[f64; 3]],
+    vertical: Vertical,
+    rate: f64,
+    opts: &KinematicOptions,
+) -> Vec<[f64; 3]> {
+    let n = pelvis.len();
+    let h = ((opts.direction_window_s * rate).round() as usize).max(1);
+    (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(h), (i + h).min(n - 1));
+            let d = vertical.horizontal([
+                pelvis[b][0] - pelvis[a][0],
+                pelvis[b][1] - pelvis[a][1],
+                pelvis[b][2] - pelvis[a][2],
+            ]);
+            let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            let speed = len / ((b - a) as f64 / rate);
+            if len.is_finite() && b > a && speed >= opts.min_speed_mm_s {
+                [d[0] / len, d[1] / len, d[2] / len]
+            } else {
+                [f64::NAN; 3]
+            }
+        })
+        .collect()
+}
+
+/// `marker − pelvis` along the walking direction, per frame (NaN where unknown).
+fn along(marker: &[[f64; 3]], pelvis: &[[f64; 3]], dir: &[[f64; 3]]) -> Vec<f64> {
+    marker
+        .iter()
+        .zip(pelvis)
+        .zip(dir)
+        .map(|((m, p), d)| (0..3).map(|k| (m[k] - p[k]) * d[k]).sum())
+        .collect()
+}
+
+fn all_missing(t: &[[f64; 3]]) -> bool {
+    !t.iter().any(|p| p.iter().all(|v| v.is_finite()))
+}
+
+/// Foot strikes and foot offs of both feet (sorted by time), by Zeni's method.
+pub fn kinematic_events(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Result<Vec<Event>> {
+    feet.check()?;
+    if !(rate.is_finite() && rate > 0.0) {
+        return Err(Error::Input(format!(
+            "point rate {rate}: expected a positive number of frames per second"
+        )));
+    }
+    let n = feet.frames();
+    if n < MIN_FRAMES {
+        return Err(Error::TooShort {
+            frames: n,
+            needed: MIN_FRAMES,
+        });
+    }
+    if all_missing(&feet.pelvis) {
+        return Err(Error::AllMissing("pelvis".into()));
+    }
+    if [
+        &feet.left_heel,
+        &feet.left_toe,
+        &feet.right_heel,
+        &feet.right_toe,
+    ]
+    .iter()
+    .all(|t| all_missing(t))
+    {
+        return Err(Error::AllMissing("foot".into()));
+    }
+    let vertical = axes::vertical(
+        &feet.pelvis,
+        &[
+            &feet.left_heel,
+            &feet.right_heel,
+            &feet.left_toe,
+            &feet.right_toe,
+        ],
+    )
+    .ok_or_else(|| Error::AllMissing("foot (in frames with the pelvis)".into()))?;
+    let mut pelvis = feet.pelvis.clone();
+    signal::fill_short(&mut pelvis, (0.5 * rate).round() as usize);
+    let dir = walking_direction(&pelvis, vertical, rate, opts);
+    if dir.iter().all(|d| d[0].is_nan()) {
+        return Err(Error::NoWalking {
+            min_speed_m_s: opts.min_speed_mm_s / 1000.0,
+            window_s: 2.0 * opts.direction_window_s,
+        });
+    }
+    let half = ((opts.min_half_stride_s * rate).round() as usize).max(1);
+    let reach = 2 * half;
+    let smooth = ((opts.smooth_s * rate / 2.0).round()) as usize;
+    let mut out = Vec::new();
+    for side in Side::BOTH {
+        let (heel, toe) = feet.foot(side);
+        let heel = signal::smooth(&along(heel, &pelvis, &dir), smooth);
+        let toe: Vec<f64> = signal::smooth(&along(toe, &pelvis, &dir), smooth)
+            .into_iter()
+            .map(|v| -v)
+            .collect();
+        for (kind, x, offset) in [
+            (Kind::FootStrike, &heel, opts.strike_offset_s),
+            (Kind::FootOff, &toe, opts.off_offset_s),
+        ] {
+            let range = match (signal::quantile(x, 0.05), signal::quantile(x, 0.95)) {
+                (Some(a), Some(b)) => b - a,
+                _ => continue,
+            };
+            let prominence = (0.25 * range).max(40.0);
+            for i in signal::maxima(x, half, reach, prominence) {
+                let i = match (opts.touch_mm, kind) {
+                    (_, Kind::FootStrike) if feet.heel_is_ankle(side) => {
+                        i + opts.ankle_strike_offset_s * rate
+                    }
+                    (Some(d), Kind::FootStrike) => refine_strike(feet, side, vertical, i, rate, d),
+                    _ => i,
+                };
+                let index = i + offset * rate;
+                if index >= 0.0 && index <= (n - 1) as f64 {
+                    out.push(Event {
+                        side,
+                        kind,
+                        index,
+                        source: Source::Kinematics,
+                        plate: None,
+                    });
+                }
+            }
+        }
+    }
+    crate::sort_events(&mut out);
+    Ok(out)
+}
+
+/// Heights of a foot's heel and toe per frame (NaN where missing).
+fn heights(feet: &Feet, side: Side, v: Vertical) -> (Vec<f64>, Vec<f64>) {
+    let (heel, toe) = feet.foot(side);
+    (
+        heel.iter().map(|p| v.height(*p)).collect(),
+        toe.iter().map(|p| v.height(*p)).collect(),
+    )
+}
+
+/// The lowest finite value of `x` over `[a, b)` (clamped), NaN if none.
+fn lowest(x: &[f64], a: f64, b: f64) -> f64 {
+    let n = x.len();
+    let (a, b) = (a.max(0.0) as usize, (b.max(0.0) as usize).min(n));
+    x[a.min(n)..b]
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(f64::NAN, f64::min)
+}
+
+/// Foot strike refined from Zeni's heel extremum at `i0`: the first local minimum of the
+/// heel's or the toe's height in the 0.25 s after `i0` (whichever part lands first) that
+/// lies within `touch` mm of that part's lowest height in the 0.5 s after `i0` (its stance
+/// level, taken after the event so stairs and slopes follow). The heel's forward extreme
+/// comes while the foot still descends; the landing stops the descent, and the marker
+/// rises again as the foot rolls over. Falls back to `i0` when no such minimum exists.
+pub fn refine_strike(feet: &Feet, side: Side, v: Vertical, i0: f64, rate: f64, touch: f64) -> f64 {
+    let (heel, toe) = heights(feet, side, v);
+    let n = heel.len();
+    let first_min = |x: &[f64]| -> Option<f64> {
+        let base = lowest(x, i0, i0 + 0.5 * rate);
+        // Two samples either side must be known: the edge of a gap is no landing.
+        let (a, b) = (
+            i0.floor().max(2.0) as usize,
+            ((i0 + 0.25 * rate) as usize).min(n.saturating_sub(2)),
+        );
+        (a..b).find_map(|k| {
+            let (y0, y1, y2) = (x[k - 1], x[k], x[k + 1]);
+            let known = x[k - 2..=k + 2].iter().all(|v| v.is_finite());
+            (known && y1 < y0 && y1 <= y2 && y1 - base <= touch)
+                .then(|| k as f64 + signal::parabolic(y0, y1, y2))
+        })
+    };
+    match (first_min(&heel), first_min(&toe)) {
+        (Some(h), Some(t)) => h.min(t),
+        (Some(h), None) => h,
+        (None, Some(t)) => t,
+        (None, None) => i0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A synthetic walk along −x at 1.2 m/s, Z up, 100 Hz: each heel swings ±300 mm about
+    /// the pelvis with a 1 s stride, the sides half a stride apart.
+    fn walk(frames: usize) -> Feet {
+        let rate = 100.0;
+        let mut f = Feet::default();
+        for i in 0..frames {
+            let t = i as f64 / rate;
+            let x = -1200.0 * t;
+            f.pelvis.push([x, 0.0, 950.0]);
+            for (phase, heel, toe) in [
+                (0.0, &mut f.left_heel, &mut f.left_toe),
+                (0.5, &mut f.right_heel, &mut f.right_toe),
+            ] {
+                let s = (2.0 * std::f64::consts::PI * (t - phase)).cos();
+                heel.push([x - 300.0 * s, 0.0, 60.0]);
+                toe.push([
+                    x - 300.0 * (2.0 * std::f64::consts::PI * (t - phase - 0.4)).cos() - 150.0,
+                    0.0,
+                    40.0,
+                ]);
+            }
+        }
+        f
+    }
+
+    #[test]
+    fn strikes_at_the_heels_forward_extreme() {
+        let f = walk(400);
+        let ev = kinematic_events(&f, 100.0, &KinematicOptions::default()).unwrap();
+        let strikes: Vec<f64> = ev
+            .iter()
+            .filter(|e| e.side == Side::Left && e.kind == Kind::FootStrike)
+            .map(|e| e.index)
+            .collect();
+        // Left heel forward (towards −x) when cos = 1: t = 1, 2, 3 s (t = 0 is the edge).
+        assert_eq!(strikes.len(), 3, "{ev:?}");
+        for (s, want) in strikes.iter().zip([100.0, 200.0, 300.0]) {
+            assert!((s - want).abs() < 0.05, "{strikes:?}");
+        }
+        let offs = ev
+            .iter()
+            .filter(|e| e.side == Side::Right && e.kind == Kind::FootOff)
+            .count();
+        assert!(offs >= 3, "{ev:?}");
+    }
+
+    /// Position and heading (horizontal x, z) after `s` mm along a path: 3.6 m straight along
+    /// +z, a half circle of radius 1.5 m, 3.6 m back along −z.
+    fn u_turn(s: f64) -> ([f64; 2], [f64; 2]) {
+        let (l1, r) = (3600.0, 1500.0);
+        let arc = std::f64::consts::PI * r;
+        if s < l1 {
+            ([0.0, s], [0.0, 1.0])
+        } else if s < l1 + arc {
+            let th = (s - l1) / r;
+            ([r - r * th.cos(), l1 + r * th.sin()], [th.sin(), th.cos()])
+        } else {
+            ([2.0 * r, l1 - (s - l1 - arc)], [0.0, -1.0])
+        }
+    }
+
+    #[test]
+    fn a_u_turn_in_a_y_up_lab() {
+        let rate = 100.0;
+        let frames = 990;
+        let mut f = Feet::default();
+        let tau = 2.0 * std::f64::consts::PI;
+        for i in 0..frames {
+            let t = i as f64 / rate;
+            let (p, d) = u_turn(1200.0 * t);
+            f.pelvis.push([p[0], 950.0, p[1]]);
+            for (phase, heel, toe) in [
+                (0.0, &mut f.left_heel, &mut f.left_toe),
+                (0.5, &mut f.right_heel, &mut f.right_toe),
+            ] {
+                let h = 300.0 * (tau * (t - phase)).cos();
+                let o = 300.0 * (tau * (t - phase - 0.4)).cos() + 150.0;
+                heel.push([p[0] + d[0] * h, 60.0, p[1] + d[1] * h]);
+                toe.push([p[0] + d[0] * o, 40.0, p[1] + d[1] * o]);
+            }
+        }
+        let opts = KinematicOptions {
+            touch_mm: None,
+            off_offset_s: 0.0,
+            ..KinematicOptions::default()
+        };
+        let ev = kinematic_events(&f, rate, &opts).unwrap();
+        // The left heel is forward at t = 1, 2, … 9 s: one strike each, straight, on the
+        // curve and after the turn, and nothing else.
+        let strikes: Vec<f64> = ev
+            .iter()
+            .filter(|e| e.side == Side::Left && e.kind == Kind::FootStrike)
+            .map(|e| e.index / rate)
+            .collect();
+        assert_eq!(strikes.len(), 9, "{strikes:?}");
+        for (k, s) in strikes.iter().enumerate() {
+            assert!((s - (k + 1) as f64).abs() < 0.02, "{strikes:?}");
+        }
+        let offs = ev
+            .iter()
+            .filter(|e| e.side == Side::Right && e.kind == Kind::FootOff)
+            .count();
+        // The right toe is farthest back at t = 0.4, 1.4, … 9.4 s.
+        assert_eq!(offs, 10, "{ev:?}");
+    }
+
+    #[test]
+    fn bad_input_is_an_error() {
+        let f = walk(2);
+        assert!(matches!(
+            kinematic_events(&f, 100.0, &KinematicOptions::default()),
+            Err(Error::TooShort { .. })
+        ));
+        let mut f = walk(200);
+        for p in f
+            .left_heel
+            .iter_mut()
+            .chain(f.right_heel.iter_mut())
+            .chain(f.left_toe.iter_mut())
+            .chain(f.right_toe.iter_mut())
+        {
+            *p = [f64::NAN; 3];
+        }
+        assert!(matches!(
+            kinematic_events(&f, 100.0, &KinematicOptions::default()),
+            Err(Error::AllMissing(_))
+        ));
+        let mut f = walk(200);
+        for p in f.pelvis.iter_mut() {
+            p[0] = 0.0;
+        }
+        assert!(matches!(
+            kinematic_events(&f, 100.0, &KinematicOptions::default()),
+            Err(Error::NoWalking { .. })
+        ));
+        assert!(kinematic_events(&walk(200), f64::NAN, &KinematicOptions::default()).is_err());
+    }
+}

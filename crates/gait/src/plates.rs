@@ -1,0 +1,248 @@
+//! Foot strike and foot off from the force plates: where a plate's load rises through a
+//! threshold and falls back through it, once the plate's unloaded level is removed; the
+//! side is the foot whose heel–toe line lies nearest the centre of pressure while the plate
+//! is loaded.
+//!
+//! A contact is kept only when one foot alone explains it: the nearer foot within
+//! [`PlateOptions::max_foot_distance_mm`] of the centre of pressure for most of the
+//! loading, and the other foot clearly farther. Contacts that begin with the trial (the
+//! foot was already down) give no strike, those that end with it no off.
+
+use crate::axes;
+use crate::{Event, Feet, Kind, Side, Source};
+
+/// One plate's data at the analog rate.
+#[derive(Debug, Clone, Copy)]
+pub struct PlateInput<'a> {
+    /// 1-based, as FORCE_PLATFORM numbers plates.
+    pub index: usize,
+    /// Analog samples per point frame.
+    pub samples_per_frame: usize,
+    /// The force along the plate's normal (N), either sign.
+    pub normal: &'a [f64],
+    /// The centre of pressure in the lab frame (mm), NaN where unloaded.
+    pub cop: &'a [[f64; 3]],
+}
+
+/// The detector's constants.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlateOptions {
+    /// Load (N, after removing the unloaded level) at which a foot is on the plate.
+    pub threshold_n: f64,
+    /// Farthest the centre of pressure may lie from the foot's heel–toe line (mm).
+    pub max_foot_distance_mm: f64,
+    /// Shortest contact taken as a footfall (s): a sprinting stance lasts about 0.1 s.
+    pub min_contact_s: f64,
+}
+
+impl Default for PlateOptions {
+    fn default() -> Self {
+        PlateOptions {
+            threshold_n: 20.0,
+            max_foot_distance_mm: 150.0,
+            min_contact_s: 0.08,
+        }
+    }
+}
+
+/// The plate's unloaded level: the median of the samples whose magnitude is among the
+/// smallest tenth (a plate in a walkway is unloaded most of the time). Taken as zero when
+/// it is not small against the peak (a plate loaded throughout).
+pub fn unloaded_level(normal: &[f64]) -> f64 {
+    let mags: Vec<f64> = normal.iter().map(|v| v.abs()).collect();
+    let (Some(cut), Some(peak)) = (
+        crate::signal::quantile(&mags, 0.1),
+        crate::signal::quantile(&mags, 1.0),
+    ) else {
+        return 0.0;
+    };
+    let low: Vec<f64> = normal.iter().copied().filter(|v| v.abs() <= cut).collect();
+    let level = crate::signal::quantile(&low, 0.5).unwrap_or(0.0);
+    if level.abs() <= 0.2 * peak {
+        level
+    } else {
+        0.0
+    }
+}
+
+/// Horizontal distance from `p` to the segment `a`–`b` (NaN if any is unknown).
+fn to_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3], v: axes::Vertical) -> f64 {
+    let (p, a, b) = (v.horizontal(p), v.horizontal(a), v.horizontal(b));
+    let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let ap = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
+    let len2: f64 = ab.iter().map(|x| x * x).sum();
+    let t = if len2 > 0.0 {
+        ((0..3).map(|k| ap[k] * ab[k]).sum::<f64>() / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let d: f64 = (0..3).map(|k| (ap[k] - t * ab[k]).powi(2)).sum();
+    d.sqrt()
+}
+
+/// Events of every plate (sorted by time). `analog_rate` is in Hz.
+pub fn plate_events(
+    plates: &[PlateInput],
+    feet: &Feet,
+    analog_rate: f64,
+    opts: &PlateOptions,
+) -> Vec<Event> {
+    let mut out = Vec::new();
+    if feet.check().is_err() || !(analog_rate.is_finite() && analog_rate > 0.0) {
+        return out;
+    }
+    let Some(vertical) = axes::vertical(
+        &feet.pelvis,
+        &[
+            &feet.left_heel,
+            &feet.right_heel,
+            &feet.left_toe,
+            &feet.right_toe,
+        ],
+    ) else {
+        return out;
+    };
+    let frames = feet.frames();
+    for plate in plates {
+        let spf = plate.samples_per_frame.max(1);
+        let level = unloaded_level(plate.normal);
+        let push: Vec<f64> = plate.normal.iter().map(|v| (v - level).abs()).collect();
+        let min = (opts.min_contact_s * analog_rate).ceil() as usize;
+        for [a, b] in kinetics::contacts(&push, opts.threshold_n, analog_rate) {
+            if b + 1 - a < min {
+                continue;
+            }
+            let Some(side) = side_of(plate, feet, vertical, [a, b], spf, frames, opts) else {
+                continue;
+            };
+            let thr = opts.threshold_n;
+            let crossing = |lo: usize, hi: usize| {
+                let (p0, p1) = (push[lo], push[hi]);
+                let t = if (p1 - p0).abs() > 0.0 {
+                    ((thr - p0) / (p1 - p0)).clamp(0.0, 1.0)
+                } else {
+                    0.5
+                };
+                lo as f64 + t
+            };
+            let mut emit = |kind, sample: f64| {
+                let index = sample / spf as f64;
+                if index <= (frames.saturating_sub(1)) as f64 {
+                    out.push(Event {
+                        side,
+                        kind,
+                        index,
+                        source: Source::Plate,
+                        plate: Some(plate.index),
+                    });
+                }
+            };
+            if a > 0 {
+                emit(Kind::FootStrike, crossing(a - 1, a));
+            }
+            if b + 1 < push.len() {
+                emit(Kind::FootOff, crossing(b, b + 1));
+            }
+        }
+    }
+    crate::sort_events(&mut out);
+    out
+}
+
+/// The foot that alone stands on the plate during the contact `[a, b]` (samples), if any.
+fn side_of(
+    plate: &PlateInput,
+    feet: &Feet,
+    vertical: axes::Vertical,
+    [a, b]: [usize; 2],
+    spf: usize,
+    frames: usize,
+    opts: &PlateOptions,
+) -> Option<Side> {
+    // The middle of the contact: the foot is flat and the centre of pressure is under it.
+    let len = b - a;
+    let (s0, s1) = (a + len / 5, b - len / 5);
+    let mut dist = [Vec::new(), Vec::new()];
+    for s in (s0..=s1).step_by(spf) {
+        let f = s / spf;
+        if f >= frames {
+            break;
+        }
+        let Some(&cop) = plate.cop.get(s) else { break };
+        for (k, side) in Side::BOTH.into_iter().enumerate() {
+            let (heel, toe) = feet.foot(side);
+            let d = to_segment(cop, heel[f], toe[f], vertical);
+            if d.is_finite() {
+                dist[k].push(d);
+            }
+        }
+    }
+    let median = |v: &[f64]| crate::signal::quantile(v, 0.5).unwrap_or(f64::INFINITY);
+    let (dl, dr) = (median(&dist[0]), median(&dist[1]));
+    let (side, near, far, near_all) = if dl <= dr {
+        (Side::Left, dl, dr, &dist[0])
+    } else {
+        (Side::Right, dr, dl, &dist[1])
+    };
+    let max = opts.max_foot_distance_mm;
+    let within = near_all.iter().filter(|d| **d <= max).count();
+    (near <= max && far > near + 100.0 && within * 5 >= near_all.len() * 4).then_some(side)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_footfall_on_one_plate() {
+        // 10 frames at 100 Hz, 10 samples per frame; the left foot stands at x = 0, the
+        // right at x = 600; the plate (COP at x = 20) is loaded from sample 25 to 74.
+        let frames = 10;
+        let feet = Feet {
+            left_heel: vec![[-100.0, 0.0, 50.0]; frames],
+            left_toe: vec![[100.0, 0.0, 30.0]; frames],
+            right_heel: vec![[500.0, 0.0, 50.0]; frames],
+            right_toe: vec![[700.0, 0.0, 30.0]; frames],
+            pelvis: vec![[300.0, 0.0, 950.0]; frames],
+            heel_is_ankle: [false; 2],
+        };
+        let mut normal = vec![3.0; 100];
+        for (i, v) in normal.iter_mut().enumerate().take(75).skip(25) {
+            *v = 3.0 - 700.0 * ((i - 24) as f64 / 51.0 * std::f64::consts::PI).sin();
+        }
+        let cop: Vec<[f64; 3]> = normal
+            .iter()
+            .map(|v| {
+                if v.abs() > 10.0 {
+                    [20.0, 5.0, 0.0]
+                } else {
+                    [f64::NAN; 3]
+                }
+            })
+            .collect();
+        let plate = PlateInput {
+            index: 2,
+            samples_per_frame: 10,
+            normal: &normal,
+            cop: &cop,
+        };
+        assert_eq!(unloaded_level(&normal), 3.0);
+        let ev = plate_events(
+            &[plate],
+            &feet,
+            1000.0,
+            &PlateOptions {
+                min_contact_s: 0.01,
+                ..PlateOptions::default()
+            },
+        );
+        assert_eq!(ev.len(), 2, "{ev:?}");
+        assert_eq!(
+            (ev[0].side, ev[0].kind, ev[0].plate),
+            (Side::Left, Kind::FootStrike, Some(2))
+        );
+        assert!(ev[0].index > 2.4 && ev[0].index < 2.6, "{ev:?}");
+        assert_eq!(ev[1].kind, Kind::FootOff);
+        assert!(ev[1].index > 7.3 && ev[1].index < 7.5, "{ev:?}");
+    }
+}
