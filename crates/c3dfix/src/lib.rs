@@ -28,6 +28,7 @@ pub mod markers;
 mod options;
 pub mod platforms;
 mod repair;
+pub mod rerun;
 pub mod save;
 pub mod trial;
 

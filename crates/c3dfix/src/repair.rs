@@ -4,6 +4,7 @@
 use crate::error::{Error, Result};
 use crate::markers::{marker_indices, mm_per_unit, select};
 use crate::options::{method_name, RepairOptions};
+use crate::rerun;
 use crate::trial::{to_trial, write_back};
 use repair::FillOutcome;
 use serde::Serialize;
@@ -45,6 +46,10 @@ pub struct Summary {
     pub gap_list: Vec<GapBrief>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub backup: Option<String>,
+    /// Steps asked for and not taken because the file records them as done by an earlier
+    /// repair (`filter …`, `spikes …`): never applied twice (docs/reruns.md).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub already_applied: Vec<String>,
     /// Why the file was left as it was (batch only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped: Option<String>,
@@ -124,17 +129,56 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
         },
         c3d::NumberFormat::Float => repair::Storage::Float32,
     };
-    let cfg = opts.config(&c.point_units())?.with_storage(storage);
+    let mut cfg = opts.config(&c.point_units())?.with_storage(storage);
     let only = opts.markers.as_ref().map(|m| select(c, m)).transpose()?;
     let points = marker_indices(c);
     let mut trial = to_trial(c, &points, opts.zero_invalid)?;
-    // In the process's own pool, so that a forked process repairs too (see c3d::pool).
-    let report =
-        c3d::pool::install(|| repair::repair_trial(&mut trial, &cfg)).map_err(|source| {
+    // What an earlier repair of this file did: done steps are not done again, its fills are
+    // no data, the gaps it left under these settings stay left (see crate::rerun).
+    let record = rerun::Record::read(c);
+    let fill_settings = rerun::fill_settings(opts);
+    let mut already_applied = Vec::new();
+    let mut spikes = cfg.spikes().copied();
+    let mut filter = cfg.filter().copied();
+    if let (Some(done), Some(_)) = (&record.spikes, spikes) {
+        already_applied.push(format!("spikes ({done})"));
+        spikes = None;
+    }
+    if let (Some(done), Some(_)) = (&record.filter, filter) {
+        already_applied.push(format!("filter ({done})"));
+        filter = None;
+    }
+    if !already_applied.is_empty() {
+        cfg = repair::RepairConfig::new(spikes, cfg.fill().clone(), filter).map_err(|source| {
             Error::Repair {
                 path: name.to_path_buf(),
                 source,
             }
+        })?;
+    }
+    let row_of: std::collections::HashMap<usize, usize> =
+        points.iter().enumerate().map(|(r, &p)| (p, r)).collect();
+    let mut earlier = repair::Earlier::default();
+    if !record.filled.is_empty() {
+        earlier.filled = vec![vec![false; c.frames()]; points.len()];
+        for &(p, a, b) in &record.filled {
+            if let Some(&r) = row_of.get(&p) {
+                earlier.filled[r][a..=b].fill(true);
+            }
+        }
+    }
+    if record.fill.as_deref() == Some(fill_settings.as_str()) {
+        earlier.left = record
+            .left
+            .iter()
+            .filter_map(|l| Some((*row_of.get(&l.point)?, l.first, l.last, l.reason)))
+            .collect();
+    }
+    // In the process's own pool, so that a forked process repairs too (see c3d::pool).
+    let report = c3d::pool::install(|| repair::repair_trial_after(&mut trial, &cfg, &earlier))
+        .map_err(|source| Error::Repair {
+            path: name.to_path_buf(),
+            source,
         })?;
     let labels = c.point_labels();
     let row_label = |row: usize| labels[points[row]].clone();
@@ -142,6 +186,7 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
 
     let mut s = Summary {
         file: name.display().to_string(),
+        already_applied,
         markers: points.len(),
         model_outputs_left: c.point_count() - points.len(),
         samples_at_origin: (0..points.len())
@@ -221,13 +266,48 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
             labelled(x, row_label(x.marker))
         })
         .collect();
-    let wb =
-        write_back(c, &trial, &points, &report.changes, only.as_deref()).map_err(|source| {
-            Error::C3d {
-                path: name.to_path_buf(),
-                source,
-            }
-        })?;
+    // The record this run leaves: every fill so far; the gaps left now (and those of
+    // markers outside this run's --markers, as they were); the steps applied.
+    let in_scope_point = |p: usize| row_of.get(&p).is_some_and(|&r| in_scope(r));
+    let mut next = rerun::Record {
+        filled: record.filled.clone(),
+        left: record
+            .left
+            .iter()
+            .filter(|l| !in_scope_point(l.point))
+            .copied()
+            .collect(),
+        fill: Some(fill_settings),
+        filter: record.filter.clone(),
+        spikes: record.spikes.clone(),
+    };
+    for g in report.gaps.iter().filter(|g| in_scope(g.gap.marker)) {
+        let (p, a, b) = (points[g.gap.marker], g.gap.first, g.gap.last);
+        match g.outcome {
+            FillOutcome::Filled { .. } => next.filled.push((p, a, b)),
+            FillOutcome::Skipped(reason) => next.left.push(rerun::Left {
+                point: p,
+                first: a,
+                last: b,
+                reason,
+            }),
+        }
+    }
+    next.filled.sort_unstable();
+    next.filled.dedup();
+    next.left.sort_by_key(|l| (l.point, l.first, l.last));
+    if cfg.filter().is_some() {
+        next.filter = opts.lowpass.clone();
+    }
+    if cfg.spikes().is_some() {
+        next.spikes = rerun::spike_settings(opts);
+    }
+    let c3d_error = |source| Error::C3d {
+        path: name.to_path_buf(),
+        source,
+    };
+    next.write(c).map_err(c3d_error)?;
+    let wb = write_back(c, &trial, &points, &report.changes, only.as_deref()).map_err(c3d_error)?;
     s.samples_changed = wb.changed;
     s.samples_clamped = wb.clamped;
     s.markers_changed = (0..points.len())
