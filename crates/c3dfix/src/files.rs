@@ -11,7 +11,9 @@
 use crate::error::{Error, Result};
 use crate::options::RepairOptions;
 use crate::repair::{repair as repair_trial, Repaired};
-use crate::save::{self, check_destination, new_backup, refuse_input, replacing, write_all};
+use crate::save::{
+    self, check_destination, new_backup, refuse_input, refuse_own_input, replacing, write_all,
+};
 use crate::trial::open_mapped;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -62,6 +64,9 @@ pub fn repair(
     report: Option<&Path>,
 ) -> Result<Repaired> {
     let out = dest.path(input)?;
+    if !dest.in_place {
+        refuse_own_input(input, &out)?;
+    }
     // Options that do not depend on the file are checked before any file is touched.
     opts.config("mm")?;
     let overwrite = dest.overwrite();
@@ -194,6 +199,9 @@ pub fn convert_to(
     backup: bool,
     overwrite: bool,
 ) -> Result<Converted> {
+    if !in_place {
+        refuse_own_input(input, output)?;
+    }
     let c = open_mapped(input)?;
     let processor = want.processor.unwrap_or(c.processor());
     let format = want.format.unwrap_or(c.format());

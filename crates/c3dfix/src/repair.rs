@@ -50,6 +50,9 @@ pub struct Summary {
     /// repair (`filter …`, `spikes …`): never applied twice (docs/reruns.md).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub already_applied: Vec<String>,
+    /// In place, the repair changed no byte and the file was not rewritten.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub unchanged: bool,
     /// Why the file was left as it was (batch only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped: Option<String>,

@@ -38,6 +38,9 @@ pub fn run(a: Args) -> Result<i32> {
         t.json,
         |job| -> Result<Summary> {
             let (input, output) = (&job.input, &job.output);
+            if !t.in_place {
+                c3dfix::save::refuse_own_input(input, output)?;
+            }
             job.prepare_output(overwrite)?;
             // Read once: a trial without points (EMG only) has nothing to repair; it is
             // skipped, and copied unchanged so the output folder holds every trial.
@@ -64,6 +67,7 @@ pub fn run(a: Args) -> Result<i32> {
     let ok: Vec<&Summary> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
     let failed = results.len() - ok.len();
     let skipped = ok.iter().filter(|s| s.skipped.is_some()).count();
+    let unchanged = ok.iter().filter(|s| s.unchanged).count();
     let filled: usize = ok.iter().map(|s| s.filled).sum();
     let gaps: usize = ok.iter().map(|s| s.gaps).sum();
     let spikes: usize = ok.iter().map(|s| s.spikes).sum();
@@ -71,7 +75,7 @@ pub fn run(a: Args) -> Result<i32> {
     if t.json {
         outln!(
             "{}",
-            serde_json::json!({"summary": {"files": results.len(), "repaired": ok.len() - skipped, "skipped": skipped, "failed": failed,
+            serde_json::json!({"summary": {"files": results.len(), "repaired": ok.len() - skipped, "skipped": skipped, "unchanged": unchanged, "failed": failed,
                 "gaps": gaps, "filled": filled, "spikes": spikes, "samples_changed": changed,
                 "listed": plan.listed, "duplicates": plan.duplicates, "shard": t.shard.map(|s| s.to_string())}})
         )?;
@@ -82,7 +86,7 @@ pub fn run(a: Args) -> Result<i32> {
             }
         }
         outln!(
-            "{} files: {} repaired, {skipped} skipped (no points), {} failed; {gaps} gaps, {filled} filled, {spikes} spikes, {changed} samples changed",
+            "{} files: {} repaired ({unchanged} unchanged, not rewritten), {skipped} skipped (no points), {} failed; {gaps} gaps, {filled} filled, {spikes} spikes, {changed} samples changed",
             results.len(),
             ok.len() - skipped,
             failed
