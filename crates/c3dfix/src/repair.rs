@@ -62,9 +62,13 @@ pub struct Summary {
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct GapBrief {
     pub label: String,
-    /// First and last missing frame, 0-based.
+    /// First and last missing frame, numbered as the file numbers them
+    /// ([`c3d::C3d::frame_number`]: from the header's first frame), like `c3dfix gaps`.
     pub first: usize,
     pub last: usize,
+    /// Their times in seconds ([`c3d::C3d::frame_time`]: frame n at (n − 1) / rate).
+    pub first_time: f64,
+    pub last_time: f64,
     /// The method that filled it (`auto`: the one it chose), or why it was left.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub method: Option<String>,
@@ -91,7 +95,7 @@ impl Repaired {
     /// The full report, as `c3dfix repair --report` writes it: the configuration, the
     /// summary, every gap (with its outcome), spike and filtered segment, and the samples
     /// changed per marker. Gaps and segments name their marker by label and by its row in
-    /// `markers`; frames are 0-based indices into the trial.
+    /// `markers`; frames are the file's own frame numbers ([`c3d::C3d::frame_number`]).
     pub fn report(&self) -> serde_json::Value {
         serde_json::json!({
             "file": self.summary.file,
@@ -107,10 +111,22 @@ impl Repaired {
     }
 }
 
-fn labelled<T: Serialize>(x: &T, label: String) -> serde_json::Value {
+/// `x` as JSON with its marker's label, and the frame indices under `frames` turned into the
+/// file's own frame numbers ([`c3d::C3d::frame_number`]), as every output speaks them.
+fn labelled<T: Serialize>(
+    x: &T,
+    label: String,
+    c: &c3d::C3d,
+    frames: &[&str],
+) -> serde_json::Value {
     let mut v = serde_json::to_value(x).unwrap_or_default();
     if v.is_object() {
         v["label"] = label.into();
+        for k in frames {
+            if let Some(i) = v[*k].as_u64() {
+                v[*k] = c.frame_number(i as usize).into();
+            }
+        }
     }
     v
 }
@@ -211,8 +227,10 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
         s.gaps += 1;
         let mut brief = GapBrief {
             label: row_label(g.gap.marker),
-            first: g.gap.first,
-            last: g.gap.last,
+            first: c.frame_number(g.gap.first),
+            last: c.frame_number(g.gap.last),
+            first_time: c.frame_time(g.gap.first),
+            last_time: c.frame_time(g.gap.last),
             method: None,
             reason: None,
             expected_error_mm: None,
@@ -238,7 +256,7 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
                 }
             }
         }
-        let mut v = labelled(g, row_label(g.gap.marker));
+        let mut v = labelled(g, row_label(g.gap.marker), c, &["first", "last"]);
         if let Some(e) = brief.expected_error_mm {
             v["expected_error_mm"] = e.into();
         }
@@ -253,7 +271,7 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
         .spikes
         .iter()
         .filter(|sp| in_scope(sp.marker))
-        .map(|sp| labelled(sp, row_label(sp.marker)))
+        .map(|sp| labelled(sp, row_label(sp.marker), c, &["frame"]))
         .collect();
     s.spikes = spikes.len();
     let segments: Vec<_> = report
@@ -266,7 +284,7 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
             } else {
                 s.segments_too_short += 1;
             }
-            labelled(x, row_label(x.marker))
+            labelled(x, row_label(x.marker), c, &["first", "last"])
         })
         .collect();
     // The record this run leaves: every fill so far; the gaps left now (and those of
