@@ -86,10 +86,15 @@ pub fn run(a: Args) -> Result<i32> {
             }
         }
         outln!(
-            "{} files: {} repaired ({unchanged} unchanged, not rewritten), {skipped} skipped (no points), {} failed; {gaps} gaps, {filled} filled, {spikes} spikes, {changed} samples changed",
+            "{} files: {} repaired, {skipped} skipped (no points), {} failed; {gaps} gaps, {filled} filled, {spikes} spikes, {changed} samples changed{}",
             results.len(),
             ok.len() - skipped,
-            failed
+            failed,
+            if unchanged > 0 {
+                format!("; {unchanged} files unchanged (not rewritten)")
+            } else {
+                String::new()
+            }
         )?;
     }
     Ok(if failed > 0 { 1 } else { 0 })
