@@ -69,6 +69,10 @@ pub struct GapBrief {
     /// Their times in seconds ([`c3d::C3d::frame_time`]: frame n at (n − 1) / rate).
     pub first_time: f64,
     pub last_time: f64,
+    /// The gap starts at the trial's first frame or ends at its last: the trial's ends, where
+    /// only donors can fill, apart from the gaps inside the trial.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub at_trial_end: bool,
     /// The method that filled it (`auto`: the one it chose), or why it was left.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub method: Option<String>,
@@ -231,6 +235,7 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
             last: c.frame_number(g.gap.last),
             first_time: c.frame_time(g.gap.first),
             last_time: c.frame_time(g.gap.last),
+            at_trial_end: g.gap.touches_edge(),
             method: None,
             reason: None,
             expected_error_mm: None,

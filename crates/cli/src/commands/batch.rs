@@ -68,6 +68,18 @@ pub fn run(a: Args) -> Result<i32> {
     let failed = results.len() - ok.len();
     let skipped = ok.iter().filter(|s| s.skipped.is_some()).count();
     let unchanged = ok.iter().filter(|s| s.unchanged).count();
+    // Gaps left over every file, by reason, and how many of them are at a trial's ends
+    // (where only donors can fill) rather than inside it.
+    let mut left_because: std::collections::BTreeMap<String, usize> = Default::default();
+    for (k, n) in ok.iter().flat_map(|s| &s.left_because) {
+        *left_because.entry(k.clone()).or_default() += n;
+    }
+    let left_at_ends = ok
+        .iter()
+        .flat_map(|s| &s.gap_list)
+        .filter(|g| g.reason.is_some() && g.at_trial_end)
+        .count();
+    let left: usize = left_because.values().sum();
     let filled: usize = ok.iter().map(|s| s.filled).sum();
     let gaps: usize = ok.iter().map(|s| s.gaps).sum();
     let spikes: usize = ok.iter().map(|s| s.spikes).sum();
@@ -76,7 +88,8 @@ pub fn run(a: Args) -> Result<i32> {
         outln!(
             "{}",
             serde_json::json!({"summary": {"files": results.len(), "repaired": ok.len() - skipped, "skipped": skipped, "unchanged": unchanged, "failed": failed,
-                "gaps": gaps, "filled": filled, "spikes": spikes, "samples_changed": changed,
+                "gaps": gaps, "filled": filled, "left": left, "left_because": left_because,
+                "left_at_trial_ends": left_at_ends, "left_inside": left - left_at_ends, "spikes": spikes, "samples_changed": changed,
                 "listed": plan.listed, "duplicates": plan.duplicates, "shard": t.shard.map(|s| s.to_string())}})
         )?;
     } else {
@@ -96,6 +109,17 @@ pub fn run(a: Args) -> Result<i32> {
                 String::new()
             }
         )?;
+        if left > 0 {
+            let by: Vec<String> = left_because
+                .iter()
+                .map(|(k, n)| format!("{k} {n}"))
+                .collect();
+            outln!(
+                "  left     {left} gaps ({}): {left_at_ends} at a trial's start or end, {} inside",
+                by.join(", "),
+                left - left_at_ends
+            )?;
+        }
     }
     Ok(if failed > 0 { 1 } else { 0 })
 }
