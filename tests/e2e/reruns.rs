@@ -175,6 +175,34 @@ fn diff_compares_numbers_and_data_apart_from_layout() {
         let o = c3dfix(&["convert", s(from), "-o", s(to), args[0], args[1]]);
         assert!(o.status.success(), "{}", stderr(&o));
     }
+    // Lossless conversions say nothing; one the target cannot hold says by how much.
+    let o = c3dfix(&[
+        "convert",
+        s(&src),
+        "-o",
+        s(&dir.path().join("x.c3d")),
+        "--processor",
+        "sgi",
+    ]);
+    assert!(
+        o.status.success() && !stderr(&o).contains("cannot hold"),
+        "{}",
+        stderr(&o)
+    );
+    let o = c3dfix(&[
+        "convert",
+        s(&sample("walk_float.c3d")),
+        "-o",
+        s(&dir.path().join("i.c3d")),
+        "--format",
+        "int",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("the target cannot hold every point as stored"),
+        "{}",
+        stderr(&o)
+    );
     for other in [&dec, &float, &back] {
         // The layout moved: a plain diff says so (exit 1) ...
         assert_eq!(c3dfix(&["diff", s(&src), s(other)]).status.code(), Some(1));
