@@ -18,7 +18,8 @@
 //! fills; a gap in `LEFT` under the same fill settings is left again with its reason, not
 //! judged again; a filter or a spike removal the file records is not applied a second time.
 //! Rows of more than 255 go into further dimensions of 255 (C3D dimensions are one byte),
-//! padded with rows of zeros, which name no point.
+//! padded with rows of zeros, which name no point; a record holds at most 32 767 bytes, so
+//! longer lists continue in `FILLED2`, `FILLED3`, … (`LEFT2`, …), as POINT:LABELS2 does.
 
 use repair::SkipReason;
 
@@ -116,18 +117,36 @@ pub fn reason_of(code: f32, a: f32, b: f32) -> Option<SkipReason> {
     })
 }
 
-/// Rows of `cols` floats of `GROUP:name`; none when absent or not shaped so.
-fn rows(c: &c3d::C3d, name: &str, cols: usize) -> Vec<Vec<f32>> {
-    let Some(p) = c.param(GROUP, name) else {
-        return Vec::new();
-    };
-    if p.dims.first().map(|&d| d as usize) != Some(cols) {
-        return Vec::new();
+/// The name of the `k`-th parameter (0-based) holding rows of `name`: `name`, `name2`, …
+/// (a record holds at most 32 767 bytes, as POINT:LABELS2 continues POINT:LABELS).
+fn part(name: &str, k: usize) -> String {
+    if k == 0 {
+        name.to_string()
+    } else {
+        format!("{name}{}", k + 1)
     }
-    p.as_f32s()
-        .chunks_exact(cols)
-        .map(<[f32]>::to_vec)
-        .collect()
+}
+
+/// Rows one parameter holds: whole dimensions of 255 rows in about 30 000 bytes (a
+/// record's offset to the next is a signed 16-bit word: 32 767 bytes at most).
+fn rows_per_part(cols: usize) -> usize {
+    (30_000 / (cols * 4) / 255).max(1) * 255
+}
+
+/// Rows of `cols` floats of `GROUP:name` and its continuations; none when absent or not
+/// shaped so.
+fn rows(c: &c3d::C3d, name: &str, cols: usize) -> Vec<Vec<f32>> {
+    let mut out = Vec::new();
+    for k in 0.. {
+        let Some(p) = c.param(GROUP, &part(name, k)) else {
+            break;
+        };
+        if p.dims.first().map(|&d| d as usize) != Some(cols) {
+            break;
+        }
+        out.extend(p.as_f32s().chunks_exact(cols).map(<[f32]>::to_vec));
+    }
+    out
 }
 
 fn string(c: &c3d::C3d, name: &str) -> Option<String> {
@@ -269,16 +288,22 @@ fn set_rows(
     cols: usize,
     what: &str,
 ) -> c3d::Result<()> {
-    if values.is_empty() {
-        ps.remove(GROUP, name);
-        return Ok(());
+    let chunks: Vec<&[f32]> = values.chunks(rows_per_part(cols) * cols).collect();
+    for (k, chunk) in chunks.iter().enumerate() {
+        let dims = dims_for(cols, chunk.len() / cols);
+        let total: usize = dims.iter().map(|&d| d as usize).product();
+        let mut v = chunk.to_vec();
+        v.resize(total, 0.0);
+        let n = part(name, k);
+        ps.set(GROUP, &n, dims, c3d::Value::Float(v))?;
+        describe(ps, &n, what);
     }
-    let dims = dims_for(cols, values.len() / cols);
-    let total: usize = dims.iter().map(|&d| d as usize).product();
-    let mut v = values.to_vec();
-    v.resize(total, 0.0);
-    ps.set(GROUP, name, dims, c3d::Value::Float(v))?;
-    describe(ps, name, what);
+    // Continuations an earlier, longer record left.
+    for k in chunks.len().. {
+        if !ps.remove(GROUP, &part(name, k)) {
+            break;
+        }
+    }
     Ok(())
 }
 
@@ -313,6 +338,14 @@ fn describe(ps: &mut c3d::Parameters, name: &str, what: &str) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn parts_stay_under_a_record() {
+        assert_eq!(rows_per_part(3), 2295);
+        assert_eq!(rows_per_part(6), 1020);
+        assert!(rows_per_part(6) * 6 * 4 < 30_000 && rows_per_part(3) * 3 * 4 < 30_000);
+        assert_eq!(part("FILLED", 1), "FILLED2");
+    }
 
     #[test]
     fn dims_grow_by_255() {
