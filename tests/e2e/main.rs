@@ -11,6 +11,7 @@ mod forces;
 mod hostile;
 mod library;
 mod repair;
+mod reruns;
 mod validity;
 mod view;
 

@@ -340,7 +340,7 @@ fn gaps_info_report_and_export_agree_on_missing_samples() {
                 "{key}: point {i}"
             );
         }
-        // gaps (file frame numbers) and repair --report (0-based), by point index: runs of
+        // gaps and repair --report (both in the file's frame numbers), by point index: runs of
         // missing frames of the markers they cover (model outputs are not markers).
         let runs = |missing: &[bool]| -> Vec<(usize, usize)> {
             let mut out = Vec::new();
@@ -396,8 +396,8 @@ fn gaps_info_report_and_export_agree_on_missing_samples() {
                 .entry(rows[x["marker"].as_u64().unwrap() as usize].clone())
                 .or_default()
                 .push((
-                    x["first"].as_u64().unwrap() as usize,
-                    x["last"].as_u64().unwrap() as usize,
+                    x["first"].as_u64().unwrap() as usize - first,
+                    x["last"].as_u64().unwrap() as usize - first,
                 ));
         }
         let unique = |l: &String| labels.iter().filter(|x| *x == l).count() == 1;

@@ -1,5 +1,10 @@
 //! Comparing two C3D files: header fields, parameters (added, removed, changed, reordered,
 //! locked and description changes), point data per marker and analog data per channel.
+//!
+//! Values are compared as numbers, never as bits: −0.0 and +0.0 are the same coordinate (a
+//! DEC round trip turns one into the other), and two NaN are the same missing value. With
+//! [`DiffOptions::data`] only what the data mean is compared, not how they are laid out: see
+//! [`LAYOUT_PARAMETERS`] and [`diff_with`].
 
 use crate::file::C3d;
 use crate::parameters::Record;
@@ -52,7 +57,8 @@ pub struct MarkerDiff {
     pub frames_changed: usize,
     /// Largest 3D displacement between samples valid in both, in POINT:UNITS.
     pub max_displacement: f64,
-    /// First and last changed frame (0-based).
+    /// First and last changed frame, numbered as the first file numbers them
+    /// ([`C3d::frame_number`]).
     pub first_frame: Option<usize>,
     pub last_frame: Option<usize>,
     pub became_valid: usize,
@@ -95,37 +101,142 @@ impl Diff {
     }
 }
 
+/// How to compare.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct DiffOptions {
+    /// Coordinates closer than this (POINT:UNITS) count as equal.
+    pub tolerance: f64,
+    /// Compare the data only (points, their validity, residuals and camera masks, analog
+    /// values in physical units, labels, every parameter that carries meaning, the header's
+    /// frames, rate and events), not the layout a conversion may legitimately move: the
+    /// processor and number format, POINT:SCALE, where the sections start and how many
+    /// blocks they take ([`LAYOUT_PARAMETERS`]), the order of the parameter records.
+    pub data: bool,
+}
+
+/// Parameters that say how the data are stored rather than what they are: a conversion
+/// (processor, integer ⇄ float, another scale) rewrites them with the data unchanged.
+/// ANALOG:OFFSET, SCALE, GEN_SCALE, FORMAT and BITS turn stored words into physical values;
+/// the data comparison compares those values, so the words' encoding is layout.
+pub const LAYOUT_PARAMETERS: [&str; 7] = [
+    "POINT:DATA_START",
+    "POINT:SCALE",
+    "ANALOG:OFFSET",
+    "ANALOG:SCALE",
+    "ANALOG:GEN_SCALE",
+    "ANALOG:FORMAT",
+    "ANALOG:BITS",
+];
+
+/// Header fields that are layout (see [`DiffOptions::data`]): where the sections start,
+/// the key byte, the label/range section and POINT:SCALE's copy. The analog words per frame
+/// are compared as the analog data themselves (channels and samples).
+const LAYOUT_HEADER: [&str; 8] = [
+    "parameter_block",
+    "key",
+    "scale",
+    "data_start",
+    "label_range_key",
+    "label_range_block",
+    "analog_per_frame",
+    "analog_samples_per_frame",
+];
+
+/// Parameters that restate what the data comparison compares by its effective value
+/// (counts, frames, the first frame, the rate): a writer may add or drop them, as a
+/// conversion adds POINT:FRAMES or POINT:RATE where a file had only the header's word.
+/// As data they are compared through [`C3d::frames`], [`C3d::point_count`],
+/// [`C3d::analog_channels`], [`C3d::first_frame`] and [`C3d::point_rate`].
+const RESTATED: [&str; 7] = [
+    "POINT:USED",
+    "POINT:FRAMES",
+    "POINT:LONG_FRAMES",
+    "POINT:RATE",
+    "ANALOG:USED",
+    "TRIAL:ACTUAL_START_FIELD",
+    "TRIAL:ACTUAL_END_FIELD",
+];
+
+/// Two numbers the same: equal as numbers (−0.0 = +0.0), or both NaN.
+fn same_number(x: f64, y: f64) -> bool {
+    x == y || (x.is_nan() && y.is_nan())
+}
+
 /// Compare `a` with `b`. Coordinates within `tolerance` (POINT:UNITS) count as equal; analog
-/// values are compared exactly in raw units and reported in physical ones.
+/// values are compared exactly in physical units.
 pub fn diff(a: &C3d, b: &C3d, tolerance: f64) -> Diff {
+    diff_with(
+        a,
+        b,
+        &DiffOptions {
+            tolerance,
+            data: false,
+        },
+    )
+}
+
+/// Compare `a` with `b` as `opts` says.
+pub fn diff_with(a: &C3d, b: &C3d, opts: &DiffOptions) -> Diff {
     let mut d = Diff::default();
+    let tolerance = opts.tolerance;
     let field = |f: &str, x: String, y: String| FieldChange {
         field: f.into(),
         a: x,
         b: y,
     };
-    if a.processor() != b.processor() {
+    if !opts.data && a.processor() != b.processor() {
         d.format.push(field(
             "processor",
             a.processor().name().into(),
             b.processor().name().into(),
         ));
     }
-    if a.format() != b.format() {
+    if !opts.data && a.format() != b.format() {
         d.format.push(field(
             "number format",
             a.format().name().into(),
             b.format().name().into(),
         ));
     }
-    header_diff(a, b, &mut d.header);
-    param_diff(a, b, &mut d);
+    header_diff(a, b, &mut d.header, opts.data);
+    if opts.data {
+        let mut effective = |f: &str, x: String, y: String| {
+            if x != y {
+                d.header.push(field(f, x, y));
+            }
+        };
+        effective(
+            "first frame",
+            a.first_frame().to_string(),
+            b.first_frame().to_string(),
+        );
+        effective(
+            "point rate",
+            a.point_rate().to_string(),
+            b.point_rate().to_string(),
+        );
+        effective(
+            "analog channels",
+            a.analog_channels().to_string(),
+            b.analog_channels().to_string(),
+        );
+        effective(
+            "analog rate",
+            a.analog_rate().to_string(),
+            b.analog_rate().to_string(),
+        );
+    }
+    param_diff(a, b, &mut d, opts.data);
     d.points = points_diff(a, b, tolerance);
     d.analog = analog_diff(a, b);
+    if opts.data && a.analog_channels() == 0 && b.analog_channels() == 0 {
+        // No channel, no analog data, whatever samples per frame the header announced.
+        d.analog.samples = None;
+    }
     d
 }
 
-fn header_diff(a: &C3d, b: &C3d, out: &mut Vec<FieldChange>) {
+fn header_diff(a: &C3d, b: &C3d, out: &mut Vec<FieldChange>, data: bool) {
     let (Ok(serde_json::Value::Object(x)), Ok(serde_json::Value::Object(y))) = (
         serde_json::to_value(&a.header),
         serde_json::to_value(&b.header),
@@ -133,14 +244,37 @@ fn header_diff(a: &C3d, b: &C3d, out: &mut Vec<FieldChange>) {
         return;
     };
     for (k, va) in &x {
+        if data && LAYOUT_HEADER.contains(&k.as_str()) {
+            continue;
+        }
         let vb = y.get(k).cloned().unwrap_or(serde_json::Value::Null);
-        if *va != vb {
+        if !same_json(va, &vb) {
             out.push(FieldChange {
                 field: k.clone(),
                 a: va.to_string(),
                 b: vb.to_string(),
             });
         }
+    }
+}
+
+/// `s` without the trailing spaces and NULs that pad C3D text.
+fn padded(s: &str) -> &str {
+    s.trim_end_matches([' ', '\0'])
+}
+
+/// JSON values equal, numbers as numbers (see [`same_number`]).
+fn same_json(x: &serde_json::Value, y: &serde_json::Value) -> bool {
+    use serde_json::Value as J;
+    match (x, y) {
+        (J::Number(p), J::Number(q)) => match (p.as_f64(), q.as_f64()) {
+            (Some(u), Some(v)) => same_number(u, v),
+            _ => p == q,
+        },
+        (J::Array(p), J::Array(q)) => {
+            p.len() == q.len() && p.iter().zip(q).all(|(u, v)| same_json(u, v))
+        }
+        _ => x == y,
     }
 }
 
@@ -178,8 +312,27 @@ fn show_value(p: &crate::parameters::Parameter) -> String {
     }
 }
 
-fn param_diff(a: &C3d, b: &C3d, d: &mut Diff) {
-    let (ka, kb) = (keys(a), keys(b));
+fn param_diff(a: &C3d, b: &C3d, d: &mut Diff, data: bool) {
+    // As data, a group record says nothing beyond its name and description: one without a
+    // description that a writer adds (or drops) for parameters it numbers is layout.
+    let layout = |(n, r): &(String, &Record)| {
+        !(data
+            && (LAYOUT_PARAMETERS.contains(&n.as_str())
+                || RESTATED.contains(&n.as_str())
+                || matches!(r, Record::Group(g) if padded(&g.description).is_empty())))
+    };
+    // C3D pads text with spaces or NULs; as data the padding means nothing.
+    let text = |s: &str| {
+        if data {
+            padded(s).to_string()
+        } else {
+            s.to_string()
+        }
+    };
+    let (ka, kb): (Vec<_>, Vec<_>) = (
+        keys(a).into_iter().filter(layout).collect(),
+        keys(b).into_iter().filter(layout).collect(),
+    );
     let names_a: Vec<String> = ka.iter().map(|(n, _)| n.clone()).collect();
     let names_b: Vec<String> = kb.iter().map(|(n, _)| n.clone()).collect();
     // Files may repeat a parameter: pair the k-th occurrences.
@@ -205,7 +358,7 @@ fn param_diff(a: &C3d, b: &C3d, d: &mut Diff) {
                         Some(y.locked.to_string()),
                     ));
                 }
-                if x.description != y.description {
+                if text(&x.description) != text(&y.description) {
                     d.parameters.push(ch(
                         name,
                         "description",
@@ -215,7 +368,12 @@ fn param_diff(a: &C3d, b: &C3d, d: &mut Diff) {
                 }
             }
             (Record::Parameter(x), Record::Parameter(y)) => {
-                if x.value.type_name() != y.value.type_name() {
+                let numeric =
+                    |v: &crate::parameters::Value| !matches!(v, crate::parameters::Value::Char(_));
+                // As data, a number is a number whatever its type (an integer file's
+                // int16 may be a float's float).
+                let as_numbers = data && numeric(&x.value) && numeric(&y.value);
+                if x.value.type_name() != y.value.type_name() && !as_numbers {
                     d.parameters.push(ch(
                         name,
                         "type",
@@ -230,12 +388,17 @@ fn param_diff(a: &C3d, b: &C3d, d: &mut Diff) {
                         Some(format!("{:?}", y.dims)),
                     ));
                 }
-                let same_value = match (&x.value, &y.value) {
-                    (crate::parameters::Value::Float(p), crate::parameters::Value::Float(q)) => {
-                        p.len() == q.len()
-                            && p.iter().zip(q).all(|(u, v)| u.to_bits() == v.to_bits())
-                    }
-                    (p, q) => p == q,
+                let same_value = if numeric(&x.value)
+                    && numeric(&y.value)
+                    && (as_numbers || x.value.type_name() == y.value.type_name())
+                {
+                    let (u, v) = (x.as_f32s(), y.as_f32s());
+                    u.len() == v.len()
+                        && u.iter()
+                            .zip(&v)
+                            .all(|(s, t)| same_number(*s as f64, *t as f64))
+                } else {
+                    x.value == y.value
                 };
                 if !same_value {
                     d.parameters
@@ -249,7 +412,7 @@ fn param_diff(a: &C3d, b: &C3d, d: &mut Diff) {
                         Some(y.locked.to_string()),
                     ));
                 }
-                if x.description != y.description {
+                if text(&x.description) != text(&y.description) {
                     d.parameters.push(ch(
                         name,
                         "description",
@@ -266,7 +429,7 @@ fn param_diff(a: &C3d, b: &C3d, d: &mut Diff) {
     }
     // Reordered: the matched records of `b`, taken in `a`'s order, are not ascending.
     let order: Vec<usize> = pairs.iter().flatten().copied().collect();
-    d.parameters_reordered = order.windows(2).any(|w| w[0] > w[1]);
+    d.parameters_reordered = !data && order.windows(2).any(|w| w[0] > w[1]);
 }
 
 fn points_diff(a: &C3d, b: &C3d, tol: f64) -> PointsDiff {
@@ -312,7 +475,7 @@ fn points_diff(a: &C3d, b: &C3d, tol: f64) -> PointsDiff {
                     .sum::<f64>()
                     .sqrt();
                 m.max_displacement = m.max_displacement.max(dist);
-                let flags = pa.residual[ka].to_bits() != pb.residual[kb].to_bits()
+                let flags = !same_number(pa.residual[ka] as f64, pb.residual[kb] as f64)
                     || pa.camera_mask[ka] != pb.camera_mask[kb];
                 if dist > tol {
                     changed = true;
@@ -323,8 +486,8 @@ fn points_diff(a: &C3d, b: &C3d, tol: f64) -> PointsDiff {
             }
             if changed {
                 m.frames_changed += 1;
-                m.first_frame.get_or_insert(f);
-                m.last_frame = Some(f);
+                m.first_frame.get_or_insert(a.frame_number(f));
+                m.last_frame = Some(a.frame_number(f));
             }
         }
         if m.frames_changed > 0 {
@@ -381,7 +544,7 @@ fn analog_diff(a: &C3d, b: &C3d) -> AnalogDiff {
         for s in 0..n {
             let x = ca.physical(i, aa.raw[s * aa.channels() + i]) as f64;
             let y = cb.physical(j, ab.raw[s * ab.channels() + j]) as f64;
-            if x.to_bits() != y.to_bits() {
+            if !same_number(x, y) {
                 c.samples_changed += 1;
                 c.max_difference = c.max_difference.max((x - y).abs());
             }

@@ -250,7 +250,9 @@ impl C3d {
             key: 0x50,
             point_count: layout.points as u16,
             analog_per_frame: layout.analog_words() as u16,
-            first_frame: self.header.first_frame.max(1),
+            // As stored, 0 included (some writers number from 0): a conversion moves no
+            // frame number, or every event, report and export of the file would move by one.
+            first_frame: self.header.first_frame,
             last_frame: 0,
             max_gap: self.header.max_gap,
             scale: signed_scale,

@@ -165,24 +165,36 @@ pub fn corners_up(k: &[[f64; 3]; 4]) -> Option<Direction> {
 /// or a few points computed far from the body (Plug-in Gait's segment axes) do not outweigh
 /// the body's height. `None` without a frame holding two valid markers.
 pub fn markers_up(c: &c3d::C3d) -> Option<Direction> {
-    let p = c.points();
     let markers = crate::markers::marker_indices(c);
-    let step = (p.frames() / 64).max(1);
-    let mut spread = [Vec::new(), Vec::new(), Vec::new()];
-    let mut heights = [Vec::new(), Vec::new(), Vec::new()];
-    let mut frame: [Vec<f32>; 3] = [Vec::new(), Vec::new(), Vec::new()];
-    for f in (0..p.frames()).step_by(step) {
-        for v in frame.iter_mut() {
-            v.clear();
-        }
-        for &i in &markers {
-            if p.is_valid(f, i) {
-                let v = p.xyz[p.index(f, i)];
-                for a in 0..3 {
-                    frame[a].push(v[a]);
-                    heights[a].push(v[a]);
+    let frames = c.frames();
+    let step = (frames / 64).max(1);
+    // Only the sampled frames are read, chunk by chunk from the file's bytes where the points
+    // are not decoded yet: `info` on a long trial stays within a little more than the file.
+    let chunk = c.point_chunk_frames().max(1);
+    let states: Vec<usize> = (0..c.point_chunks()).collect();
+    let per_chunk: Vec<Vec<[Vec<f32>; 3]>> = c.map_point_chunks(states, |i, view| {
+        let first = i * chunk;
+        let mut out = Vec::new();
+        let start = first.div_ceil(step) * step;
+        for f in (start..first + view.frames).step_by(step) {
+            let mut frame: [Vec<f32>; 3] = [Vec::new(), Vec::new(), Vec::new()];
+            for &m in &markers {
+                let (v, r, _) = view.sample(f - first, m);
+                if !c3d::is_missing(v, r) {
+                    for a in 0..3 {
+                        frame[a].push(v[a]);
+                    }
                 }
             }
+            out.push(frame);
+        }
+        out
+    });
+    let mut spread = [Vec::new(), Vec::new(), Vec::new()];
+    let mut heights = [Vec::new(), Vec::new(), Vec::new()];
+    for mut frame in per_chunk.into_iter().flatten() {
+        for a in 0..3 {
+            heights[a].extend_from_slice(&frame[a]);
         }
         if frame[0].len() >= 2 {
             for a in 0..3 {

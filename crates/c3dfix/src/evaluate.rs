@@ -45,7 +45,8 @@ impl Default for EvaluateOptions {
 }
 
 /// One file's evaluation, its errors in mm (`units`) whatever the file's own unit
-/// (`file_units`).
+/// (`file_units`). Each artificial gap's `first` frame is the file's own frame number
+/// ([`c3d::C3d::frame_number`]), as in every other output.
 #[derive(Debug, Clone, Serialize)]
 pub struct FileEvaluation {
     pub file: String,
@@ -132,6 +133,13 @@ pub fn evaluate(
         // frame where the body was lost there). Scored against it, a fill would be off by
         // the marker's distance from the origin.
         let mut t = to_trial(&c, &points, true)?;
+        // Nor is a sample c3dfix filled (the file's record, crate::rerun): its error would
+        // be a fill's against a fill.
+        for &(p, a, b) in &crate::rerun::Record::read(&c).filled {
+            if let Some(r) = points.iter().position(|&i| i == p) {
+                t.valid[r][a..=b].fill(false);
+            }
+        }
         if scale != 1.0 {
             for p in t.xyz.iter_mut().flatten() {
                 *p = p.map(|x| x * scale);
@@ -174,11 +182,14 @@ pub fn evaluate(
             ..EvalConfig::default()
         };
         // In the process's own pool, so that a forked process evaluates too (see forkpool).
-        let ev =
+        let mut ev =
             forkpool::install(|| repair::evaluate(&t, &cfg)).map_err(|source| Error::Repair {
                 path: f.clone(),
                 source,
             })?;
+        for g in &mut ev.gaps {
+            g.first = c.frame_number(g.first);
+        }
         for s in &ev.scores {
             let e = pooled
                 .entry((s.gap_len, method_name(s.method)))

@@ -11,7 +11,9 @@
 use crate::error::{Error, Result};
 use crate::options::RepairOptions;
 use crate::repair::{repair as repair_trial, Repaired};
-use crate::save::{self, check_destination, new_backup, refuse_input, replacing, write_all};
+use crate::save::{
+    self, check_destination, new_backup, refuse_input, refuse_own_input, replacing, write_all,
+};
 use crate::trial::open_mapped;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -62,6 +64,9 @@ pub fn repair(
     report: Option<&Path>,
 ) -> Result<Repaired> {
     let out = dest.path(input)?;
+    if !dest.in_place {
+        refuse_own_input(input, &out)?;
+    }
     // Options that do not depend on the file are checked before any file is touched.
     opts.config("mm")?;
     let overwrite = dest.overwrite();
@@ -194,6 +199,9 @@ pub fn convert_to(
     backup: bool,
     overwrite: bool,
 ) -> Result<Converted> {
+    if !in_place {
+        refuse_own_input(input, output)?;
+    }
     let c = open_mapped(input)?;
     let processor = want.processor.unwrap_or(c.processor());
     let format = want.format.unwrap_or(c.format());
@@ -216,6 +224,12 @@ pub fn convert_to(
         done.unchanged = true;
         return Ok(done);
     }
+    // Only a change of number format can lose values (integers round to POINT:SCALE): a
+    // change of processor keeps every value of every corpus file (`c3d`'s diff test), and
+    // the check decodes both files, which a long trial should not pay for nothing.
+    if format != c.format() && c.source_bytes() != Some(&bytes[..]) {
+        done.warnings.extend(values_not_held(&c, &bytes));
+    }
     check_destination(output, overwrite)?;
     // In place the output is the file itself (by its canonical path, so a backup of a file
     // reached through a link sits beside the file, as `crate::save()` puts it).
@@ -229,4 +243,51 @@ pub fn convert_to(
     // The backup and the converted file land together, or neither does.
     write_all(&outs)?;
     Ok(done)
+}
+
+/// What the converted `bytes` do not hold of `c` as stored, read back and compared as data
+/// (`c3d::diff::DiffOptions::data`): an integer target rounds coordinates to POINT:SCALE and
+/// residuals to its steps, analog values to whole words. Said, not refused: the user asked
+/// for the target, and the message says by how much.
+fn values_not_held(c: &c3d::C3d, bytes: &[u8]) -> Vec<String> {
+    let Ok(back) = c3d::read(bytes.to_vec()) else {
+        return vec!["the converted file could not be read back to check its values".into()];
+    };
+    let opts = c3d::diff::DiffOptions {
+        tolerance: 0.0,
+        data: true,
+    };
+    let d = c3d::diff::diff_with(c, &back, &opts);
+    let mut out = Vec::new();
+    let m = &d.points.markers;
+    if !m.is_empty() {
+        let moved = m.iter().map(|x| x.max_displacement).fold(0.0, f64::max);
+        let frames: usize = m.iter().map(|x| x.frames_changed).sum();
+        out.push(format!(
+            "the target cannot hold every point as stored: {frames} samples of {} points changed (coordinates by up to {moved:.3e} {}, or their residual)",
+            m.len(),
+            c.point_units()
+        ));
+    }
+    let a = &d.analog.channels;
+    if !a.is_empty() {
+        let most = a.iter().map(|x| x.max_difference).fold(0.0, f64::max);
+        out.push(format!(
+            "the target cannot hold every analog value as stored: {} channels changed by up to {most:.3e}",
+            a.len()
+        ));
+    }
+    if !d.parameters.is_empty() || !d.header.is_empty() {
+        let names: Vec<String> = d
+            .header
+            .iter()
+            .map(|f| f.field.clone())
+            .chain(d.parameters.iter().map(|p| p.name.clone()))
+            .collect();
+        out.push(format!(
+            "the target does not hold as stored: {}",
+            names.join(", ")
+        ));
+    }
+    out
 }

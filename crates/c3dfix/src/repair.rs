@@ -4,6 +4,7 @@
 use crate::error::{Error, Result};
 use crate::markers::{marker_indices, mm_per_unit, select};
 use crate::options::{method_name, RepairOptions};
+use crate::rerun;
 use crate::trial::{to_trial, write_back};
 use repair::FillOutcome;
 use serde::Serialize;
@@ -45,6 +46,13 @@ pub struct Summary {
     pub gap_list: Vec<GapBrief>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub backup: Option<String>,
+    /// Steps asked for and not taken because the file records them as done by an earlier
+    /// repair (`filter …`, `spikes …`): never applied twice (docs/reruns.md).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub already_applied: Vec<String>,
+    /// In place, the repair changed no byte and the file was not rewritten.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub unchanged: bool,
     /// Why the file was left as it was (batch only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped: Option<String>,
@@ -54,9 +62,17 @@ pub struct Summary {
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct GapBrief {
     pub label: String,
-    /// First and last missing frame, 0-based.
+    /// First and last missing frame, numbered as the file numbers them
+    /// ([`c3d::C3d::frame_number`]: from the header's first frame), like `c3dfix gaps`.
     pub first: usize,
     pub last: usize,
+    /// Their times in seconds ([`c3d::C3d::frame_time`]: frame n at (n − 1) / rate).
+    pub first_time: f64,
+    pub last_time: f64,
+    /// The gap starts at the trial's first frame or ends at its last: the trial's ends, where
+    /// only donors can fill, apart from the gaps inside the trial.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub at_trial_end: bool,
     /// The method that filled it (`auto`: the one it chose), or why it was left.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub method: Option<String>,
@@ -83,7 +99,7 @@ impl Repaired {
     /// The full report, as `c3dfix repair --report` writes it: the configuration, the
     /// summary, every gap (with its outcome), spike and filtered segment, and the samples
     /// changed per marker. Gaps and segments name their marker by label and by its row in
-    /// `markers`; frames are 0-based indices into the trial.
+    /// `markers`; frames are the file's own frame numbers ([`c3d::C3d::frame_number`]).
     pub fn report(&self) -> serde_json::Value {
         serde_json::json!({
             "file": self.summary.file,
@@ -99,10 +115,22 @@ impl Repaired {
     }
 }
 
-fn labelled<T: Serialize>(x: &T, label: String) -> serde_json::Value {
+/// `x` as JSON with its marker's label, and the frame indices under `frames` turned into the
+/// file's own frame numbers ([`c3d::C3d::frame_number`]), as every output speaks them.
+fn labelled<T: Serialize>(
+    x: &T,
+    label: String,
+    c: &c3d::C3d,
+    frames: &[&str],
+) -> serde_json::Value {
     let mut v = serde_json::to_value(x).unwrap_or_default();
     if v.is_object() {
         v["label"] = label.into();
+        for k in frames {
+            if let Some(i) = v[*k].as_u64() {
+                v[*k] = c.frame_number(i as usize).into();
+            }
+        }
     }
     v
 }
@@ -124,17 +152,56 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
         },
         c3d::NumberFormat::Float => repair::Storage::Float32,
     };
-    let cfg = opts.config(&c.point_units())?.with_storage(storage);
+    let mut cfg = opts.config(&c.point_units())?.with_storage(storage);
     let only = opts.markers.as_ref().map(|m| select(c, m)).transpose()?;
     let points = marker_indices(c);
     let mut trial = to_trial(c, &points, opts.zero_invalid)?;
-    // In the process's own pool, so that a forked process repairs too (see forkpool).
-    let report =
-        forkpool::install(|| repair::repair_trial(&mut trial, &cfg)).map_err(|source| {
+    // What an earlier repair of this file did: done steps are not done again, its fills are
+    // no data, the gaps it left under these settings stay left (see crate::rerun).
+    let record = rerun::Record::read(c);
+    let fill_settings = rerun::fill_settings(opts);
+    let mut already_applied = Vec::new();
+    let mut spikes = cfg.spikes().copied();
+    let mut filter = cfg.filter().copied();
+    if let (Some(done), Some(_)) = (&record.spikes, spikes) {
+        already_applied.push(format!("spikes ({done})"));
+        spikes = None;
+    }
+    if let (Some(done), Some(_)) = (&record.filter, filter) {
+        already_applied.push(format!("filter ({done})"));
+        filter = None;
+    }
+    if !already_applied.is_empty() {
+        cfg = repair::RepairConfig::new(spikes, cfg.fill().clone(), filter).map_err(|source| {
             Error::Repair {
                 path: name.to_path_buf(),
                 source,
             }
+        })?;
+    }
+    let row_of: std::collections::HashMap<usize, usize> =
+        points.iter().enumerate().map(|(r, &p)| (p, r)).collect();
+    let mut earlier = repair::Earlier::default();
+    if !record.filled.is_empty() {
+        earlier.filled = vec![vec![false; c.frames()]; points.len()];
+        for &(p, a, b) in &record.filled {
+            if let Some(&r) = row_of.get(&p) {
+                earlier.filled[r][a..=b].fill(true);
+            }
+        }
+    }
+    if record.fill.as_deref() == Some(fill_settings.as_str()) {
+        earlier.left = record
+            .left
+            .iter()
+            .filter_map(|l| Some((*row_of.get(&l.point)?, l.first, l.last, l.reason)))
+            .collect();
+    }
+    // In the process's own pool, so that a forked process repairs too (see forkpool).
+    let report = forkpool::install(|| repair::repair_trial_after(&mut trial, &cfg, &earlier))
+        .map_err(|source| Error::Repair {
+            path: name.to_path_buf(),
+            source,
         })?;
     let labels = c.point_labels();
     let row_label = |row: usize| labels[points[row]].clone();
@@ -142,6 +209,7 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
 
     let mut s = Summary {
         file: name.display().to_string(),
+        already_applied,
         markers: points.len(),
         model_outputs_left: c.point_count() - points.len(),
         samples_at_origin: (0..points.len())
@@ -163,8 +231,11 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
         s.gaps += 1;
         let mut brief = GapBrief {
             label: row_label(g.gap.marker),
-            first: g.gap.first,
-            last: g.gap.last,
+            first: c.frame_number(g.gap.first),
+            last: c.frame_number(g.gap.last),
+            first_time: c.frame_time(g.gap.first),
+            last_time: c.frame_time(g.gap.last),
+            at_trial_end: g.gap.touches_edge(),
             method: None,
             reason: None,
             expected_error_mm: None,
@@ -190,7 +261,7 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
                 }
             }
         }
-        let mut v = labelled(g, row_label(g.gap.marker));
+        let mut v = labelled(g, row_label(g.gap.marker), c, &["first", "last"]);
         if let Some(e) = brief.expected_error_mm {
             v["expected_error_mm"] = e.into();
         }
@@ -205,7 +276,7 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
         .spikes
         .iter()
         .filter(|sp| in_scope(sp.marker))
-        .map(|sp| labelled(sp, row_label(sp.marker)))
+        .map(|sp| labelled(sp, row_label(sp.marker), c, &["frame"]))
         .collect();
     s.spikes = spikes.len();
     let segments: Vec<_> = report
@@ -218,16 +289,51 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
             } else {
                 s.segments_too_short += 1;
             }
-            labelled(x, row_label(x.marker))
+            labelled(x, row_label(x.marker), c, &["first", "last"])
         })
         .collect();
-    let wb =
-        write_back(c, &trial, &points, &report.changes, only.as_deref()).map_err(|source| {
-            Error::C3d {
-                path: name.to_path_buf(),
-                source,
-            }
-        })?;
+    // The record this run leaves: every fill so far; the gaps left now (and those of
+    // markers outside this run's --markers, as they were); the steps applied.
+    let in_scope_point = |p: usize| row_of.get(&p).is_some_and(|&r| in_scope(r));
+    let mut next = rerun::Record {
+        filled: record.filled.clone(),
+        left: record
+            .left
+            .iter()
+            .filter(|l| !in_scope_point(l.point))
+            .copied()
+            .collect(),
+        fill: Some(fill_settings),
+        filter: record.filter.clone(),
+        spikes: record.spikes.clone(),
+    };
+    for g in report.gaps.iter().filter(|g| in_scope(g.gap.marker)) {
+        let (p, a, b) = (points[g.gap.marker], g.gap.first, g.gap.last);
+        match g.outcome {
+            FillOutcome::Filled { .. } => next.filled.push((p, a, b)),
+            FillOutcome::Skipped(reason) => next.left.push(rerun::Left {
+                point: p,
+                first: a,
+                last: b,
+                reason,
+            }),
+        }
+    }
+    next.filled.sort_unstable();
+    next.filled.dedup();
+    next.left.sort_by_key(|l| (l.point, l.first, l.last));
+    if cfg.filter().is_some() {
+        next.filter = opts.lowpass.clone();
+    }
+    if cfg.spikes().is_some() {
+        next.spikes = rerun::spike_settings(opts);
+    }
+    let c3d_error = |source| Error::C3d {
+        path: name.to_path_buf(),
+        source,
+    };
+    next.write(c).map_err(c3d_error)?;
+    let wb = write_back(c, &trial, &points, &report.changes, only.as_deref()).map_err(c3d_error)?;
     s.samples_changed = wb.changed;
     s.samples_clamped = wb.clamped;
     s.markers_changed = (0..points.len())

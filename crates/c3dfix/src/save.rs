@@ -213,6 +213,20 @@ pub fn refuse_input(dest: &Path, inputs: &[&Path], what: &str) -> Result<()> {
     Ok(())
 }
 
+/// Refuse writing a command's result over its own input through `-o` (or an output folder
+/// that is the input's): the raw trial would be gone. Replacing the input is asked for by
+/// name, with in-place (and a backup if wanted), never by `--force`.
+pub fn refuse_own_input(input: &Path, output: &Path) -> Result<()> {
+    if same_file(input, output) {
+        bail!(
+            "the output {} is the input file {}: use --in-place (with --backup to keep the original) to replace it",
+            output.display(),
+            input.display()
+        );
+    }
+    Ok(())
+}
+
 /// Whether two paths name the same file: the same inode when both exist, else the same
 /// absolute path once their folders are resolved.
 pub fn same_file(a: &Path, b: &Path) -> bool {

@@ -49,7 +49,7 @@ pub use evaluate::{
 pub use fill::{FillMethod, FillOptions, FillOutcome, SkipReason, Storage};
 pub use filter::{FilterSpec, Iir};
 pub use gaps::{find_gaps, Gap};
-pub use pipeline::{change, repair_trial, RepairConfig, RepairReport};
+pub use pipeline::{change, repair_trial, repair_trial_after, Earlier, RepairConfig, RepairReport};
 pub use spikes::{SpikeMode, SpikeOptions};
 
 /// Marker trajectories of one trial: `xyz[marker][frame]` and `valid[marker][frame]`.

@@ -4,7 +4,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::Result;
-use crate::fill::{fill_gaps, max_steps, FillOptions, FillOutcome};
+use crate::fill::{fill_gaps, max_steps, FillOptions, FillOutcome, SkipReason};
 use crate::filter::FilterSpec;
 use crate::gaps::{find_gaps, valid_segments, Gap};
 use crate::spikes::{detect, Spike, SpikeMode, SpikeOptions};
@@ -129,13 +129,57 @@ impl RepairReport {
     }
 }
 
+/// What an earlier repair of the same trial did, as the file records it: so that repairing
+/// a repaired trial again changes nothing (a rerun must not fill what the first run
+/// refused because the first run's fills now look like data).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Earlier {
+    /// `filled[marker][frame]`: samples an earlier repair filled (empty: none). They are
+    /// kept as they are and are no data to this run: no donor, no context, no step limit,
+    /// never judged a spike. A filter this run applies still smooths them with their segment.
+    pub filled: Vec<Vec<bool>>,
+    /// Gaps an earlier repair left under the same fill settings, `(marker, first, last)`
+    /// with its reason: a gap of exactly these frames is left again, not judged again.
+    pub left: Vec<(usize, usize, usize, SkipReason)>,
+}
+
+impl Earlier {
+    fn filled(&self, m: usize, f: usize) -> bool {
+        self.filled
+            .get(m)
+            .and_then(|row| row.get(f))
+            .copied()
+            .unwrap_or(false)
+    }
+}
+
 /// Repairs `trial` in place: spikes, then gap fill, then zero-phase filtering of each
 /// continuous valid segment. Markers are processed in parallel; gaps are filled from the
 /// data as it stood before any fill, then those next to a filled neighbour once more with
 /// the neighbour's first fill as a donor (see `fill_gaps`), so the result does not depend
 /// on marker order.
 pub fn repair_trial(trial: &mut Trial, cfg: &RepairConfig) -> Result<RepairReport> {
+    repair_trial_after(trial, cfg, &Earlier::default())
+}
+
+/// [`repair_trial`] on a trial an earlier repair already worked on (see [`Earlier`]).
+pub fn repair_trial_after(
+    trial: &mut Trial,
+    cfg: &RepairConfig,
+    earlier: &Earlier,
+) -> Result<RepairReport> {
     trial.check()?;
+    // Earlier fills are hidden from this run until the filter step: every stage reads the
+    // trial as recorded, as the first run did.
+    let mut hidden = Vec::new();
+    for (m, row) in trial.valid.iter_mut().enumerate() {
+        for (f, v) in row.iter_mut().enumerate() {
+            if *v && earlier.filled(m, f) {
+                *v = false;
+                hidden.push((m, f));
+            }
+        }
+    }
     let iir = cfg.filter.map(|s| s.design(trial.rate_hz)).transpose()?;
     let (markers, frames) = (trial.markers(), trial.frames());
     let mut changes = vec![vec![0u8; frames]; markers];
@@ -176,11 +220,24 @@ pub fn repair_trial(trial: &mut Trial, cfg: &RepairConfig) -> Result<RepairRepor
     // 2. Fill, reading the spike-free data; `fill_gaps` writes the samples, the masks are
     // set here.
     let steps = max_steps(&trial.xyz, &trial.valid);
+    // The gaps are the runs of samples missing in the file (earlier fills are no gap); those
+    // an earlier repair left under the same settings are left again as they were.
     let found: Vec<Gap> = (0..markers)
         .into_par_iter()
-        .map(|m| find_gaps(&trial.valid[m], m))
+        .map(|m| {
+            let mask: Vec<bool> = (0..frames)
+                .map(|f| trial.valid[m][f] || earlier.filled(m, f))
+                .collect();
+            find_gaps(&mask, m)
+        })
         .flatten()
         .collect();
+    let (again, found): (Vec<Gap>, Vec<Gap>) = found.into_iter().partition(|g| {
+        earlier
+            .left
+            .iter()
+            .any(|&(m, a, b, _)| (m, a, b) == (g.marker, g.first, g.last))
+    });
     let filled = fill_gaps(
         &mut trial.xyz,
         &trial.valid,
@@ -189,7 +246,7 @@ pub fn repair_trial(trial: &mut Trial, cfg: &RepairConfig) -> Result<RepairRepor
         &cfg.fill,
         true,
     );
-    let mut gaps = Vec::with_capacity(found.len());
+    let mut gaps = Vec::with_capacity(found.len() + again.len());
     for (gap, (v, outcome, _)) in found.into_iter().zip(filled) {
         let m = gap.marker;
         if v.is_some() {
@@ -199,6 +256,21 @@ pub fn repair_trial(trial: &mut Trial, cfg: &RepairConfig) -> Result<RepairRepor
             }
         }
         gaps.push(GapRecord { gap, outcome });
+    }
+    for gap in again {
+        let reason = earlier
+            .left
+            .iter()
+            .find(|&&(m, a, b, _)| (m, a, b) == (gap.marker, gap.first, gap.last))
+            .map_or(SkipReason::NoContext, |l| l.3);
+        gaps.push(GapRecord {
+            gap,
+            outcome: FillOutcome::Skipped(reason),
+        });
+    }
+    gaps.sort_by_key(|g| (g.gap.marker, g.gap.first));
+    for (m, f) in hidden {
+        trial.valid[m][f] = true;
     }
 
     // 3. Filter each continuous valid segment.

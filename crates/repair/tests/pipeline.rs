@@ -317,3 +317,57 @@ fn every_gap_of_a_gappy_gait_trial_is_filled_accurately() {
     assert!(auto <= best * 1.05, "auto {auto} vs best {best}");
     assert!(auto < 1.5, "auto {auto}");
 }
+
+/// A rerun with what the first run did (`Earlier`): earlier fills are kept and are no data,
+/// a gap left under the same settings is left as it was, and nothing changes.
+#[test]
+fn a_rerun_after_a_repair_changes_nothing() {
+    let mut t = trial();
+    knock(&mut t, 0, 100, 119); // filled by the first run
+    knock(&mut t, 3, 150, 299); // too long: left
+    let cfg = fill_only(FillMethod::Spline, Some(100));
+    let first = repair_trial(&mut t, &cfg).unwrap();
+    let once = t.clone();
+    let mut earlier = repair::Earlier {
+        filled: vec![vec![false; t.frames()]; t.markers()],
+        left: Vec::new(),
+    };
+    for g in &first.gaps {
+        match g.outcome {
+            FillOutcome::Filled { .. } => {
+                earlier.filled[g.gap.marker][g.gap.first..=g.gap.last].fill(true)
+            }
+            FillOutcome::Skipped(r) => {
+                earlier
+                    .left
+                    .push((g.gap.marker, g.gap.first, g.gap.last, r))
+            }
+        }
+    }
+    let again = repair::repair_trial_after(&mut t, &cfg, &earlier).unwrap();
+    assert_eq!(t.xyz, once.xyz);
+    assert_eq!(t.valid, once.valid);
+    assert_eq!(again.changed_per_marker.iter().sum::<usize>(), 0);
+    assert_eq!(again.gaps.len(), 1);
+    assert_eq!(
+        again.gaps[0].outcome,
+        FillOutcome::Skipped(SkipReason::TooLong { max_gap: 100 })
+    );
+    // Under other settings the caller passes no left gaps (c3dfix compares the recorded
+    // settings): the gap is judged again, the earlier fill is still kept and no data.
+    let longer = fill_only(FillMethod::Spline, Some(200));
+    let other = repair::Earlier {
+        left: Vec::new(),
+        ..earlier.clone()
+    };
+    let mut u = once.clone();
+    let r = repair::repair_trial_after(&mut u, &longer, &other).unwrap();
+    assert_eq!(r.gaps.len(), 1);
+    assert_eq!(r.gaps[0].gap.marker, 3);
+    assert_ne!(
+        r.gaps[0].outcome,
+        FillOutcome::Skipped(SkipReason::TooLong { max_gap: 100 })
+    );
+    assert_eq!(u.xyz[0], once.xyz[0]);
+    assert_eq!(r.changed_per_marker[0], 0);
+}

@@ -38,6 +38,9 @@ pub fn run(a: Args) -> Result<i32> {
         t.json,
         |job| -> Result<Summary> {
             let (input, output) = (&job.input, &job.output);
+            if !t.in_place {
+                c3dfix::save::refuse_own_input(input, output)?;
+            }
             job.prepare_output(overwrite)?;
             // Read once: a trial without points (EMG only) has nothing to repair; it is
             // skipped, and copied unchanged so the output folder holds every trial.
@@ -64,6 +67,19 @@ pub fn run(a: Args) -> Result<i32> {
     let ok: Vec<&Summary> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
     let failed = results.len() - ok.len();
     let skipped = ok.iter().filter(|s| s.skipped.is_some()).count();
+    let unchanged = ok.iter().filter(|s| s.unchanged).count();
+    // Gaps left over every file, by reason, and how many of them are at a trial's ends
+    // (where only donors can fill) rather than inside it.
+    let mut left_because: std::collections::BTreeMap<String, usize> = Default::default();
+    for (k, n) in ok.iter().flat_map(|s| &s.left_because) {
+        *left_because.entry(k.clone()).or_default() += n;
+    }
+    let left_at_ends = ok
+        .iter()
+        .flat_map(|s| &s.gap_list)
+        .filter(|g| g.reason.is_some() && g.at_trial_end)
+        .count();
+    let left: usize = left_because.values().sum();
     let filled: usize = ok.iter().map(|s| s.filled).sum();
     let gaps: usize = ok.iter().map(|s| s.gaps).sum();
     let spikes: usize = ok.iter().map(|s| s.spikes).sum();
@@ -71,8 +87,9 @@ pub fn run(a: Args) -> Result<i32> {
     if t.json {
         outln!(
             "{}",
-            serde_json::json!({"summary": {"files": results.len(), "repaired": ok.len() - skipped, "skipped": skipped, "failed": failed,
-                "gaps": gaps, "filled": filled, "spikes": spikes, "samples_changed": changed,
+            serde_json::json!({"summary": {"files": results.len(), "repaired": ok.len() - skipped, "skipped": skipped, "unchanged": unchanged, "failed": failed,
+                "gaps": gaps, "filled": filled, "left": left, "left_because": left_because,
+                "left_at_trial_ends": left_at_ends, "left_inside": left - left_at_ends, "spikes": spikes, "samples_changed": changed,
                 "listed": plan.listed, "duplicates": plan.duplicates, "shard": t.shard.map(|s| s.to_string())}})
         )?;
     } else {
@@ -82,11 +99,27 @@ pub fn run(a: Args) -> Result<i32> {
             }
         }
         outln!(
-            "{} files: {} repaired, {skipped} skipped (no points), {} failed; {gaps} gaps, {filled} filled, {spikes} spikes, {changed} samples changed",
+            "{} files: {} repaired, {skipped} skipped (no points), {} failed; {gaps} gaps, {filled} filled, {spikes} spikes, {changed} samples changed{}",
             results.len(),
             ok.len() - skipped,
-            failed
+            failed,
+            if unchanged > 0 {
+                format!("; {unchanged} files unchanged (not rewritten)")
+            } else {
+                String::new()
+            }
         )?;
+        if left > 0 {
+            let by: Vec<String> = left_because
+                .iter()
+                .map(|(k, n)| format!("{k} {n}"))
+                .collect();
+            outln!(
+                "  left     {left} gaps ({}): {left_at_ends} at a trial's start or end, {} inside",
+                by.join(", "),
+                left - left_at_ends
+            )?;
+        }
     }
     Ok(if failed > 0 { 1 } else { 0 })
 }

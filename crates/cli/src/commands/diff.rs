@@ -15,6 +15,12 @@ pub struct Args {
     /// Coordinates closer than this (in POINT:UNITS; a finite number, 0 or more) count as equal.
     #[arg(long, default_value_t = 0.0, value_parser = crate::ranges::non_negative)]
     pub tolerance: f64,
+    /// Compare the data only (points, validity, residuals, analog values, labels, every
+    /// parameter that carries meaning), not the layout a conversion may move (processor,
+    /// number format, POINT:SCALE, DATA_START, block counts, ANALOG's encoding words, record
+    /// order): a round trip through `convert` says "same data" here.
+    #[arg(long)]
+    pub data: bool,
 }
 
 pub fn run(a: Args) -> Result<i32> {
@@ -23,15 +29,22 @@ pub fn run(a: Args) -> Result<i32> {
     }
     let x = read_c3d(&a.a)?;
     let y = read_c3d(&a.b)?;
-    let d = c3d::diff::diff(&x, &y, a.tolerance);
+    let opts = c3d::diff::DiffOptions {
+        tolerance: a.tolerance,
+        data: a.data,
+    };
+    let d = c3d::diff::diff_with(&x, &y, &opts);
     if a.json {
         let v = serde_json::json!({
             "a": a.a.display().to_string(),
             "b": a.b.display().to_string(),
             "equal": d.is_empty(),
+            "data_only": a.data,
             "diff": d,
         });
         outln!("{}", serde_json::to_string_pretty(&v)?)?;
+    } else if d.is_empty() && a.data {
+        outln!("same data")?;
     } else if d.is_empty() {
         outln!("no differences")?;
     } else {
@@ -68,8 +81,8 @@ fn print_text(d: &c3d::diff::Diff) -> Result<()> {
             "points     {:<24} {} frames changed ({}–{}), max displacement {:.3}, +{} valid, -{} valid, {} flag-only",
             m.label,
             m.frames_changed,
-            m.first_frame.unwrap_or(0) + 1,
-            m.last_frame.unwrap_or(0) + 1,
+            m.first_frame.unwrap_or(0),
+            m.last_frame.unwrap_or(0),
             m.max_displacement,
             m.became_valid,
             m.became_invalid,
@@ -88,11 +101,21 @@ fn print_text(d: &c3d::diff::Diff) -> Result<()> {
     }
     for c in &ad.channels {
         outln!(
-            "analog     {:<24} {} samples changed, max difference {:.6}",
+            "analog     {:<24} {} samples changed, max difference {}",
             c.label,
             c.samples_changed,
-            c.max_difference
+            number(c.max_difference)
         )?;
     }
     Ok(())
+}
+
+/// A difference as people read it: six decimals, or scientific notation when that would
+/// print a difference as 0.000000.
+fn number(x: f64) -> String {
+    if x != 0.0 && x.abs() < 5e-7 {
+        format!("{x:.3e}")
+    } else {
+        format!("{x:.6}")
+    }
 }

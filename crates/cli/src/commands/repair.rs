@@ -122,12 +122,15 @@ pub fn print_summary(s: &Summary) -> Result<()> {
         .filter(|g| g.reason.as_deref() == Some("uncertain"))
     {
         outln!(
-            "  uncertain {} frames {}..{}: expected error {:.1} mm (left unfilled)",
+            "  uncertain {} frames {}–{}: expected error {:.1} mm (left unfilled)",
             g.label,
             g.first,
             g.last,
             g.expected_error_mm.unwrap_or(f64::NAN)
         )?;
+    }
+    for done in &s.already_applied {
+        outln!("  skipped  {done}: the file records it as done by an earlier repair")?;
     }
     if s.spikes > 0 {
         outln!("  spikes   {} found", s.spikes)?;
