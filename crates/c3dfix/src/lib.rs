@@ -29,6 +29,7 @@ mod options;
 pub mod platforms;
 mod repair;
 pub mod save;
+mod swaps;
 pub mod trial;
 
 pub use ::c3d;
@@ -43,6 +44,7 @@ pub use options::{
 };
 pub use platforms::{force_platforms, ForceOptions, ForcePlatforms, PlateWarning, Platform};
 pub use repair::{repair, GapBrief, Repaired, Summary};
+pub use swaps::{swaps, SwapFind, Swaps};
 pub use trial::{open, open_mapped};
 
 use std::path::{Path, PathBuf};
