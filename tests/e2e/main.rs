@@ -10,6 +10,7 @@ mod forces;
 mod hostile;
 mod library;
 mod repair;
+mod swaps;
 mod validity;
 mod view;
 

@@ -710,9 +710,36 @@ fn main() {
                 }
                 None => {
                     if a.list {
+                        let links = repair::swaps::learn_links(
+                            &t,
+                            opts.max_link_spread_mm,
+                            opts.min_link_support,
+                            opts.max_links,
+                        );
+                        let weak = SwapOptions {
+                            min_report: 0.0,
+                            ..opts.clone()
+                        };
+                        let all = find_swaps(&t, &weak).unwrap_or_default();
+                        let near: Vec<String> = all
+                            .iter()
+                            .filter(|x| {
+                                overlaps(x, &e) && x.markers.iter().any(|m| e.markers.contains(m))
+                            })
+                            .map(|x| {
+                                format!(
+                                    "{:?}{:?} {}–{} {:.2} {:?}",
+                                    x.kind, x.markers, x.first, x.last, x.confidence, x.evidence
+                                )
+                            })
+                            .collect();
                         println!(
-                            "  missed [{group}] {rel}: {:?} {:?} {}–{}",
-                            e.kind, e.markers, e.first, e.last
+                            "  missed [{group}] {rel}: {:?} {:?} {}–{} links {:?} weak finds {near:?}",
+                            e.kind,
+                            e.markers,
+                            e.first,
+                            e.last,
+                            e.markers.iter().map(|&m| links[m].len()).collect::<Vec<_>>()
                         );
                     }
                 }

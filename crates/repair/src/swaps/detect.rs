@@ -131,6 +131,8 @@ struct Ctx<'a> {
     t: &'a Trial,
     links: Vec<Vec<Link>>,
     ok: Vec<Vec<bool>>,
+    /// Each marker's usual step out of its predicted path (median, mm).
+    usual: Vec<f64>,
 }
 
 impl Ctx<'_> {
@@ -228,6 +230,35 @@ impl Ctx<'_> {
         }
     }
 
+    /// A step out of the predicted path this large breaks `m`'s continuity: well beyond
+    /// its usual steps, and at least 8 mm.
+    fn break_mm(&self, m: usize) -> f64 {
+        (6.0 * self.usual[m]).max(8.0)
+    }
+
+    /// Continuity of `a` and `b` at `f` as labelled (l) and with their labels changing
+    /// between `f − 1` and `f` (u): the summed steps out of the paths predicted from the
+    /// two frames before. Entering and leaving a swap give the same u.
+    fn switch_gain(&self, a: usize, b: usize, f: usize) -> Option<(f64, f64)> {
+        if f < 2 {
+            return None;
+        }
+        let pred = |m: usize| -> Option<[f64; 3]> {
+            let (p0, p1) = (self.pos(m, f - 2, None)?, self.pos(m, f - 1, None)?);
+            Some([
+                2.0 * p1[0] - p0[0],
+                2.0 * p1[1] - p0[1],
+                2.0 * p1[2] - p0[2],
+            ])
+        };
+        let (pa, pb) = (pred(a)?, pred(b)?);
+        let (xa, xb) = (self.pos(a, f, None)?, self.pos(b, f, None)?);
+        Some((
+            dist(&xa, &pa) + dist(&xb, &pb),
+            dist(&xb, &pa) + dist(&xa, &pb),
+        ))
+    }
+
     /// Size of marker `m`'s step out of its predicted path (constant velocity) at `f`,
     /// with `sw` exchanged on the frames `span` holds.
     fn step(
@@ -277,11 +308,22 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
         opts.min_link_support,
         opts.max_links,
     );
-    let cx = Ctx {
+    let mut cx = Ctx {
         t: trial,
         links,
         ok,
+        usual: Vec::new(),
     };
+    cx.usual = (0..nm)
+        .map(|m| {
+            median(
+                (2..nf)
+                    .step_by((nf / 2000).max(1))
+                    .filter_map(|f| cx.step(m, f, (m, m), (0, 0), false))
+                    .collect(),
+            )
+        })
+        .collect();
 
     // Frames where a marker's links break, and the exchange that mends them if any.
     let mut swap_frames: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
@@ -333,6 +375,23 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
         }
     }
 
+    // Pairs that leap into each other's places at one frame, links or not.
+    for f in 2..nf {
+        let broke: Vec<usize> = (0..nm)
+            .filter(|&m| {
+                cx.step(m, f, (m, m), (0, 0), false)
+                    .is_some_and(|st| st > cx.break_mm(m))
+            })
+            .collect();
+        for (i, &a) in broke.iter().enumerate() {
+            for &b in &broke[i + 1..] {
+                if cx.switch_gain(a, b, f).is_some_and(|(l, u)| u < 0.25 * l) {
+                    swap_frames.entry((a, b)).or_default().push(f);
+                }
+            }
+        }
+    }
+
     let mut finds = Vec::new();
     for &(a, b) in swap_frames.keys() {
         for (s, e, decided) in swap_runs(&cx, a, b, opts.max_hole) {
@@ -365,6 +424,8 @@ const SWITCH_COST: f64 = 2.5;
 /// A frame's link error counts up to this many tolerances per marker, so that one wild
 /// frame cannot carry a run.
 const CLIP: f64 = 5.0;
+/// The continuity term of a change of state counts up to this many units either way.
+const CONT_CLIP: f64 = 6.0;
 
 /// The frames where `a` and `b` hold each other's samples, by the cheapest sequence of
 /// states (labelled or exchanged) over the whole trial: each frame costs its link error in
@@ -381,16 +442,26 @@ fn swap_runs(cx: &Ctx, a: usize, b: usize, hole: usize) -> Vec<(usize, usize, Ve
             None => (0.0, 0.0),
         })
         .collect();
+    // Changing state where the two trajectories leap into each other's places is cheap,
+    // where they run smoothly dear: the continuity difference in units of the pair's
+    // usual steps.
+    let scale = (3.0 * (cx.usual[a] + cx.usual[b])).max(2.0);
+    let switch: Vec<f64> = (0..nf)
+        .map(|f| match cx.switch_gain(a, b, f) {
+            Some((l, u)) => SWITCH_COST + ((u - l) / scale).clamp(-CONT_CLIP, CONT_CLIP),
+            None => SWITCH_COST,
+        })
+        .collect();
     // Viterbi over two states, either free at the first frame.
     let mut acc = [cost[0].0, cost[0].1];
     let mut from: Vec<[u8; 2]> = Vec::with_capacity(nf);
     from.push([0, 1]);
-    for c in &cost[1..] {
+    for (c, &sw) in cost[1..].iter().zip(&switch[1..]) {
         let mut next = [0.0; 2];
         let mut back = [0u8; 2];
         for (st, own) in [(0usize, c.0), (1usize, c.1)] {
             let stay = acc[st];
-            let switch = acc[1 - st] + SWITCH_COST;
+            let switch = acc[1 - st] + sw;
             if stay <= switch {
                 next[st] = stay + own;
                 back[st] = st as u8;
@@ -424,6 +495,12 @@ fn swap_runs(cx: &Ctx, a: usize, b: usize, hole: usize) -> Vec<(usize, usize, Ve
             .filter(|&g| cx.swap_verdict(a, b, g) == Verdict::Yes)
             .collect();
         let (Some(&d0), Some(&d1)) = (decided.first(), decided.last()) else {
+            // No link decides: kept when continuity alone calls both edges (or the one
+            // edge of a run to the end) a leap into each other's places.
+            let leap = |f: usize| switch[f] < 0.0;
+            if leap(s) && (e + 1 == nf || leap(e + 1)) {
+                out.push((s, e, Vec::new()));
+            }
             continue;
         };
         let undecided = |g: usize| cx.swap_verdict(a, b, g) == Verdict::Undecided;
@@ -494,7 +571,10 @@ fn swap_find(
 ) -> Find {
     // Undecided frames at the edges (both markers missing or passing close): the edge is
     // placed where the exchanged trajectories run smoothest.
-    let (first_dec, last_dec) = (decided[0], decided[decided.len() - 1]);
+    let (first_dec, last_dec) = match (decided.first(), decided.last()) {
+        (Some(&x), Some(&y)) => (x, y),
+        _ => (s0, e0),
+    };
     let cost = |s: usize, e: usize, around: usize| -> f64 {
         let lo = around.saturating_sub(2);
         let hi = (around + 2).min(cx.t.frames() - 1);
@@ -544,14 +624,25 @@ fn swap_find(
     let strength = (before - after).max(0.0);
     let p_link = 1.0 - (-strength / 2.0).exp();
     let share = (decided.len() as f64 / (e + 1 - s) as f64).sqrt();
-    let p_cont = if checked == 0 || smoother == checked {
-        1.0
-    } else if smoother == 0 {
-        0.5
+    let confidence = if decided.is_empty() {
+        // Continuity alone: two trajectories leaping into each other's places at every
+        // edge is a swap a person would call, but one with no link to confirm it.
+        if checked > 0 && smoother == checked {
+            0.6
+        } else {
+            0.3
+        }
     } else {
-        0.8
-    };
-    let confidence = (p_link * share * p_cont).clamp(0.0, 1.0);
+        let p_cont = if checked == 0 || smoother == checked {
+            1.0
+        } else if smoother == 0 {
+            0.5
+        } else {
+            0.8
+        };
+        p_link * share * p_cont
+    }
+    .clamp(0.0, 1.0);
     Find {
         kind: FindKind::Swap,
         markers: vec![a, b],
@@ -585,14 +676,9 @@ fn jump_find(
             .filter_map(|&f| cx.score(a, f, None))
             .collect(),
     );
-    // The marker's usual step out of its predicted path, against the steps at the edges.
+    // The steps at the edges against the marker's usual steps.
     let nf = cx.t.frames();
-    let usual = median(
-        (2..nf)
-            .step_by((nf / 500).max(1))
-            .filter_map(|f| cx.step(a, f, (a, a), (0, 0), false))
-            .collect(),
-    );
+
     let (mut smoother, mut checked, mut edge_step) = (0, 0, 0.0f64);
     for f in [s, e + 1] {
         if f >= nf {
@@ -601,13 +687,12 @@ fn jump_find(
         if let Some(st) = cx.step(a, f, (a, a), (0, 0), false) {
             checked += 1;
             edge_step = edge_step.max(st);
-            // A break: well out of the marker's usual steps (and at least 5 mm).
-            if st > (6.0 * usual).max(5.0) {
+            if st > cx.break_mm(a) {
                 smoother += 1;
             }
         }
     }
-    let p_link = 1.0 - (-(before - 1.0).max(0.0)).exp();
+    let p_link = 1.0 - (-2.0 * (before - 1.0).max(0.0)).exp();
     let share = (decided.len() as f64 / (e + 1 - s) as f64).sqrt();
     // A label that lands on another point leaves its path twice, going and coming back;
     // skin moving or a marker wobbling does neither.
@@ -617,7 +702,7 @@ fn jump_find(
         (1, _) => 0.4,
         _ => 0.1,
     };
-    let confidence = (p_link * share * p_cont).clamp(0.0, 1.0);
+    let confidence = (p_cont * (0.5 + 0.5 * p_link * share)).clamp(0.0, 1.0);
     Find {
         kind: FindKind::Jump,
         markers: vec![a],
