@@ -339,7 +339,10 @@ fn dist(p: &[f64; 3], q: &[f64; 3]) -> f64 {
 
 /// Pairs by how their distance behaves over the trial: (segment pairs, near pairs with the
 /// frame they are closest at).
-fn pairs(t: &Trial) -> (Vec<(usize, usize)>, Vec<(usize, usize, usize)>) {
+/// Markers `a` and `b`, and for near pairs the frame they are closest at.
+type Pairs = (Vec<(usize, usize)>, Vec<(usize, usize, usize)>);
+
+fn pairs(t: &Trial) -> Pairs {
     let (nm, nf) = (t.markers(), t.frames());
     let step = nf.div_ceil(400).max(1);
     let (mut seg, mut near) = (Vec::new(), Vec::new());

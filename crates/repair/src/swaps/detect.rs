@@ -2,6 +2,7 @@
 //! exchange of two markers tried where links break, episodes built from the frames and
 //! their boundaries placed by trajectory continuity.
 
+use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -43,8 +44,8 @@ impl Default for SwapOptions {
             max_links: 8,
             partner_radius_mm: 500.0,
             max_hole: 10,
-            min_jump_frames: 3,
-            min_report: 0.25,
+            min_jump_frames: 5,
+            min_report: 0.4,
             min_confidence: 0.5,
         }
     }
@@ -63,7 +64,7 @@ impl SwapOptions {
         if self.max_links == 0 {
             return bad("max_links must be at least 1");
         }
-        if !(self.partner_radius_mm > 0.0) {
+        if self.partner_radius_mm.is_nan() || self.partner_radius_mm <= 0.0 {
             return bad("partner_radius_mm must be above 0");
         }
         if !(0.0..=1.0).contains(&self.min_confidence) || !(0.0..=1.0).contains(&self.min_report) {
@@ -328,12 +329,17 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
     // Frames where a marker's links break, and the exchange that mends them if any.
     let mut swap_frames: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
     let mut jump_frames: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-    let base: Vec<Vec<Option<(f64, f64)>>> = (0..nm)
-        .map(|m| (0..nf).map(|f| cx.scores(m, f, None)).collect())
+    // Frame-major: each frame's markers as labelled.
+    let base: Vec<Vec<Option<(f64, f64)>>> = (0..nf)
+        .into_par_iter()
+        .map(|f| (0..nm).map(|m| cx.scores(m, f, None)).collect())
         .collect();
-    for f in 0..nf {
+    // A marker with links that holds another's samples breaks its own links too: partners
+    // are markers off at that frame, or markers without links to break.
+    let linkless: Vec<usize> = (0..nm).filter(|&m| !cx.has_links(m)).collect();
+    for (f, row) in base.iter().enumerate() {
         let off: Vec<usize> = (0..nm)
-            .filter(|&m| base[m][f].is_some_and(|s| s.1 > 1.0))
+            .filter(|&m| row[m].is_some_and(|s| s.1 > 1.0))
             .collect();
         let mut taken: Vec<usize> = Vec::new();
         for &a in &off {
@@ -342,7 +348,7 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
             }
             let pa = trial.xyz[a][f];
             let mut best: Option<(f64, usize)> = None;
-            for b in 0..nm {
+            for &b in off.iter().chain(&linkless) {
                 if b == a
                     || taken.contains(&b)
                     || !cx.ok[b][f]
