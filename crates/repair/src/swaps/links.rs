@@ -31,7 +31,7 @@ fn window_mm(d: f64) -> f64 {
 /// The links of every marker, each marker's best `max_links` (lowest spread first).
 ///
 /// A pair is a link when at least `min_support` of the sampled frames where both are valid
-/// sit in one window of [`window_mm`] (a majority: a swap in part of the trial moves the
+/// sit in one window of 4 mm + 2 % of the distance (a majority: a swap in part of the trial moves the
 /// rest away, so the centre stays the true distance), its spread inside that window is at
 /// most `max_spread_mm`, and it was seen in at least 20 sampled frames.
 pub fn learn_links(

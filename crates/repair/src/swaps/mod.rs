@@ -6,7 +6,7 @@
 //! distances from the trial itself (pairs whose distance is nearly constant over most
 //! frames; no marker set is written into the code), [`detect`] checks every frame against
 //! them and tries the exchange of two markers' samples, and uses the continuity of each
-//! trajectory to place an episode's boundaries. [`undo`] exchanges a settled swap's samples
+//! trajectory to place an episode's boundaries. [`undo()`] exchanges a settled swap's samples
 //! back and marks a settled jump's samples missing, for the fill stage.
 //!
 //! Frames are 0-based here; a C3D caller converts them to the file's numbering.
