@@ -9,10 +9,10 @@
 //! nothing and are reported apart ("held apart").
 //!
 //! ```sh
-//! cargo run --release -p repair --example swap_eval             # a few minutes
-//! cargo run --release -p repair --example swap_eval -- --per 1  # one episode per cell and trial
+//! cargo run --release -p repair --example swap_eval                        # a few minutes
+//! cargo run --release -p repair --example swap_eval -- --per 2 --seed 35   # docs/swaps.md
 //! ```
-//! Options: `--per N` (episodes per kind, length and trial; default 2), `--seed S`,
+//! Options: `--per N` (episodes per kind, length and trial, jumps 4 × N; default 1), `--seed S`,
 //! `--only TEXT` (files whose path contains TEXT), `--list` (every injected episode missed).
 
 mod corpus;
@@ -242,7 +242,7 @@ struct Args {
 
 fn args() -> Result<Args, String> {
     let mut a = Args {
-        per: 2,
+        per: 1,
         seed: 34,
         only: None,
         list: false,
