@@ -12,6 +12,7 @@ mod hostile;
 mod library;
 mod repair;
 mod reruns;
+mod swaps;
 mod validity;
 mod view;
 

@@ -35,6 +35,7 @@ pub mod platforms;
 mod repair;
 pub mod rerun;
 pub mod save;
+mod swaps;
 pub mod trial;
 pub mod units;
 
@@ -56,6 +57,7 @@ pub use platforms::{
     Platform,
 };
 pub use repair::{repair, GapBrief, Repaired, Summary};
+pub use swaps::{swaps, SwapFind, Swaps};
 pub use trial::{open, open_mapped};
 
 use std::path::{Path, PathBuf};

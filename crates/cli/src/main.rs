@@ -33,6 +33,8 @@ enum Command {
     Export(commands::export::Args),
     /// List every gap of every marker.
     Gaps(commands::gaps::Args),
+    /// Find marker label swaps and label jumps (reported with their frames and confidence).
+    Swaps(commands::swaps::Args),
     /// Force platforms: ground reaction force, moment, centre of pressure, free moment and
     /// contact intervals of every plate.
     Forces(commands::forces::Args),
@@ -79,6 +81,7 @@ fn main() {
         Command::Diff(a) => commands::diff::run(a),
         Command::Export(a) => commands::export::run(a),
         Command::Gaps(a) => commands::gaps::run(a),
+        Command::Swaps(a) => commands::swaps::run(a),
         Command::Forces(a) => commands::forces::run(a),
         Command::Events(a) => commands::events::run(a),
         Command::Repair(a) => commands::repair::run(a),

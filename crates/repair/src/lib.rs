@@ -40,6 +40,7 @@ mod linalg;
 pub mod pipeline;
 mod rng;
 pub mod spikes;
+pub mod swaps;
 pub mod synth;
 
 pub use error::{RepairError, Result};
@@ -51,6 +52,7 @@ pub use filter::{FilterSpec, Iir};
 pub use gaps::{find_gaps, Gap};
 pub use pipeline::{change, repair_trial, repair_trial_after, Earlier, RepairConfig, RepairReport};
 pub use spikes::{SpikeMode, SpikeOptions};
+pub use swaps::{find_swaps, Find, FindKind, SwapOptions};
 
 /// Marker trajectories of one trial: `xyz[marker][frame]` and `valid[marker][frame]`.
 /// Invalid samples' coordinates are ignored (whatever they hold).

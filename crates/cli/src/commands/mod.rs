@@ -15,5 +15,6 @@ pub mod parallel;
 pub mod plot;
 pub mod repair;
 pub mod repair_io;
+pub mod swaps;
 pub mod targets;
 pub mod view;

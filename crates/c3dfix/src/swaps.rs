@@ -1,0 +1,140 @@
+//! Marker label swaps and label jumps of a C3D trial (issue 34): what `c3dfix swaps` lists
+//! and the Python package's `swaps` returns. The finding is the repair crate's
+//! ([`repair::swaps`]), on the trial's markers in mm; this module names the markers by
+//! label and the frames by the file's own numbers ([`c3d::C3d::frame_number`]).
+
+use crate::error::{Error, Result};
+use crate::markers::{marker_indices, mm_per_unit};
+use crate::trial::to_trial;
+use repair::swaps::{find_swaps, Evidence, FindKind, SwapOptions};
+use serde::Serialize;
+use std::path::Path;
+
+/// One swap or jump, as a person reads it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SwapFind {
+    pub kind: FindKind,
+    /// Two labels (a swap) or one (a jump). A label the file gives to more than one point
+    /// is followed by `#` and the point's number (1-based), so each name is one marker.
+    pub markers: Vec<String>,
+    /// First and last frame of the episode in the file's numbering.
+    pub first_frame: usize,
+    pub last_frame: usize,
+    pub confidence: f64,
+    /// Strong enough to be undone by `repair --swaps fix`; the others are only reported.
+    pub settled: bool,
+    pub evidence: Evidence,
+    /// The points (0-based indices) the markers are, in the order of `markers`.
+    #[serde(skip)]
+    pub points: Vec<usize>,
+    /// 0-based first and last frame.
+    #[serde(skip)]
+    pub first: usize,
+    #[serde(skip)]
+    pub last: usize,
+}
+
+/// What [`swaps`] found.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Swaps {
+    pub frames: usize,
+    pub markers: usize,
+    pub swaps: Vec<SwapFind>,
+    /// Things about the file a reader of the finds should know (labels given twice).
+    pub warnings: Vec<String>,
+}
+
+/// Swaps and jumps among the markers of `c` (model outputs left out). `path` only names the
+/// file in errors. Too little to judge is an error that says so: fewer than 2 markers,
+/// fewer than 3 frames, every sample missing. Coordinates that are not finite count as
+/// missing, as [`c3d::is_missing`] says.
+pub fn swaps(c: &c3d::C3d, path: &Path, opts: &SwapOptions) -> Result<Swaps> {
+    let trial_err = |what: String| Error::Trial {
+        path: path.to_path_buf(),
+        what,
+    };
+    let points = marker_indices(c);
+    if points.len() < 2 {
+        return Err(trial_err(format!(
+            "finding swaps needs at least 2 markers; the file has {}",
+            points.len()
+        )));
+    }
+    if c.frames() < 3 {
+        return Err(trial_err(format!(
+            "finding swaps needs at least 3 frames; the file has {}",
+            c.frames()
+        )));
+    }
+    let labels = c.point_labels();
+    let mut warnings = Vec::new();
+    let names: Vec<String> = points
+        .iter()
+        .map(|&i| {
+            let l = labels[i].trim();
+            let twins: Vec<usize> = points
+                .iter()
+                .copied()
+                .filter(|&j| labels[j].trim() == l)
+                .collect();
+            if twins.len() > 1 {
+                format!("{l}#{}", i + 1)
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    let mut seen: Vec<&str> = Vec::new();
+    for &i in &points {
+        let l = labels[i].trim();
+        let twins: Vec<String> = points
+            .iter()
+            .filter(|&&j| labels[j].trim() == l)
+            .map(|j| (j + 1).to_string())
+            .collect();
+        if twins.len() > 1 && !seen.contains(&l) {
+            seen.push(l);
+            warnings.push(format!(
+                "label {l:?} names points {}: finds call them {l}#N (N the point's number)",
+                twins.join(", ")
+            ));
+        }
+    }
+    let mut trial = to_trial(c, &points, false)?;
+    if !trial.valid.iter().flatten().any(|&v| v) {
+        return Err(trial_err(
+            "every marker sample is missing: there is nothing to check".into(),
+        ));
+    }
+    let mm = mm_per_unit(&c.point_units());
+    for row in &mut trial.xyz {
+        for p in row.iter_mut() {
+            *p = p.map(|v| v * mm);
+        }
+    }
+    let finds = find_swaps(&trial, opts).map_err(|source| Error::Repair {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let swaps = finds
+        .into_iter()
+        .map(|x| SwapFind {
+            kind: x.kind,
+            markers: x.markers.iter().map(|&m| names[m].clone()).collect(),
+            first_frame: c.frame_number(x.first),
+            last_frame: c.frame_number(x.last),
+            confidence: x.confidence,
+            settled: x.settled,
+            evidence: x.evidence,
+            points: x.markers.iter().map(|&m| points[m]).collect(),
+            first: x.first,
+            last: x.last,
+        })
+        .collect();
+    Ok(Swaps {
+        frames: c.frames(),
+        markers: points.len(),
+        swaps,
+        warnings,
+    })
+}

@@ -1,0 +1,729 @@
+//! Finding swaps and jumps: every frame's markers checked against their links, the
+//! exchange of two markers tried where links break, episodes built from the frames and
+//! their boundaries placed by trajectory continuity.
+
+use rayon::prelude::*;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+use super::links::{dist, finite, learn_links, Link};
+use crate::error::{RepairError, Result};
+use crate::Trial;
+
+/// What the detector looks for and when a find counts as settled. Build with
+/// [`SwapOptions::default`] and change fields; [`SwapOptions::validate`] checks them.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SwapOptions {
+    /// A pair is a link only if its distance's robust spread is at most this (mm).
+    pub max_link_spread_mm: f64,
+    /// Share of the sampled frames a link's distance must keep (a majority, so that a
+    /// swap over part of the trial cannot move the learned distance).
+    pub min_link_support: f64,
+    /// Links kept per marker (the most rigid first).
+    pub max_links: usize,
+    /// Markers farther apart than this are not tried as a swap (mm).
+    pub partner_radius_mm: f64,
+    /// Frames of undecided evidence (a marker missing, both markers passing close) that
+    /// may sit inside an episode or at its edges.
+    pub max_hole: usize,
+    /// Jumps shorter than this are left to the spike stage.
+    pub min_jump_frames: usize,
+    /// Finds below this confidence are dropped: evidence this weak is what a trial's
+    /// own noise gives.
+    pub min_report: f64,
+    /// Finds at or above this confidence are settled: [`super::undo()`] acts on them; the
+    /// others are only reported.
+    pub min_confidence: f64,
+}
+
+impl Default for SwapOptions {
+    fn default() -> Self {
+        SwapOptions {
+            max_link_spread_mm: 2.5,
+            min_link_support: 0.5,
+            max_links: 8,
+            partner_radius_mm: 500.0,
+            max_hole: 10,
+            min_jump_frames: 5,
+            min_report: 0.4,
+            min_confidence: 0.5,
+        }
+    }
+}
+
+impl SwapOptions {
+    /// Every field in its range.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |what: &str| Err(RepairError::Option(format!("swaps: {what}")));
+        if !(self.max_link_spread_mm > 0.0 && self.max_link_spread_mm.is_finite()) {
+            return bad("max_link_spread_mm must be a positive number");
+        }
+        if !(self.min_link_support >= 0.5 && self.min_link_support <= 1.0) {
+            return bad("min_link_support must be from 0.5 to 1");
+        }
+        if self.max_links == 0 {
+            return bad("max_links must be at least 1");
+        }
+        if self.partner_radius_mm.is_nan() || self.partner_radius_mm <= 0.0 {
+            return bad("partner_radius_mm must be above 0");
+        }
+        if !(0.0..=1.0).contains(&self.min_confidence) || !(0.0..=1.0).contains(&self.min_report) {
+            return bad("min_confidence and min_report must be from 0 to 1");
+        }
+        Ok(())
+    }
+}
+
+/// A swap (two markers holding each other's samples) or a jump (one marker's label on
+/// another point).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FindKind {
+    Swap,
+    Jump,
+}
+
+/// What a find rests on.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Evidence {
+    /// Links of the find's markers (learned from the trial).
+    pub links: usize,
+    /// Frames of the episode where the links decided (the rest were bridged).
+    pub frames_decided: usize,
+    /// Median link error of the markers as labelled over the decided frames, in units of
+    /// each link's tolerance (above 1: broken), summed over the markers.
+    pub link_error: f64,
+    /// The same with the swap exchanged back (for a jump: the error once the marker sits
+    /// where its links put it, 0).
+    pub link_error_undone: f64,
+    /// At the episode's edges, the continuity of the trajectories as labelled against as
+    /// undone: how many edges the undone version is smoother at, and how many edges could
+    /// be checked.
+    pub edges_smoother: usize,
+    pub edges_checked: usize,
+    /// Largest step out of the predicted path (mm) at the episode's edges as labelled.
+    pub edge_step_mm: f64,
+}
+
+/// One swap or jump, frames 0-based and inclusive.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Find {
+    pub kind: FindKind,
+    /// Two markers (swap, lower index first) or one (jump).
+    pub markers: Vec<usize>,
+    pub first: usize,
+    pub last: usize,
+    /// 0 to 1: how strongly the links and the continuity agree.
+    pub confidence: f64,
+    /// Confidence at least [`SwapOptions::min_confidence`]: undone, not only reported.
+    pub settled: bool,
+    pub evidence: Evidence,
+}
+
+/// Per-frame verdict for one hypothesis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Verdict {
+    Yes,
+    No,
+    Undecided,
+}
+
+struct Ctx<'a> {
+    t: &'a Trial,
+    links: Vec<Vec<Link>>,
+    ok: Vec<Vec<bool>>,
+    /// Each marker's usual step out of its predicted path (median, mm).
+    usual: Vec<f64>,
+}
+
+impl Ctx<'_> {
+    /// Position of marker `i` at `f`, with markers `sw` exchanged.
+    fn pos(&self, i: usize, f: usize, sw: Option<(usize, usize)>) -> Option<[f64; 3]> {
+        let j = match sw {
+            Some((a, b)) if i == a => b,
+            Some((a, b)) if i == b => a,
+            _ => i,
+        };
+        self.ok[j][f].then(|| self.t.xyz[j][f])
+    }
+
+    /// Median over `m`'s links of |distance − learned| / tolerance at frame `f`, with
+    /// markers `sw` exchanged; `None` without a position or a valid link. The lower
+    /// median: above 1 only when a strict majority of the links broke (both of two), so
+    /// one marker that strays does not drag its partners along.
+    fn score(&self, m: usize, f: usize, sw: Option<(usize, usize)>) -> Option<f64> {
+        self.scores(m, f, sw).map(|s| s.0)
+    }
+
+    /// The upper median, above 1 when half the links broke: two markers of one segment
+    /// that trade places keep their own link, so each keeps one unbroken link more.
+    fn loose(&self, m: usize, f: usize, sw: Option<(usize, usize)>) -> Option<f64> {
+        self.scores(m, f, sw).map(|s| s.1)
+    }
+
+    fn scores(&self, m: usize, f: usize, sw: Option<(usize, usize)>) -> Option<(f64, f64)> {
+        let p = self.pos(m, f, sw)?;
+        let mut z = [0.0f64; 32];
+        let mut k = 0;
+        for l in &self.links[m] {
+            if let Some(q) = self.pos(l.other, f, sw) {
+                if k < z.len() {
+                    z[k] = (dist(&p, &q) - l.d0_mm).abs() / l.tol_mm;
+                    k += 1;
+                }
+            }
+        }
+        if k == 0 {
+            return None;
+        }
+        let z = &mut z[..k];
+        z.sort_by(f64::total_cmp);
+        Some((z[(k - 1) / 2], z[k / 2]))
+    }
+
+    /// Links of `m` with both ends seen at `f`.
+    fn seen_links(&self, m: usize, f: usize) -> usize {
+        if !self.ok[m][f] {
+            return 0;
+        }
+        self.links[m].iter().filter(|l| self.ok[l.other][f]).count()
+    }
+
+    fn has_links(&self, m: usize) -> bool {
+        !self.links[m].is_empty()
+    }
+
+    /// Swap of `a` and `b` at `f`: the sum of their scores as labelled and exchanged.
+    fn pair_scores(&self, a: usize, b: usize, f: usize) -> Option<(f64, f64)> {
+        let sa = self.loose(a, f, None)?;
+        let ta = self.loose(a, f, Some((a, b)))?;
+        let (sb, tb) = if self.has_links(b) {
+            (self.loose(b, f, None)?, self.loose(b, f, Some((a, b)))?)
+        } else {
+            (0.0, 0.0)
+        };
+        Some((sa + sb, ta + tb))
+    }
+
+    fn swap_verdict(&self, a: usize, b: usize, f: usize) -> Verdict {
+        let Some((before, after)) = self.pair_scores(a, b, f) else {
+            return Verdict::Undecided;
+        };
+        let n = if self.has_links(b) { 2.0 } else { 1.0 };
+        if after <= n && before > n && after < 0.5 * before {
+            Verdict::Yes
+        } else if before <= n && after > before + 1.0 {
+            Verdict::No
+        } else {
+            Verdict::Undecided
+        }
+    }
+
+    fn jump_verdict(&self, a: usize, f: usize) -> Verdict {
+        // One link cannot say which of its two markers strayed.
+        if self.seen_links(a, f) < 2 {
+            return Verdict::Undecided;
+        }
+        match self.score(a, f, None) {
+            Some(s) if s > 1.0 => Verdict::Yes,
+            Some(s) if s <= 0.7 => Verdict::No,
+            _ => Verdict::Undecided,
+        }
+    }
+
+    /// A step out of the predicted path this large breaks `m`'s continuity: well beyond
+    /// its usual steps, and at least 8 mm.
+    fn break_mm(&self, m: usize) -> f64 {
+        (6.0 * self.usual[m]).max(8.0)
+    }
+
+    /// Continuity of `a` and `b` at `f` as labelled (l) and with their labels changing
+    /// between `f − 1` and `f` (u): the summed steps out of the paths predicted from the
+    /// two frames before. Entering and leaving a swap give the same u.
+    fn switch_gain(&self, a: usize, b: usize, f: usize) -> Option<(f64, f64)> {
+        if f < 2 {
+            return None;
+        }
+        let pred = |m: usize| -> Option<[f64; 3]> {
+            let (p0, p1) = (self.pos(m, f - 2, None)?, self.pos(m, f - 1, None)?);
+            Some([
+                2.0 * p1[0] - p0[0],
+                2.0 * p1[1] - p0[1],
+                2.0 * p1[2] - p0[2],
+            ])
+        };
+        let (pa, pb) = (pred(a)?, pred(b)?);
+        let (xa, xb) = (self.pos(a, f, None)?, self.pos(b, f, None)?);
+        Some((
+            dist(&xa, &pa) + dist(&xb, &pb),
+            dist(&xb, &pa) + dist(&xa, &pb),
+        ))
+    }
+
+    /// Size of marker `m`'s step out of its predicted path (constant velocity) at `f`,
+    /// with `sw` exchanged on the frames `span` holds.
+    fn step(
+        &self,
+        m: usize,
+        f: usize,
+        sw: (usize, usize),
+        span: (usize, usize),
+        apply: bool,
+    ) -> Option<f64> {
+        if f < 2 {
+            return None;
+        }
+        let at = |g: usize| {
+            let s = (apply && g >= span.0 && g <= span.1).then_some(sw);
+            self.pos(m, g, s)
+        };
+        let (p0, p1, p2) = (at(f - 2)?, at(f - 1)?, at(f)?);
+        let pred = [
+            2.0 * p1[0] - p0[0],
+            2.0 * p1[1] - p0[1],
+            2.0 * p1[2] - p0[2],
+        ];
+        Some(dist(&p2, &pred))
+    }
+}
+
+/// All swaps and jumps in `trial`, in order of first frame. Coordinates that are not
+/// finite count as missing.
+pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
+    trial.check()?;
+    opts.validate()?;
+    let (nm, nf) = (trial.markers(), trial.frames());
+    if nm < 2 || nf < 3 {
+        return Ok(Vec::new());
+    }
+    let ok: Vec<Vec<bool>> = (0..nm)
+        .map(|m| {
+            (0..nf)
+                .map(|f| trial.valid[m][f] && finite(&trial.xyz[m][f]))
+                .collect()
+        })
+        .collect();
+    let links = learn_links(
+        trial,
+        opts.max_link_spread_mm,
+        opts.min_link_support,
+        opts.max_links,
+    );
+    let mut cx = Ctx {
+        t: trial,
+        links,
+        ok,
+        usual: Vec::new(),
+    };
+    cx.usual = (0..nm)
+        .map(|m| {
+            median(
+                (2..nf)
+                    .step_by((nf / 2000).max(1))
+                    .filter_map(|f| cx.step(m, f, (m, m), (0, 0), false))
+                    .collect(),
+            )
+        })
+        .collect();
+
+    // Frames where a marker's links break, and the exchange that mends them if any.
+    let mut swap_frames: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
+    let mut jump_frames: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    // Frame-major: each frame's markers as labelled.
+    let base: Vec<Vec<Option<(f64, f64)>>> = (0..nf)
+        .into_par_iter()
+        .map(|f| (0..nm).map(|m| cx.scores(m, f, None)).collect())
+        .collect();
+    // A marker with links that holds another's samples breaks its own links too: partners
+    // are markers off at that frame, or markers without links to break.
+    let linkless: Vec<usize> = (0..nm).filter(|&m| !cx.has_links(m)).collect();
+    for (f, row) in base.iter().enumerate() {
+        let off: Vec<usize> = (0..nm)
+            .filter(|&m| row[m].is_some_and(|s| s.1 > 1.0))
+            .collect();
+        let mut taken: Vec<usize> = Vec::new();
+        for &a in &off {
+            if taken.contains(&a) {
+                continue;
+            }
+            let pa = trial.xyz[a][f];
+            let mut best: Option<(f64, usize)> = None;
+            for &b in off.iter().chain(&linkless) {
+                if b == a
+                    || taken.contains(&b)
+                    || !cx.ok[b][f]
+                    || dist(&pa, &trial.xyz[b][f]) > opts.partner_radius_mm
+                {
+                    continue;
+                }
+                // A marker without links is a partner only for one with two or more.
+                if !cx.has_links(b) && cx.links[a].len() < 2 {
+                    continue;
+                }
+                if cx.swap_verdict(a, b, f) == Verdict::Yes {
+                    if let Some((_, after)) = cx.pair_scores(a, b, f) {
+                        if best.is_none_or(|(s, _)| after < s) {
+                            best = Some((after, b));
+                        }
+                    }
+                }
+            }
+            match best {
+                Some((_, b)) => {
+                    taken.extend([a, b]);
+                    swap_frames.entry((a.min(b), a.max(b))).or_default().push(f);
+                }
+                None if cx.jump_verdict(a, f) == Verdict::Yes => {
+                    jump_frames.entry(a).or_default().push(f)
+                }
+                None => {}
+            }
+        }
+    }
+
+    // Pairs that leap into each other's places at one frame, links or not.
+    for f in 2..nf {
+        let broke: Vec<usize> = (0..nm)
+            .filter(|&m| {
+                cx.step(m, f, (m, m), (0, 0), false)
+                    .is_some_and(|st| st > cx.break_mm(m))
+            })
+            .collect();
+        for (i, &a) in broke.iter().enumerate() {
+            for &b in &broke[i + 1..] {
+                if cx.switch_gain(a, b, f).is_some_and(|(l, u)| u < 0.25 * l) {
+                    swap_frames.entry((a, b)).or_default().push(f);
+                }
+            }
+        }
+    }
+
+    let mut finds = Vec::new();
+    for &(a, b) in swap_frames.keys() {
+        for (s, e, decided) in swap_runs(&cx, a, b, opts.max_hole) {
+            finds.push(swap_find(&cx, a, b, s, e, decided, opts));
+        }
+    }
+    // Frames a swap explains are no jump of either marker.
+    for x in &finds {
+        for m in &x.markers {
+            if let Some(v) = jump_frames.get_mut(m) {
+                v.retain(|&f| f < x.first || f > x.last);
+            }
+        }
+    }
+    for (&a, frames) in &jump_frames {
+        for (s, e, decided) in episodes(frames, opts.max_hole, nf, |f| cx.jump_verdict(a, f)) {
+            if e + 1 - s >= opts.min_jump_frames {
+                finds.push(jump_find(&cx, a, s, e, decided, opts));
+            }
+        }
+    }
+    finds.retain(|x| x.confidence >= opts.min_report);
+    finds.sort_by_key(|x| (x.first, x.markers.clone()));
+    Ok(finds)
+}
+
+/// Cost of switching between labelled and exchanged, in units of link tolerance: a swap
+/// must mend more than this at its two edges together to be worth a run.
+const SWITCH_COST: f64 = 2.5;
+/// A frame's link error counts up to this many tolerances per marker, so that one wild
+/// frame cannot carry a run.
+const CLIP: f64 = 5.0;
+/// The continuity term of a change of state counts up to this many units either way.
+const CONT_CLIP: f64 = 6.0;
+
+/// The frames where `a` and `b` hold each other's samples, by the cheapest sequence of
+/// states (labelled or exchanged) over the whole trial: each frame costs its link error in
+/// that state, each change of state [`SWITCH_COST`]. Frames without evidence cost nothing
+/// either way, so runs pass through them. Returns (first, last, frames decided) of each
+/// run of exchanged frames that holds a decided frame, its edges widened over undecided
+/// frames for [`swap_find`] to place by continuity.
+fn swap_runs(cx: &Ctx, a: usize, b: usize, hole: usize) -> Vec<(usize, usize, Vec<usize>)> {
+    let nf = cx.t.frames();
+    let clip = if cx.has_links(b) { 2.0 * CLIP } else { CLIP };
+    let cost: Vec<(f64, f64)> = (0..nf)
+        .map(|f| match cx.pair_scores(a, b, f) {
+            Some((x, y)) => (x.min(clip), y.min(clip)),
+            None => (0.0, 0.0),
+        })
+        .collect();
+    // Changing state where the two trajectories leap into each other's places is cheap,
+    // where they run smoothly dear: the continuity difference in units of the pair's
+    // usual steps.
+    let scale = (3.0 * (cx.usual[a] + cx.usual[b])).max(2.0);
+    let switch: Vec<f64> = (0..nf)
+        .map(|f| match cx.switch_gain(a, b, f) {
+            Some((l, u)) => SWITCH_COST + ((u - l) / scale).clamp(-CONT_CLIP, CONT_CLIP),
+            None => SWITCH_COST,
+        })
+        .collect();
+    // Viterbi over two states, either free at the first frame.
+    let mut acc = [cost[0].0, cost[0].1];
+    let mut from: Vec<[u8; 2]> = Vec::with_capacity(nf);
+    from.push([0, 1]);
+    for (c, &sw) in cost[1..].iter().zip(&switch[1..]) {
+        let mut next = [0.0; 2];
+        let mut back = [0u8; 2];
+        for (st, own) in [(0usize, c.0), (1usize, c.1)] {
+            let stay = acc[st];
+            let switch = acc[1 - st] + sw;
+            if stay <= switch {
+                next[st] = stay + own;
+                back[st] = st as u8;
+            } else {
+                next[st] = switch + own;
+                back[st] = (1 - st) as u8;
+            }
+        }
+        acc = next;
+        from.push(back);
+    }
+    let mut state = vec![0u8; nf];
+    let mut st = if acc[1] < acc[0] { 1u8 } else { 0u8 };
+    for f in (0..nf).rev() {
+        state[f] = st;
+        st = from[f][st as usize];
+    }
+    let mut out = Vec::new();
+    let mut f = 0;
+    while f < nf {
+        if state[f] == 0 {
+            f += 1;
+            continue;
+        }
+        let s = f;
+        while f < nf && state[f] == 1 {
+            f += 1;
+        }
+        let e = f - 1;
+        let decided: Vec<usize> = (s..=e)
+            .filter(|&g| cx.swap_verdict(a, b, g) == Verdict::Yes)
+            .collect();
+        let (Some(&d0), Some(&d1)) = (decided.first(), decided.last()) else {
+            // No link decides: kept when continuity alone calls both edges (or the one
+            // edge of a run to the end) a leap into each other's places.
+            let leap = |f: usize| switch[f] < 0.0;
+            if leap(s) && (e + 1 == nf || leap(e + 1)) {
+                out.push((s, e, Vec::new()));
+            }
+            continue;
+        };
+        let undecided = |g: usize| cx.swap_verdict(a, b, g) == Verdict::Undecided;
+        let mut lo = d0;
+        while lo > 0 && d0 - lo < hole && undecided(lo - 1) {
+            lo -= 1;
+        }
+        let mut hi = d1;
+        while hi + 1 < nf && hi - d1 < hole && undecided(hi + 1) {
+            hi += 1;
+        }
+        out.push((lo.min(s).max(lo), hi, decided));
+    }
+    out
+}
+
+/// Runs of `frames` (sorted) joined across at most `hole` frames whose verdict is not
+/// `No`, and widened over such frames at both ends: (first, last, decided frames).
+fn episodes(
+    frames: &[usize],
+    hole: usize,
+    nf: usize,
+    verdict: impl Fn(usize) -> Verdict,
+) -> Vec<(usize, usize, Vec<usize>)> {
+    let mut out: Vec<(usize, usize, Vec<usize>)> = Vec::new();
+    for &f in frames {
+        if let Some(last) = out.last_mut() {
+            let gap = f - last.1 - 1;
+            if gap <= hole && (last.1 + 1..f).all(|g| verdict(g) != Verdict::No) {
+                last.1 = f;
+                last.2.push(f);
+                continue;
+            }
+        }
+        out.push((f, f, vec![f]));
+    }
+    for ep in &mut out {
+        let mut k = 0;
+        while k < hole && ep.0 > 0 && verdict(ep.0 - 1) == Verdict::Undecided {
+            ep.0 -= 1;
+            k += 1;
+        }
+        let mut k = 0;
+        while k < hole && ep.1 + 1 < nf && verdict(ep.1 + 1) == Verdict::Undecided {
+            ep.1 += 1;
+            k += 1;
+        }
+    }
+    out
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn swap_find(
+    cx: &Ctx,
+    a: usize,
+    b: usize,
+    s0: usize,
+    e0: usize,
+    decided: Vec<usize>,
+    opts: &SwapOptions,
+) -> Find {
+    // Undecided frames at the edges (both markers missing or passing close): the edge is
+    // placed where the exchanged trajectories run smoothest.
+    let (first_dec, last_dec) = match (decided.first(), decided.last()) {
+        (Some(&x), Some(&y)) => (x, y),
+        _ => (s0, e0),
+    };
+    let cost = |s: usize, e: usize, around: usize| -> f64 {
+        let lo = around.saturating_sub(2);
+        let hi = (around + 2).min(cx.t.frames() - 1);
+        (lo..=hi)
+            .flat_map(|f| [a, b].map(|m| cx.step(m, f, (a, b), (s, e), true)))
+            .flatten()
+            .sum()
+    };
+    let s = (s0..=first_dec)
+        .min_by(|&x, &y| cost(x, e0, x).total_cmp(&cost(y, e0, y)))
+        .unwrap_or(first_dec);
+    let e = (last_dec..=e0)
+        .min_by(|&x, &y| cost(s, x, x + 1).total_cmp(&cost(s, y, y + 1)))
+        .unwrap_or(last_dec);
+
+    let (mut before, mut after) = (Vec::new(), Vec::new());
+    for &f in &decided {
+        if let Some((x, y)) = cx.pair_scores(a, b, f) {
+            before.push(x);
+            after.push(y);
+        }
+    }
+    let (before, after) = (median(before), median(after));
+    // Continuity at each edge: labelled against undone.
+    let (mut smoother, mut checked, mut edge_step) = (0, 0, 0.0f64);
+    let nf = cx.t.frames();
+    for f in [s, e + 1] {
+        if f == 0 || f >= nf || (f == e + 1 && e + 1 >= nf) {
+            continue;
+        }
+        let lab: Option<f64> = [a, b]
+            .iter()
+            .map(|&m| cx.step(m, f, (a, b), (s, e), false))
+            .sum();
+        let und: Option<f64> = [a, b]
+            .iter()
+            .map(|&m| cx.step(m, f, (a, b), (s, e), true))
+            .sum();
+        if let (Some(l), Some(u)) = (lab, und) {
+            checked += 1;
+            edge_step = edge_step.max(l);
+            if u < l {
+                smoother += 1;
+            }
+        }
+    }
+    let strength = (before - after).max(0.0);
+    let p_link = 1.0 - (-strength / 2.0).exp();
+    let share = (decided.len() as f64 / (e + 1 - s) as f64).sqrt();
+    let confidence = if decided.is_empty() {
+        // Continuity alone: two trajectories leaping into each other's places at every
+        // edge is a swap a person would call, but one with no link to confirm it.
+        if checked > 0 && smoother == checked {
+            0.6
+        } else {
+            0.3
+        }
+    } else {
+        let p_cont = if checked == 0 || smoother == checked {
+            1.0
+        } else if smoother == 0 {
+            0.5
+        } else {
+            0.8
+        };
+        p_link * share * p_cont
+    }
+    .clamp(0.0, 1.0);
+    Find {
+        kind: FindKind::Swap,
+        markers: vec![a, b],
+        first: s,
+        last: e,
+        confidence,
+        settled: confidence >= opts.min_confidence,
+        evidence: Evidence {
+            links: cx.links[a].len() + cx.links[b].len(),
+            frames_decided: decided.len(),
+            link_error: before,
+            link_error_undone: after,
+            edges_smoother: smoother,
+            edges_checked: checked,
+            edge_step_mm: edge_step,
+        },
+    }
+}
+
+fn jump_find(
+    cx: &Ctx,
+    a: usize,
+    s: usize,
+    e: usize,
+    decided: Vec<usize>,
+    opts: &SwapOptions,
+) -> Find {
+    let before = median(
+        decided
+            .iter()
+            .filter_map(|&f| cx.score(a, f, None))
+            .collect(),
+    );
+    // The steps at the edges against the marker's usual steps.
+    let nf = cx.t.frames();
+
+    let (mut smoother, mut checked, mut edge_step) = (0, 0, 0.0f64);
+    for f in [s, e + 1] {
+        if f >= nf {
+            continue;
+        }
+        if let Some(st) = cx.step(a, f, (a, a), (0, 0), false) {
+            checked += 1;
+            edge_step = edge_step.max(st);
+            if st > cx.break_mm(a) {
+                smoother += 1;
+            }
+        }
+    }
+    let p_link = 1.0 - (-2.0 * (before - 1.0).max(0.0)).exp();
+    let share = (decided.len() as f64 / (e + 1 - s) as f64).sqrt();
+    // A label that lands on another point leaves its path twice, going and coming back;
+    // skin moving or a marker wobbling does neither.
+    let p_cont = match (smoother, checked) {
+        (0, 0) => 0.5,
+        (b, c) if b == c => 1.0,
+        (1, _) => 0.4,
+        _ => 0.1,
+    };
+    let confidence = (p_cont * (0.5 + 0.5 * p_link * share)).clamp(0.0, 1.0);
+    Find {
+        kind: FindKind::Jump,
+        markers: vec![a],
+        first: s,
+        last: e,
+        confidence,
+        settled: confidence >= opts.min_confidence,
+        evidence: Evidence {
+            links: cx.links[a].len(),
+            frames_decided: decided.len(),
+            link_error: before,
+            link_error_undone: 0.0,
+            edges_smoother: smoother,
+            edges_checked: checked,
+            edge_step_mm: edge_step,
+        },
+    }
+}

@@ -1,0 +1,116 @@
+//! Swap and jump finding (issue 34): episodes injected into a synthetic trial and into a
+//! corpus trial are found with their exact frames and undone bit for bit.
+
+use repair::swaps::{find_swaps, learn_links, undo, FindKind, SwapOptions};
+use repair::synth::gait_like;
+use repair::Trial;
+
+fn exchange(t: &mut Trial, a: usize, b: usize, lo: usize, hi: usize) {
+    for f in lo..=hi {
+        let p = t.xyz[a][f];
+        t.xyz[a][f] = t.xyz[b][f];
+        t.xyz[b][f] = p;
+        let v = t.valid[a][f];
+        t.valid[a][f] = t.valid[b][f];
+        t.valid[b][f] = v;
+    }
+}
+
+#[test]
+fn synthetic_swap_and_jump_are_found_exactly_and_undone() {
+    let clean = gait_like(30, 8, 2000, 100.0, 0.3, 7);
+    let mut t = clean.clone();
+    // Markers 0 and 8 share the pelvis (round-robin over 8 segments).
+    exchange(&mut t, 0, 8, 500, 519);
+    for f in 1200..1220 {
+        t.xyz[5][f][1] += 30.0;
+    }
+    let finds = find_swaps(&t, &SwapOptions::default()).unwrap();
+    assert_eq!(finds.len(), 2, "{finds:?}");
+    assert_eq!(finds[0].kind, FindKind::Swap);
+    assert_eq!(finds[0].markers, vec![0, 8]);
+    assert_eq!((finds[0].first, finds[0].last), (500, 519));
+    assert!(
+        finds[0].settled && finds[0].confidence > 0.9,
+        "{:?}",
+        finds[0]
+    );
+    assert_eq!(finds[1].kind, FindKind::Jump);
+    assert_eq!(finds[1].markers, vec![5]);
+    assert_eq!((finds[1].first, finds[1].last), (1200, 1219));
+    assert!(finds[1].settled);
+
+    let changed = undo(&mut t, &finds);
+    assert_eq!(changed, 2 * 20 + 20);
+    assert_eq!(t.xyz[0], clean.xyz[0]);
+    assert_eq!(t.xyz[8], clean.xyz[8]);
+    assert!((1200..1220).all(|f| !t.valid[5][f]));
+    assert!(t.valid[5][1199] && t.valid[5][1220]);
+    // The clean trial has nothing to find.
+    assert!(find_swaps(&clean, &SwapOptions::default())
+        .unwrap()
+        .is_empty());
+}
+
+/// `TYPE-3.c3d` (AMTI sample, 28 markers) in mm with its own gaps.
+fn type3() -> Option<Trial> {
+    let Some(root) = testkit::c3d_samples() else {
+        eprintln!("C3D_SAMPLES not set: skipped");
+        return None;
+    };
+    let c = c3d::read_file(root.join("sample_10/TYPE-3.c3d")).unwrap();
+    let k = c3d::mm_per_unit(&c.point_units());
+    let p = c.points();
+    let outputs = c.model_output_labels();
+    let (mut xyz, mut valid) = (Vec::new(), Vec::new());
+    for (i, l) in c.point_labels().iter().enumerate() {
+        if outputs.contains(l) {
+            continue;
+        }
+        xyz.push(
+            p.trajectory(i)
+                .iter()
+                .map(|q| q.map(|v| v as f64 * k))
+                .collect(),
+        );
+        valid.push(p.validity(i));
+    }
+    Some(Trial::new(c.point_rate() as f64, xyz, valid).unwrap())
+}
+
+#[test]
+fn corpus_swap_between_linked_markers_is_found_and_undone_bit_for_bit() {
+    let Some(clean) = type3() else { return };
+    let opts = SwapOptions::default();
+    // Untouched: nothing settled (the trial's own finds, if any, are only reported).
+    let base = find_swaps(&clean, &opts).unwrap();
+    assert!(base.iter().all(|x| !x.settled), "{base:?}");
+    let links = learn_links(&clean, opts.max_link_spread_mm, opts.min_link_support, 8);
+    // The first marker with a link, and its most rigid partner; 20 frames mid-trial where
+    // both are seen.
+    let (a, l) = links
+        .iter()
+        .enumerate()
+        .find_map(|(m, ls)| ls.first().map(|l| (m, *l)))
+        .unwrap();
+    let b = l.other;
+    let n = clean.frames();
+    let lo = (n / 3..n - 30)
+        .find(|&f| (f..f + 20).all(|g| clean.valid[a][g] && clean.valid[b][g]))
+        .unwrap();
+    let mut t = clean.clone();
+    exchange(&mut t, a, b, lo, lo + 19);
+    let finds: Vec<_> = find_swaps(&t, &opts)
+        .unwrap()
+        .into_iter()
+        .filter(|x| !base.contains(x))
+        .collect();
+    assert_eq!(finds.len(), 1, "{finds:?}");
+    let x = &finds[0];
+    assert_eq!(x.kind, FindKind::Swap);
+    assert_eq!(x.markers, vec![a.min(b), a.max(b)]);
+    assert_eq!((x.first, x.last), (lo, lo + 19));
+    assert!(x.settled, "{x:?}");
+    undo(&mut t, &finds);
+    assert_eq!(t, clean);
+}
