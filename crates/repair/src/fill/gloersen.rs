@@ -45,6 +45,7 @@ const MIN_CUM_SV: f64 = 0.99;
 
 /// The target's fill over `span` (`mm_per_unit` converts σ to the data's units).
 pub(super) fn fill(t: &Target, span: Span, mm_per_unit: f64) -> Result<Vec<[f64; 3]>, SkipReason> {
+    crate::profile::count(crate::profile::Count::Gloersen);
     let d = t.data;
     let (n, markers) = (d.frames, d.xyz.len());
     let ok = |j: usize, f: usize| if j == t.m { t.ok(f) } else { d.ok(j, f) };

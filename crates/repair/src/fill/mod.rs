@@ -672,7 +672,10 @@ pub(crate) fn fill_gaps(
     let data = Data::new(xyz, valid, max_step);
     let first: Vec<GapFill> = gaps
         .par_iter()
-        .map(|g| fill_gap_diag(data, g, opts, checked))
+        .map(|g| {
+            let _time = crate::profile::gap(g.len);
+            fill_gap_diag(data, g, opts, checked)
+        })
         .collect();
     write(xyz, &first);
     if !(opts.method.is_donor() || opts.method == FillMethod::Auto) {
@@ -716,6 +719,7 @@ pub(crate) fn fill_gaps(
             if uncertain || refused(g, opts).is_some() {
                 return r;
             }
+            let _time = crate::profile::gap(g.len);
             let t = Target {
                 m: g.marker,
                 data: second.with_own(g.marker, &valid[g.marker]),
