@@ -140,22 +140,25 @@ pub(crate) enum Count {
     KalmanModel,
     /// Skeletons built from the recorded distances.
     Skeleton,
-    /// Gløersen & Federolf fills (whole-trial models, two eigen-decompositions each).
+    /// Gløersen & Federolf fills.
     Gloersen,
+    /// Gløersen & Federolf whole-trial models built (two eigen-decompositions each).
+    GloersenModel,
     /// Artificial gaps cut.
     Holes,
     /// Artificial gaps on which every candidate filled (scored).
     Scored,
 }
 
-const COUNTS: [(Count, &str); 9] = [
+const COUNTS: [(Count, &str); 10] = [
     (Count::Plan, "plans built"),
     (Count::WidePlan, "wide PCA plans built"),
     (Count::PcaSums, "PCA training sums gathered"),
     (Count::PcaModel, "PCA models trained"),
     (Count::KalmanModel, "Kalman models trained"),
     (Count::Skeleton, "skeletons built"),
-    (Count::Gloersen, "Gløersen whole-trial fills"),
+    (Count::Gloersen, "Gløersen fills"),
+    (Count::GloersenModel, "Gløersen whole-trial models built"),
     (Count::Holes, "artificial gaps cut"),
     (Count::Scored, "artificial gaps scored"),
 ];
