@@ -339,7 +339,7 @@ impl Model {
                 if missing.binary_search(&f).is_err() {
                     return Err(SkipReason::NoContext);
                 }
-                let mz = norm(&raw_zeroed(&kept, t.m, f, &at), true);
+                let mz = norm(&raw_zeroed(kept, t.m, f, &at), true);
                 // Scores on the zeroed components, carried into the complete ones.
                 let s: Vec<f64> = (0..k)
                     .map(|b| (0..cols).map(|c| mz[c] * p_zero[(c, b)]).sum())
@@ -451,6 +451,38 @@ mod reference {
             valid.push(v);
         }
         (labels, xyz, valid)
+    }
+
+    /// A cached model fills as one built afresh, bit for bit: two gaps of a marker and an
+    /// artificial hole, each filled twice through one cache, equal their fills without it,
+    /// and the cache holds one model per target and hole (the real gaps share theirs).
+    #[test]
+    fn cached_models_fill_as_fresh_ones() {
+        use super::super::{max_steps, Data, Target};
+        use super::{fill, Cache, Span};
+        let trial = crate::synth::gait_like(24, 8, 800, 100.0, 0.3, 7);
+        let mut valid = trial.valid.clone();
+        valid[0][100..110].fill(false);
+        valid[0][400..430].fill(false);
+        let steps = max_steps(&trial.xyz, &valid);
+        let fresh = Data::new(&trial.xyz, &valid, &steps);
+        let cache = Cache::default();
+        let cached = fresh.with_gloersen(&cache);
+        let cases = [
+            (None, (100, 109)),
+            (None, (400, 429)),
+            (Some((600, 619)), (600, 619)),
+        ];
+        for _ in 0..2 {
+            for (hole, (a, b)) in cases {
+                let span = Span::new(a, b, 800);
+                let at = |data| Target { m: 0, data, hole };
+                let want = fill(&at(fresh), span, 1.0).unwrap();
+                assert_eq!(fill(&at(cached), span, 1.0).unwrap(), want);
+                assert!(want.iter().all(|p| p.iter().all(|v| v.is_finite())));
+            }
+        }
+        assert_eq!(cache.models.lock().unwrap().len(), 2);
     }
 
     #[test]
