@@ -632,3 +632,56 @@ fn kalman_alone_fills_every_gap() {
         );
     }
 }
+
+/// `C3DFIX_PROFILE=1` prints where the fills' time went on stderr (see repair::profile),
+/// and changes no byte of the repaired file; without it nothing is printed.
+#[test]
+fn repair_profile_counts_the_fills_and_changes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = sample("walk_int.c3d");
+    let run = |name: &str, profile: bool| {
+        let out = dir.path().join(name);
+        let mut cmd = std::process::Command::new(super::bin());
+        cmd.args(["repair", s(&src), "-o", s(&out)]);
+        if profile {
+            cmd.env("C3DFIX_PROFILE", "1");
+        } else {
+            cmd.env_remove("C3DFIX_PROFILE");
+        }
+        let o = cmd.output().unwrap();
+        assert!(o.status.success(), "{}", stderr(&o));
+        (std::fs::read(&out).unwrap(), stderr(&o))
+    };
+    let (plain, quiet) = run("plain.c3d", false);
+    let (profiled, err) = run("profiled.c3d", true);
+    assert_eq!(plain, profiled);
+    assert!(!quiet.contains("profile\t"), "{quiet}");
+    let rows: Vec<Vec<&str>> = err
+        .lines()
+        .filter(|l| l.starts_with("profile\t"))
+        .map(|l| l.split('\t').collect())
+        .collect();
+    let count = |name: &str| {
+        rows.iter()
+            .find(|r| r[1] == "count" && r[2] == name)
+            .map_or(0, |r| r[3].parse::<u64>().unwrap())
+    };
+    // The 9 gaps are each filled at least once (a second pass may refill some).
+    let fills: u64 = rows
+        .iter()
+        .filter(|r| r[1] == "gaps")
+        .map(|r| r[3].parse::<u64>().unwrap())
+        .sum();
+    assert!((9..=18).contains(&fills), "{err}");
+    assert!(count("plans built") >= 9, "{err}");
+    assert!(count("artificial gaps scored") > 0, "{err}");
+    assert!(
+        count("artificial gaps scored") <= count("artificial gaps cut"),
+        "{err}"
+    );
+    assert!(
+        rows.iter()
+            .any(|r| r[1] == "work" && r[2] == "pca on artificial gaps"),
+        "{err}"
+    );
+}

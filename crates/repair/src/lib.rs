@@ -38,6 +38,7 @@ pub mod filter;
 pub mod gaps;
 mod linalg;
 pub mod pipeline;
+pub mod profile;
 mod rng;
 pub mod spikes;
 pub mod swaps;

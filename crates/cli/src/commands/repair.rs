@@ -73,7 +73,14 @@ pub fn run(a: Args) -> Result<i32> {
         backup: a.backup,
         force: a.force,
     };
+    // C3DFIX_PROFILE=1: where the fills' time went, on stderr (see repair::profile and
+    // crates/cli/benches/price.sh).
+    let profiling = std::env::var_os("C3DFIX_PROFILE").is_some_and(|v| v == "1");
+    repair::profile::enable(profiling);
     let done = c3dfix::files::repair(&a.input, &dest, &a.repair.options(), a.report.as_deref())?;
+    if profiling {
+        eprint!("{}", repair::profile::take());
+    }
     let s = done.summary;
     if a.json {
         outln!("{}", serde_json::to_string_pretty(&s)?)?;

@@ -32,6 +32,8 @@
 use super::{SkipReason, Span, Target};
 use crate::linalg::symmetric_eigen;
 use nalgebra::DMatrix;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 /// σ of the distance weighting, in mm (the paper's default).
 const WEIGHT_SCALE_MM: f64 = 200.0;
@@ -43,197 +45,322 @@ const DISTAL_THRESHOLD: f64 = 0.5;
 /// Share of the cumulative sum of singular values the kept components reach.
 const MIN_CUM_SV: f64 = 0.99;
 
-/// The target's fill over `span` (`mm_per_unit` converts σ to the data's units).
+/// The target's fill over `span` (`mm_per_unit` converts σ to the data's units), with the
+/// pass's whole-trial model of the target when [`fill_gaps`] has built it already.
+///
+/// [`fill_gaps`]: super::fill_gaps
 pub(super) fn fill(t: &Target, span: Span, mm_per_unit: f64) -> Result<Vec<[f64; 3]>, SkipReason> {
-    let d = t.data;
-    let (n, markers) = (d.frames, d.xyz.len());
-    let ok = |j: usize, f: usize| if j == t.m { t.ok(f) } else { d.ok(j, f) };
-    let complete: Vec<bool> = (0..markers).map(|j| (0..n).all(|f| ok(j, f))).collect();
-    // 1. The mean trajectory of the markers recorded throughout.
-    let whole: Vec<usize> = (0..markers).filter(|&j| complete[j] && j != t.m).collect();
-    if whole.is_empty() {
-        return Err(SkipReason::NoDonors);
+    crate::profile::count(crate::profile::Count::Gloersen);
+    match t.data.gloersen {
+        Some(cache) => cache
+            .model(t, mm_per_unit)
+            .as_ref()
+            .as_ref()
+            .map_err(|&e| e)?
+            .fill(t, span),
+        None => Model::build(t, mm_per_unit)?.fill(t, span),
     }
-    let mean_trj: Vec<[f64; 3]> = (0..n)
-        .map(|f| {
-            let mut s = [0.0; 3];
-            for &j in &whole {
-                let p = d.at(j, f);
-                (0..3).for_each(|k| s[k] += p[k]);
-            }
-            s.map(|v| v / whole.len() as f64)
-        })
-        .collect();
-    let at = |j: usize, f: usize| {
-        let p = d.at(j, f);
-        [0, 1, 2].map(|k| p[k] - mean_trj[f][k])
-    };
-    let dist = |a: [f64; 3], b: [f64; 3]| {
-        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-    };
-    // Mean distance of each marker to the target over the frames both are recorded.
-    let mean_dist = |j: usize, frames: &mut dyn Iterator<Item = usize>| -> Option<f64> {
-        let (mut s, mut c) = (0.0, 0usize);
-        for f in frames {
-            if ok(j, f) && ok(t.m, f) {
-                s += dist(at(j, f), at(t.m, f));
-                c += 1;
-            }
+}
+
+/// The whole-trial model of one target (with its artificial hole, if any) in one pass's
+/// data: everything [`fill`] works out before reading the gap's frames. It depends on the
+/// target's missing frames, not on which of them a fill asks for, so every gap of a marker
+/// shares one (and every gap whose artificial hole is the same, see [`Cache`]).
+pub(super) struct Model {
+    kept: Vec<usize>,
+    ti: usize,
+    /// The target's missing frames, in order.
+    missing: Vec<usize>,
+    mean_trj: Vec<[f64; 3]>,
+    mean: Vec<f64>,
+    sd: Vec<f64>,
+    w: Vec<f64>,
+    /// The first `k` components of the zeroed matrix (`cols × k`), of the complete one
+    /// only the target's three rows (`3 × k`, row-major), and T (`k × k`).
+    p_zero: DMatrix<f64>,
+    p_no_target: Vec<f64>,
+    tm: Vec<f64>,
+    k: usize,
+}
+
+/// Whole-trial models built in one pass of [`fill_gaps`], by what a model depends on
+/// besides the pass's data: the marker read as recorded there (the second pass's target,
+/// see `Data::with_own`), the target, and its artificial hole. Every gap of a marker asks
+/// for the same model, and so do the artificial holes that coincide (same marker, same
+/// frames) for gaps near each other; each was built anew before, two eigen-decompositions
+/// of every marker's coordinates each time. A model is a function of its key, so which
+/// ones the bound keeps changes no fill.
+///
+/// [`fill_gaps`]: super::fill_gaps
+#[derive(Default)]
+pub(crate) struct Cache {
+    models: Mutex<HashMap<Key, Arc<Built>>>,
+}
+
+type Key = (Option<usize>, usize, Option<(usize, usize)>);
+type Built = Result<Model, SkipReason>;
+
+/// Models a [`Cache`] holds at most (it is emptied when full): gaps are filled in marker
+/// order, so the models a gap can share are those of the gaps just before it. A model is
+/// a few hundred kB on the corpora's largest trials.
+const CACHE_MODELS: usize = 128;
+
+impl Cache {
+    /// The target's model in this pass's data, built on first use.
+    fn model(&self, t: &Target, mm_per_unit: f64) -> Arc<Built> {
+        let key = (t.data.own.map(|(m, _)| m), t.m, t.hole);
+        if let Some(m) = self.models.lock().ok().and_then(|c| c.get(&key).cloned()) {
+            return m;
         }
-        (c > 0).then(|| s / c as f64)
-    };
-    let dists: Vec<Option<f64>> = (0..markers)
-        .map(|j| {
-            if j == t.m {
-                Some(0.0)
-            } else {
-                mean_dist(j, &mut (0..n))
+        // Built outside the lock: two threads may build the same model, never a wrong one.
+        let m = Arc::new(Model::build(t, mm_per_unit));
+        if let Ok(mut c) = self.models.lock() {
+            if c.len() >= CACHE_MODELS {
+                c.clear();
             }
-        })
-        .collect();
-    let known: Vec<f64> = dists.iter().flatten().copied().collect();
-    let thresh = DISTAL_THRESHOLD * known.iter().sum::<f64>() / known.len().max(1) as f64;
-    // 2. The markers kept: the target, and every other marker that is near or recorded
-    // throughout, and recorded on each of the target's missing frames.
-    let missing: Vec<usize> = (0..n).filter(|&f| !ok(t.m, f)).collect();
-    let kept: Vec<usize> = (0..markers)
-        .filter(|&j| {
-            j == t.m
-                || (dists[j].is_some_and(|x| x <= thresh || complete[j])
-                    && missing.iter().all(|&f| ok(j, f)))
-        })
-        .collect();
-    if kept.len() < 2 {
-        return Err(SkipReason::NoDonors);
-    }
-    let rows: Vec<usize> = (0..n).filter(|&f| kept.iter().all(|&j| ok(j, f))).collect();
-    if rows.len() < 2 {
-        return Err(SkipReason::NoContext);
-    }
-    // 3. Weights from the same distances as step 2 (over the whole trial, as published).
-    let sigma = WEIGHT_SCALE_MM / mm_per_unit;
-    let w: Vec<f64> = kept
-        .iter()
-        .map(|&j| {
-            if j == t.m {
-                return MM_WEIGHT;
-            }
-            let dj = dists[j].unwrap_or(f64::INFINITY);
-            (-(dj * dj) / (2.0 * sigma * sigma)).exp()
-        })
-        .collect();
-    let cols = 3 * kept.len();
-    let ti = kept.iter().position(|&j| j == t.m).unwrap_or(0);
-    // The kept markers' coordinates on `rows`, a column per coordinate (each marker's
-    // samples lie together, so each column is read and written in order).
-    let rn = rows.len();
-    let mut x = DMatrix::<f64>::zeros(rn, cols);
-    for (i, &j) in kept.iter().enumerate() {
-        for (r, &f) in rows.iter().enumerate() {
-            let p = at(j, f);
-            (0..3).for_each(|ax| x[(r, 3 * i + ax)] = p[ax]);
+            c.insert(key, Arc::clone(&m));
         }
+        m
     }
-    let mut mean = vec![0.0; cols];
-    let mut sd = vec![0.0; cols];
-    for (c, col) in x.column_iter().enumerate() {
-        mean[c] = col.iter().sum::<f64>() / rn as f64;
-        let s = (col.iter().map(|v| (v - mean[c]).powi(2)).sum::<f64>() / rn as f64).sqrt();
-        sd[c] = if s == 0.0 { 1.0 } else { s };
-    }
-    let wc = |c: usize| w[c / 3];
-    let is_target = |c: usize| c / 3 == ti;
-    // Normalised, weighted rows; with the target zeroed (its mean with it, as the paper's
-    // matrices with zeros have zero mean there).
-    let norm = |x: &[f64], zero: bool| -> Vec<f64> {
-        (0..cols)
-            .map(|c| {
-                if zero && is_target(c) {
-                    0.0
+}
+
+impl Model {
+    fn build(t: &Target, mm_per_unit: f64) -> Result<Model, SkipReason> {
+        crate::profile::count(crate::profile::Count::GloersenModel);
+        let d = t.data;
+        let (n, markers) = (d.frames, d.xyz.len());
+        let ok = |j: usize, f: usize| if j == t.m { t.ok(f) } else { d.ok(j, f) };
+        let complete: Vec<bool> = (0..markers).map(|j| (0..n).all(|f| ok(j, f))).collect();
+        // 1. The mean trajectory of the markers recorded throughout.
+        let whole: Vec<usize> = (0..markers).filter(|&j| complete[j] && j != t.m).collect();
+        if whole.is_empty() {
+            return Err(SkipReason::NoDonors);
+        }
+        let mean_trj: Vec<[f64; 3]> = (0..n)
+            .map(|f| {
+                let mut s = [0.0; 3];
+                for &j in &whole {
+                    let p = d.at(j, f);
+                    (0..3).for_each(|k| s[k] += p[k]);
+                }
+                s.map(|v| v / whole.len() as f64)
+            })
+            .collect();
+        let at = |j: usize, f: usize| {
+            let p = d.at(j, f);
+            [0, 1, 2].map(|k| p[k] - mean_trj[f][k])
+        };
+        let dist = |a: [f64; 3], b: [f64; 3]| {
+            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+        };
+        // Mean distance of each marker to the target over the frames both are recorded.
+        let mean_dist = |j: usize, frames: &mut dyn Iterator<Item = usize>| -> Option<f64> {
+            let (mut s, mut c) = (0.0, 0usize);
+            for f in frames {
+                if ok(j, f) && ok(t.m, f) {
+                    s += dist(at(j, f), at(t.m, f));
+                    c += 1;
+                }
+            }
+            (c > 0).then(|| s / c as f64)
+        };
+        let dists: Vec<Option<f64>> = (0..markers)
+            .map(|j| {
+                if j == t.m {
+                    Some(0.0)
                 } else {
-                    (x[c] - mean[c]) / sd[c] * wc(c)
+                    mean_dist(j, &mut (0..n))
                 }
             })
-            .collect()
-    };
-    // 4. Principal components by the eigenvectors of YᵀY, Y = X / √(n − 1): its singular
-    // values are the square roots of the eigenvalues. One product serves both matrices:
-    // zeroing the target's columns of X zeroes its rows and columns of XᵀX and leaves the
-    // rest as they are.
-    for (c, mut col) in x.column_iter_mut().enumerate() {
-        col.iter_mut()
-            .for_each(|v| *v = (*v - mean[c]) / sd[c] * wc(c));
-    }
-    let cov_no = (x.transpose() * &x) / (rn as f64 - 1.0);
-    let mut cov_zero = cov_no.clone();
-    for c in (0..cols).filter(|&c| is_target(c)) {
-        cov_zero.row_mut(c).fill(0.0);
-        cov_zero.column_mut(c).fill(0.0);
-    }
-    let pca = |c: &DMatrix<f64>| {
-        // Symmetric (to rounding; the decomposition reads one triangle), so its
-        // column-major slice serves as the row-major one.
-        let (vals, mut vecs) = symmetric_eigen(c.as_slice(), cols);
-        // The published product (step 4) changes with the components' signs, which the
-        // decomposition leaves arbitrary: each is turned so that its largest coordinate is
-        // positive (the reference script does the same).
-        for mut v in vecs.column_iter_mut() {
-            let big = v
-                .iter()
-                .copied()
-                .fold(0.0f64, |a, x| if x.abs() > a.abs() { x } else { a });
-            if big < 0.0 {
-                v.neg_mut();
-            }
-        }
-        let sv: Vec<f64> = vals.iter().map(|v| v.max(0.0).sqrt()).collect();
-        let total: f64 = sv.iter().sum();
-        let mut acc = 0.0;
-        let k = sv
-            .iter()
-            .position(|v| {
-                acc += v;
-                acc >= MIN_CUM_SV * total
+            .collect();
+        let known: Vec<f64> = dists.iter().flatten().copied().collect();
+        let thresh = DISTAL_THRESHOLD * known.iter().sum::<f64>() / known.len().max(1) as f64;
+        // 2. The markers kept: the target, and every other marker that is near or recorded
+        // throughout, and recorded on each of the target's missing frames.
+        let missing: Vec<usize> = (0..n).filter(|&f| !ok(t.m, f)).collect();
+        let kept: Vec<usize> = (0..markers)
+            .filter(|&j| {
+                j == t.m
+                    || (dists[j].is_some_and(|x| x <= thresh || complete[j])
+                        && missing.iter().all(|&f| ok(j, f)))
             })
-            .unwrap_or(cols - 1);
-        (vecs, k)
-    };
-    let (p_no, k1) = pca(&cov_no);
-    let (p_zero, k2) = pca(&cov_zero);
-    let k = k1.max(k2) + 1;
-    // T = P_noᵀ P_zero (k × k).
-    let mut tm = vec![0.0; k * k];
-    for a in 0..k {
-        for b in 0..k {
-            tm[a * k + b] = (0..cols).map(|c| p_no[(c, a)] * p_zero[(c, b)]).sum();
+            .collect();
+        if kept.len() < 2 {
+            return Err(SkipReason::NoDonors);
         }
-    }
-    let out = (span.first..=span.last)
-        .map(|f| {
-            if !missing.contains(&f) {
-                return Err(SkipReason::NoContext);
+        let rows: Vec<usize> = (0..n).filter(|&f| kept.iter().all(|&j| ok(j, f))).collect();
+        if rows.len() < 2 {
+            return Err(SkipReason::NoContext);
+        }
+        // 3. Weights from the same distances as step 2 (over the whole trial, as published).
+        let sigma = WEIGHT_SCALE_MM / mm_per_unit;
+        let w: Vec<f64> = kept
+            .iter()
+            .map(|&j| {
+                if j == t.m {
+                    return MM_WEIGHT;
+                }
+                let dj = dists[j].unwrap_or(f64::INFINITY);
+                (-(dj * dj) / (2.0 * sigma * sigma)).exp()
+            })
+            .collect();
+        let cols = 3 * kept.len();
+        let ti = kept.iter().position(|&j| j == t.m).unwrap_or(0);
+        // The kept markers' coordinates on `rows`, a column per coordinate (each marker's
+        // samples lie together, so each column is read and written in order).
+        let rn = rows.len();
+        let mut x = DMatrix::<f64>::zeros(rn, cols);
+        for (i, &j) in kept.iter().enumerate() {
+            for (r, &f) in rows.iter().enumerate() {
+                let p = at(j, f);
+                (0..3).for_each(|ax| x[(r, 3 * i + ax)] = p[ax]);
             }
-            let mz = norm(&raw_zeroed(&kept, t.m, f, &at), true);
-            // Scores on the zeroed components, carried into the complete ones.
-            let s: Vec<f64> = (0..k)
-                .map(|b| (0..cols).map(|c| mz[c] * p_zero[(c, b)]).sum())
-                .collect();
-            // The published product M_zeros · PC_zeros · T · PC_no_gapsᵀ: the row of scores
-            // times T, as written (T's two bases are nearly the same, the target's weight
-            // being 0.02, so T is close to a signed identity either way round).
-            let u: Vec<f64> = (0..k)
-                .map(|b| (0..k).map(|a| s[a] * tm[a * k + b]).sum())
-                .collect();
-            let mut p = [0.0; 3];
-            for (ax, v) in p.iter_mut().enumerate() {
-                let c = 3 * ti + ax;
-                let r: f64 = (0..k).map(|a| u[a] * p_no[(c, a)]).sum();
-                *v = mean[c] + r * sd[c] / wc(c) + mean_trj[f][ax];
+        }
+        let mut mean = vec![0.0; cols];
+        let mut sd = vec![0.0; cols];
+        for (c, col) in x.column_iter().enumerate() {
+            mean[c] = col.iter().sum::<f64>() / rn as f64;
+            let s = (col.iter().map(|v| (v - mean[c]).powi(2)).sum::<f64>() / rn as f64).sqrt();
+            sd[c] = if s == 0.0 { 1.0 } else { s };
+        }
+        let wc = |c: usize| w[c / 3];
+        let is_target = |c: usize| c / 3 == ti;
+        // 4. Principal components by the eigenvectors of YᵀY, Y = X / √(n − 1): its singular
+        // values are the square roots of the eigenvalues. One product serves both matrices:
+        // zeroing the target's columns of X zeroes its rows and columns of XᵀX and leaves the
+        // rest as they are.
+        for (c, mut col) in x.column_iter_mut().enumerate() {
+            col.iter_mut()
+                .for_each(|v| *v = (*v - mean[c]) / sd[c] * wc(c));
+        }
+        let cov_no = (x.transpose() * &x) / (rn as f64 - 1.0);
+        let mut cov_zero = cov_no.clone();
+        for c in (0..cols).filter(|&c| is_target(c)) {
+            cov_zero.row_mut(c).fill(0.0);
+            cov_zero.column_mut(c).fill(0.0);
+        }
+        let pca = |c: &DMatrix<f64>| {
+            // Symmetric (to rounding; the decomposition reads one triangle), so its
+            // column-major slice serves as the row-major one.
+            let (vals, mut vecs) = symmetric_eigen(c.as_slice(), cols);
+            // The published product (step 4) changes with the components' signs, which the
+            // decomposition leaves arbitrary: each is turned so that its largest coordinate is
+            // positive (the reference script does the same).
+            for mut v in vecs.column_iter_mut() {
+                let big = v
+                    .iter()
+                    .copied()
+                    .fold(0.0f64, |a, x| if x.abs() > a.abs() { x } else { a });
+                if big < 0.0 {
+                    v.neg_mut();
+                }
             }
-            Ok(p)
+            let sv: Vec<f64> = vals.iter().map(|v| v.max(0.0).sqrt()).collect();
+            let total: f64 = sv.iter().sum();
+            let mut acc = 0.0;
+            let k = sv
+                .iter()
+                .position(|v| {
+                    acc += v;
+                    acc >= MIN_CUM_SV * total
+                })
+                .unwrap_or(cols - 1);
+            (vecs, k)
+        };
+        let (p_no, k1) = pca(&cov_no);
+        let (p_zero, k2) = pca(&cov_zero);
+        let k = k1.max(k2) + 1;
+        // T = P_noᵀ P_zero (k × k).
+        let mut tm = vec![0.0; k * k];
+        for a in 0..k {
+            for b in 0..k {
+                tm[a * k + b] = (0..cols).map(|c| p_no[(c, a)] * p_zero[(c, b)]).sum();
+            }
+        }
+        let p_zero = p_zero.columns(0, k).into_owned();
+        let p_no_target = (0..3)
+            .flat_map(|ax| (0..k).map(move |a| (3 * ti + ax, a)))
+            .map(|(c, a)| p_no[(c, a)])
+            .collect();
+        Ok(Model {
+            kept,
+            ti,
+            missing,
+            mean_trj,
+            mean,
+            sd,
+            w,
+            p_zero,
+            p_no_target,
+            tm,
+            k,
         })
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok(out)
+    }
+
+    /// The fill of `span` (frames the model's target misses).
+    fn fill(&self, t: &Target, span: Span) -> Result<Vec<[f64; 3]>, SkipReason> {
+        let Model {
+            kept,
+            ti,
+            missing,
+            mean_trj,
+            mean,
+            sd,
+            w,
+            p_zero,
+            p_no_target,
+            tm,
+            k,
+        } = self;
+        let (ti, k) = (*ti, *k);
+        let d = t.data;
+        let cols = 3 * kept.len();
+        let at = |j: usize, f: usize| {
+            let p = d.at(j, f);
+            [0, 1, 2].map(|k| p[k] - mean_trj[f][k])
+        };
+        let wc = |c: usize| w[c / 3];
+        let is_target = |c: usize| c / 3 == ti;
+        // Normalised, weighted rows; with the target zeroed (its mean with it, as the paper's
+        // matrices with zeros have zero mean there).
+        let norm = |x: &[f64], zero: bool| -> Vec<f64> {
+            (0..cols)
+                .map(|c| {
+                    if zero && is_target(c) {
+                        0.0
+                    } else {
+                        (x[c] - mean[c]) / sd[c] * wc(c)
+                    }
+                })
+                .collect()
+        };
+        let out = (span.first..=span.last)
+            .map(|f| {
+                if missing.binary_search(&f).is_err() {
+                    return Err(SkipReason::NoContext);
+                }
+                let mz = norm(&raw_zeroed(kept, t.m, f, &at), true);
+                // Scores on the zeroed components, carried into the complete ones.
+                let s: Vec<f64> = (0..k)
+                    .map(|b| (0..cols).map(|c| mz[c] * p_zero[(c, b)]).sum())
+                    .collect();
+                // The published product M_zeros · PC_zeros · T · PC_no_gapsᵀ: the row of scores
+                // times T, as written (T's two bases are nearly the same, the target's weight
+                // being 0.02, so T is close to a signed identity either way round).
+                let u: Vec<f64> = (0..k)
+                    .map(|b| (0..k).map(|a| s[a] * tm[a * k + b]).sum())
+                    .collect();
+                let mut p = [0.0; 3];
+                for (ax, v) in p.iter_mut().enumerate() {
+                    let c = 3 * ti + ax;
+                    let r: f64 = (0..k).map(|a| u[a] * p_no_target[ax * k + a]).sum();
+                    *v = mean[c] + r * sd[c] / wc(c) + mean_trj[f][ax];
+                }
+                Ok(p)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(out)
+    }
 }
 
 /// The kept markers' centred coordinates at frame `f`, the target's set to zero (it is
@@ -324,6 +451,38 @@ mod reference {
             valid.push(v);
         }
         (labels, xyz, valid)
+    }
+
+    /// A cached model fills as one built afresh, bit for bit: two gaps of a marker and an
+    /// artificial hole, each filled twice through one cache, equal their fills without it,
+    /// and the cache holds one model per target and hole (the real gaps share theirs).
+    #[test]
+    fn cached_models_fill_as_fresh_ones() {
+        use super::super::{max_steps, Data, Target};
+        use super::{fill, Cache, Span};
+        let trial = crate::synth::gait_like(24, 8, 800, 100.0, 0.3, 7);
+        let mut valid = trial.valid.clone();
+        valid[0][100..110].fill(false);
+        valid[0][400..430].fill(false);
+        let steps = max_steps(&trial.xyz, &valid);
+        let fresh = Data::new(&trial.xyz, &valid, &steps);
+        let cache = Cache::default();
+        let cached = fresh.with_gloersen(&cache);
+        let cases = [
+            (None, (100, 109)),
+            (None, (400, 429)),
+            (Some((600, 619)), (600, 619)),
+        ];
+        for _ in 0..2 {
+            for (hole, (a, b)) in cases {
+                let span = Span::new(a, b, 800);
+                let at = |data| Target { m: 0, data, hole };
+                let want = fill(&at(fresh), span, 1.0).unwrap();
+                assert_eq!(fill(&at(cached), span, 1.0).unwrap(), want);
+                assert!(want.iter().all(|p| p.iter().all(|v| v.is_finite())));
+            }
+        }
+        assert_eq!(cache.models.lock().unwrap().len(), 2);
     }
 
     #[test]

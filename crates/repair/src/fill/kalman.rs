@@ -153,6 +153,7 @@ impl Model {
         nb: &[(usize, f64)],
         opts: &FillOptions,
     ) -> Result<Model, SkipReason> {
+        crate::profile::count(crate::profile::Count::KalmanModel);
         let known = 3 * nb.len();
         let dims = known + 3;
         let frames = s.frames();

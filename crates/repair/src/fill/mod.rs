@@ -346,6 +346,8 @@ pub(crate) struct Data<'a> {
     /// One marker's validity read from here instead of `valid` (see [`fill_gaps`]: the
     /// target as recorded, among neighbours whose first-pass fills count as samples).
     own: Option<(usize, &'a [bool])>,
+    /// The published PCA's whole-trial models of this data, shared by the pass's gaps.
+    gloersen: Option<&'a gloersen::Cache>,
 }
 
 /// Per marker, the largest distance between two consecutive valid samples (0 without any
@@ -402,6 +404,16 @@ impl<'a> Data<'a> {
             frames,
             max_step,
             own: None,
+            gloersen: None,
+        }
+    }
+
+    /// The same data with the published PCA's models kept in `cache` (which must not
+    /// outlive this data: the models are of it).
+    fn with_gloersen(self, cache: &'a gloersen::Cache) -> Self {
+        Data {
+            gloersen: Some(cache),
+            ..self
         }
     }
 
@@ -669,10 +681,15 @@ pub(crate) fn fill_gaps(
             }
         }
     };
-    let data = Data::new(xyz, valid, max_step);
+    // Each pass's data has its own published-PCA models (see `gloersen::Cache`).
+    let (cache1, cache2) = (gloersen::Cache::default(), gloersen::Cache::default());
+    let data = Data::new(xyz, valid, max_step).with_gloersen(&cache1);
     let first: Vec<GapFill> = gaps
         .par_iter()
-        .map(|g| fill_gap_diag(data, g, opts, checked))
+        .map(|g| {
+            let _time = crate::profile::gap(g.len);
+            fill_gap_diag(data, g, opts, checked)
+        })
         .collect();
     write(xyz, &first);
     if !(opts.method.is_donor() || opts.method == FillMethod::Auto) {
@@ -706,7 +723,7 @@ pub(crate) fn fill_gaps(
             valid2[m][a..=b].fill(true);
         }
     }
-    let second = Data::new(xyz, &valid2, max_step);
+    let second = Data::new(xyz, &valid2, max_step).with_gloersen(&cache2);
     let out: Vec<GapFill> = gaps
         .par_iter()
         .zip(first)
@@ -716,6 +733,7 @@ pub(crate) fn fill_gaps(
             if uncertain || refused(g, opts).is_some() {
                 return r;
             }
+            let _time = crate::profile::gap(g.len);
             let t = Target {
                 m: g.marker,
                 data: second.with_own(g.marker, &valid[g.marker]),

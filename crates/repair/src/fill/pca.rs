@@ -15,6 +15,7 @@ use super::anchor::Raw;
 use super::plan::ScoringModels;
 use super::{FillOptions, Plan, SkipReason, Span, Target};
 use crate::linalg::{solve_in_place, symmetric_eigen};
+use crate::profile::{self, Count};
 use nalgebra::DMatrix;
 use std::cell::OnceCell;
 
@@ -156,6 +157,7 @@ pub(super) fn sums(
     nb: &[(usize, f64)],
     opts: &FillOptions,
 ) -> Result<Sums, SkipReason> {
+    profile::count(Count::PcaSums);
     let d = t.data;
     let dims = 3 * nb.len() + 3;
     let half = opts.pca_window.max(5 * region.len());
@@ -345,6 +347,7 @@ fn without(s: &Sums, t: &Target, nb: &[(usize, f64)], exclude: &[(usize, usize)]
 
 /// The model of the rows summed in `s`.
 fn model(s: &Sums, known: usize, opts: &FillOptions) -> Result<Model, SkipReason> {
+    profile::count(Count::PcaModel);
     let dims = known + 3;
     let n = s.frames.len();
     if n < MIN_TRAIN {

@@ -7,6 +7,7 @@ use std::rc::Rc;
 use super::kalman;
 use super::pca::{Model, Sums};
 use super::{FillOptions, SkipReason, Span, Target};
+use crate::profile::{self, Count, Work};
 
 /// Candidates are first narrowed to the markers nearest the target at the gap's anchor;
 /// donors that move with the target are near it, and this bounds the work per gap. 24
@@ -79,6 +80,8 @@ impl Plan {
     }
 
     pub fn build(t: &Target, span: Span, opts: &FillOptions) -> Plan {
+        let _time = profile::time(Work::Plan);
+        profile::count(Count::Plan);
         let d = t.data;
         let (lo_o, hi_o) = span.outer();
         let anchor = match (span.before, span.after) {

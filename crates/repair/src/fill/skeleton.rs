@@ -69,6 +69,8 @@ impl Skeleton {
     /// Intervals to the plan's donors valid through the gap, over the frames of the PCA
     /// training window where both markers are valid; `None` with fewer than two.
     pub fn new(t: &Target, span: Span, plan: &Plan, opts: &FillOptions) -> Option<Skeleton> {
+        let _time = crate::profile::time(crate::profile::Work::Skeleton);
+        crate::profile::count(crate::profile::Count::Skeleton);
         let d = t.data;
         let (lo_o, hi_o) = span.outer();
         let mut donors: Vec<usize> = plan.rigid.clone();

@@ -9,6 +9,7 @@ use super::super::{
 use super::model::{deviation, donor_index, drift};
 use super::steps::slowed;
 use super::{Kind, OTHER_MARKERS, PRUNE, RESID_NODES};
+use crate::profile::{self, Count, Method, Work};
 
 /// An artificial gap: the marker, the span handed to the methods (its anchors), and the
 /// hole (frames treated as invalid and scored); `plan` is `None` for the target's own plan.
@@ -118,6 +119,12 @@ pub(super) fn score(
             };
             // The wide model on the target's own holes; elsewhere (or where its donors are
             // not valid) it is scored as the plain PCA fill.
+            let method = if kind.wide {
+                Method::PcaWide
+            } else {
+                Method::of(*m)
+            };
+            let time = profile::time(Work::Scored(method));
             let wide_fill = match (&wide_plan, kind.wide, tr.plan) {
                 (Some(w), true, None) => fill_raw(*m, &tt, tr.span, w, wide_opts, 1)
                     .ok()
@@ -154,6 +161,7 @@ pub(super) fn score(
                 }
                 None => fill_with(*m, &tt, tr.span, p, opts).map_err(|_| ()),
             };
+            drop(time);
             let Ok(mut v) = made else {
                 break;
             };
@@ -178,6 +186,7 @@ pub(super) fn score(
             continue;
         }
         scored += 1;
+        profile::count(Count::Scored);
         let whole: Vec<[f64; 3]> = (tr.span.first..=tr.span.last).map(|f| tt.at(f)).collect();
         bend_holes += deviation(&tt, tr.span, &whole).unwrap_or(0.0);
         for (m, r) in &raws {

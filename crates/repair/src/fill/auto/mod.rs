@@ -30,6 +30,7 @@ use super::{
     dist, fill_raw, fill_with, linear, step_ratio, FillMethod, FillOptions, FillOutcome, Plan,
     SkipReason, Span, Target, STEP_FACTOR,
 };
+use crate::profile::{self, Count, Method, Work};
 use holes::{other_markers, same_marker, score, Scoring};
 pub(crate) use model::features;
 pub use model::{calibrated, log_ratio, Diag, FEATURES};
@@ -250,6 +251,7 @@ pub(super) fn fill_checked(
         opts.auto_trials.div_ceil(2)
     };
     let enough = want.div_ceil(2);
+    let cut = profile::time(Work::Holes);
     let mut trials = same_marker(t, span, plan, len, want, opts);
     let full = trials.len();
     let mut plans: Vec<Plan> = Vec::new();
@@ -269,6 +271,8 @@ pub(super) fn fill_checked(
         }
         other_markers(t, span, plan, want - full, opts, &mut trials, &mut plans);
     }
+    drop(cut);
+    profile::count_n(Count::Holes, trials.len());
     // PCA may train one scoring model without several of the target's holes (and fills
     // the real gap with the model of the nearest ones: see `pca`), so this comes before
     // the candidates fill the real gap.
@@ -286,7 +290,10 @@ pub(super) fn fill_checked(
         ..opts.clone()
     };
     let wide_plan = (len >= WIDE_FROM && cands.contains(&FillMethod::Pca))
-        .then(|| Plan::build(t, span, &wide_opts))
+        .then(|| {
+            profile::count(Count::WidePlan);
+            Plan::build(t, span, &wide_opts)
+        })
         .filter(|w| w.pca.len() > plan.pca.len());
     if let Some(w) = &wide_plan {
         let _ = w
@@ -331,8 +338,11 @@ pub(super) fn fill_checked(
         {
             continue;
         }
+        let time = profile::time(Work::Real(Method::of(m)));
         if m.is_donor() {
-            match fill_raw(m, t, span, plan, opts, RESID_NODES) {
+            let raw = fill_raw(m, t, span, plan, opts, RESID_NODES);
+            drop(time);
+            match raw {
                 Ok(raw) => {
                     if let Some(i) = donor_index(m) {
                         drift_real[i] = drift(&raw);
@@ -352,7 +362,9 @@ pub(super) fn fill_checked(
             }
             continue;
         }
-        match fill_with(m, t, span, plan, opts) {
+        let v = fill_with(m, t, span, plan, opts);
+        drop(time);
+        match v {
             Ok(v) => keep(m, v, Kind::default(), &mut fills),
             Err(r) => {
                 reason.get_or_insert(r);
@@ -360,7 +372,10 @@ pub(super) fn fill_checked(
         }
     }
     if let Some(w) = &wide_plan {
-        if let Ok(raw) = fill_raw(FillMethod::Pca, t, span, w, &wide_opts, 1) {
+        let time = profile::time(Work::Real(Method::PcaWide));
+        let raw = fill_raw(FillMethod::Pca, t, span, w, &wide_opts, 1);
+        drop(time);
+        if let Ok(raw) = raw {
             let kind = Kind {
                 wide: true,
                 ..Kind::default()
@@ -437,11 +452,13 @@ pub(super) fn fill_checked(
         choice.expected_error = Some(prior(t, len));
         return Ok((v, choice));
     }
+    let choosing = profile::time(Work::Choose);
     let Chosen {
         err: e,
         blend,
         order,
     } = choose(preds, truth);
+    drop(choosing);
     let out: Vec<[f64; 3]> = (0..len)
         .map(|i| combine(&blend, |c| fills[c].1[i]))
         .collect();

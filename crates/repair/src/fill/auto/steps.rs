@@ -9,6 +9,7 @@ use super::super::{linear, step_ratio, Span, Storage, Target, STEP_FACTOR};
 /// largest step is convex in `a`, so bisection finds it. `None` when even the line is too
 /// fast (or the marker has no recorded step).
 pub(super) fn slowed(t: &Target, span: Span, v: &[[f64; 3]]) -> Option<Vec<[f64; 3]>> {
+    let _time = crate::profile::time(crate::profile::Work::Slowing);
     slowed_to(t, span, v, STEP_FACTOR)
 }
 
