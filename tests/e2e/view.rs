@@ -120,6 +120,69 @@ fn plot_writes_svg_and_png_with_labels() {
     assert!(stderr(&out).contains("--force"));
 }
 
+/// A trial repaired with a low-pass filter only: `plot --against` shows its moved samples
+/// as filtered, never as spikes (the file's C3DFIX record says no spike stage ran).
+#[test]
+fn plot_against_shows_filtered_samples_as_filtered() {
+    let dir = tempfile::tempdir().unwrap();
+    let rep = dir.path().join("lp.c3d");
+    let out = c3dfix(&[
+        "repair",
+        s(&sample("walk_int.c3d")),
+        "-o",
+        s(&rep),
+        "--lowpass",
+        "butterworth:4:6",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let svg = dir.path().join("lp.svg");
+    let out = c3dfix(&[
+        "plot",
+        s(&rep),
+        "--against",
+        s(&sample("walk_int.c3d")),
+        "--marker",
+        "LKNE",
+        "-o",
+        s(&svg),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("filtered"), "no filtered samples drawn");
+    assert!(
+        !text.contains("removed as spike"),
+        "filtered samples drawn as spikes"
+    );
+    // With spikes removed too, LKNE's spike at frame 75 is a spike again.
+    let both = dir.path().join("both.c3d");
+    let out = c3dfix(&[
+        "repair",
+        s(&sample("walk_int.c3d")),
+        "-o",
+        s(&both),
+        "--spikes",
+        "hampel",
+        "--lowpass",
+        "butterworth:4:6",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let out = c3dfix(&[
+        "plot",
+        s(&both),
+        "--against",
+        s(&sample("walk_int.c3d")),
+        "--marker",
+        "LKNE",
+        "-o",
+        s(&svg),
+        "--force",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("removed as spike"), "the spike is not marked");
+    assert!(text.contains("filtered"), "no filtered samples drawn");
+}
+
 #[test]
 fn plot_against_the_original_marks_the_repairs() {
     let dir = tempfile::tempdir().unwrap();

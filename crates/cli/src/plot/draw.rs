@@ -256,6 +256,18 @@ fn draw_axis<DB: DrawingBackend>(
             .label("filled (residual 0)")
             .legend(|(x, y)| Circle::new((x + 8, y), 3, FILLED.filled()));
     }
+    let filtered = decimate::thin(&m.filtered, n, columns / 3);
+    if !filtered.is_empty() {
+        chart
+            .draw_series(
+                filtered.iter().map(|&f| {
+                    Circle::new((f as f64 * dx, shown_v[f] as f64), 1, ORIGINAL.filled())
+                }),
+            )
+            .map_err(err)?
+            .label("filtered")
+            .legend(|(x, y)| Circle::new((x + 8, y), 2, ORIGINAL.filled()));
+    }
     if let Some(ov) = &orig_v {
         let spikes = decimate::thin(&m.spikes, n, columns / 3);
         if !spikes.is_empty() {

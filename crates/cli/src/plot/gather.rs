@@ -37,8 +37,11 @@ pub struct MarkerPlot {
     pub gaps: Vec<bool>,
     /// Frames filled in FILE: residual 0 where the original was invalid (anywhere without one).
     pub filled: Vec<usize>,
-    /// Frames whose original sample was replaced (residual 0, other value) or removed.
+    /// Frames whose original sample the spike stage removed or replaced (see
+    /// [`stage_of_changes`]).
     pub spikes: Vec<usize>,
+    /// Frames whose original sample a low-pass filter moved.
+    pub filtered: Vec<usize>,
 }
 
 /// One analog channel in physical units.
@@ -99,6 +102,43 @@ fn analog_index(c: &C3d, name: &str, file: &str) -> Result<usize> {
         })
 }
 
+/// Which repair stage moved a sample that was valid in the original.
+enum Stage {
+    Spike,
+    Filter,
+}
+
+/// The stage that moved a valid sample, read from what the repaired file records of its
+/// repair (`C3DFIX`: the stretches c3dfix filled, the spike and filter settings), never
+/// guessed from the size of the change. Only two stages move a valid sample: spike removal
+/// (which refills it, a stretch in FILLED, or with `--spike-mode median` sets it to the
+/// window's median) and the low-pass filter (which moves every sample a little). With a
+/// filter and no spike removal it is the filter; with spike removal and no filter, the spike
+/// stage; with both, a refilled sample is a spike and any other change the filter's. A file
+/// without the record (repaired by another program, or by hand) cannot say: a replaced
+/// sample is shown as a spike there, as it always was.
+fn stage_of_changes(record: &c3dfix::rerun::Record, refilled: bool) -> Stage {
+    match (&record.spikes, &record.filter) {
+        (None, None) => Stage::Spike,
+        (Some(_), None) => Stage::Spike,
+        (Some(_), Some(_)) if refilled => Stage::Spike,
+        _ => Stage::Filter,
+    }
+}
+
+/// Per frame of point `point`, whether the record lists it among c3dfix's fills.
+fn refilled_frames(record: &c3dfix::rerun::Record, point: usize, frames: usize) -> Vec<bool> {
+    let mut out = vec![false; frames];
+    for &(p, a, b) in &record.filled {
+        if p == point {
+            for v in out.iter_mut().take(b.saturating_add(1).min(frames)).skip(a) {
+                *v = true;
+            }
+        }
+    }
+    out
+}
+
 /// True when two samples differ by more than storage round-off.
 fn changed(a: [f32; 3], b: [f32; 3]) -> bool {
     a.iter()
@@ -125,6 +165,7 @@ impl Plot {
                 markers.len()
             );
         }
+        let record = c3dfix::rerun::Record::read(c);
         let mut out = Vec::new();
         for m in markers {
             let i = marker_index(c, m, name)?;
@@ -138,30 +179,35 @@ impl Plot {
                 .zip(&shown.valid)
                 .map(|(&r, &v)| v && r == 0.0)
                 .collect();
-            let (orig, gaps, filled, spikes) = match original {
+            let (orig, gaps, filled, spikes, filtered) = match original {
                 Some((o, oname)) => {
                     let j = marker_index(o, m, oname)?;
                     let orig = Track::of(o, j);
+                    let refilled = refilled_frames(&record, i, computed.len());
                     let mut filled = Vec::new();
                     let mut spikes = Vec::new();
+                    let mut filtered = Vec::new();
                     for (f, &computed) in computed.iter().enumerate().take(orig.valid.len()) {
                         if !orig.valid[f] {
                             if computed {
                                 filled.push(f);
                             }
-                        } else if !shown.valid[f]
-                            || (computed && changed(shown.xyz[f], orig.xyz[f]))
-                        {
+                        } else if !shown.valid[f] {
                             spikes.push(f);
+                        } else if computed && changed(shown.xyz[f], orig.xyz[f]) {
+                            match stage_of_changes(&record, refilled[f]) {
+                                Stage::Spike => spikes.push(f),
+                                Stage::Filter => filtered.push(f),
+                            }
                         }
                     }
                     let gaps = orig.valid.iter().map(|v| !v).collect();
-                    (Some(orig), gaps, filled, spikes)
+                    (Some(orig), gaps, filled, spikes, filtered)
                 }
                 None => {
                     let filled = (0..computed.len()).filter(|&f| computed[f]).collect();
                     let gaps = shown.valid.iter().map(|v| !v).collect();
-                    (None, gaps, filled, Vec::new())
+                    (None, gaps, filled, Vec::new(), Vec::new())
                 }
             };
             out.push(MarkerPlot {
@@ -171,6 +217,7 @@ impl Plot {
                 gaps,
                 filled,
                 spikes,
+                filtered,
             });
         }
         let analog = match analog {
