@@ -762,3 +762,33 @@ fn unbase64(text: &str) -> Vec<u8> {
     }
     out
 }
+
+/// Plots speak the file's time base: `FMC_MH0222_BP15` holds frames 260–550 at 100 Hz, so
+/// its time axis runs from 2.59 s to 5.49 s (ticks up to 5.0), as its events and the
+/// other outputs do, not from 0 to 2.9 s.
+#[test]
+fn plots_are_on_the_files_time_base() {
+    let Some(more) = testkit::c3d_more() else {
+        return;
+    };
+    let f = more.join("tsalemink__C3D-parser__FMC_MH0222_BP15.c3d");
+    let dir = tempfile::tempdir().unwrap();
+    for (name, extra) in [
+        ("m.svg", ["--marker", "LASI"]),
+        ("f.svg", ["--forces", "--force"]),
+    ] {
+        let svg = dir.path().join(name);
+        let mut args = vec!["plot", s(&f), "-o", s(&svg)];
+        args.extend(extra);
+        let out = c3dfix(&args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let text = std::fs::read_to_string(&svg).unwrap();
+        let ticks: Vec<&str> = text
+            .split("</text>")
+            .filter_map(|t| t.rsplit('>').next())
+            .map(str::trim)
+            .collect();
+        assert!(ticks.contains(&"5.0"), "{name}: {ticks:?}");
+        assert!(ticks.contains(&"3.0"), "{name}: {ticks:?}");
+    }
+}

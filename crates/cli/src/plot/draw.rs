@@ -174,7 +174,8 @@ fn draw_axis<DB: DrawingBackend>(
         .valid
         .len()
         .max(m.original.as_ref().map_or(0, |o| o.valid.len()));
-    let t1 = (n.max(2) - 1) as f64 * dx;
+    let x0 = plot.start;
+    let t1 = x0 + (n.max(2) - 1) as f64 * dx;
     let columns = area.dim_in_pixel().0 as usize;
 
     let mut chart = ChartBuilder::on(area)
@@ -182,7 +183,7 @@ fn draw_axis<DB: DrawingBackend>(
         .margin(8)
         .x_label_area_size(34)
         .y_label_area_size(64)
-        .build_cartesian_2d(0.0..t1, lo..hi)
+        .build_cartesian_2d(x0..t1, lo..hi)
         .map_err(err)?;
     chart
         .configure_mesh()
@@ -207,8 +208,8 @@ fn draw_axis<DB: DrawingBackend>(
             .draw_series(spans.iter().map(|&(a, b)| {
                 Rectangle::new(
                     [
-                        (a as f64 * dx - dx / 2.0, lo),
-                        (b as f64 * dx + dx / 2.0, hi),
+                        (x0 + a as f64 * dx - dx / 2.0, lo),
+                        (x0 + b as f64 * dx + dx / 2.0, hi),
                     ],
                     shade,
                 )
@@ -217,7 +218,7 @@ fn draw_axis<DB: DrawingBackend>(
             .label(gap_label)
             .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 16, y + 5)], shade));
     }
-    let line = |v: &[f32], ok: &[bool]| decimate::polylines(0.0, dx, v, ok, columns);
+    let line = |v: &[f32], ok: &[bool]| decimate::polylines(x0, dx, v, ok, columns);
     // The repaired line goes under the original, wider, so both show where they agree.
     let (colour, label, width) = if m.original.is_some() {
         (REPAIRED, "repaired", 2)
@@ -248,9 +249,9 @@ fn draw_axis<DB: DrawingBackend>(
     if !filled.is_empty() {
         chart
             .draw_series(
-                filled
-                    .iter()
-                    .map(|&f| Circle::new((f as f64 * dx, shown_v[f] as f64), 2, FILLED.filled())),
+                filled.iter().map(|&f| {
+                    Circle::new((x0 + f as f64 * dx, shown_v[f] as f64), 2, FILLED.filled())
+                }),
             )
             .map_err(err)?
             .label("filled (residual 0)")
@@ -259,11 +260,13 @@ fn draw_axis<DB: DrawingBackend>(
     let filtered = decimate::thin(&m.filtered, n, columns / 3);
     if !filtered.is_empty() {
         chart
-            .draw_series(
-                filtered.iter().map(|&f| {
-                    Circle::new((f as f64 * dx, shown_v[f] as f64), 1, ORIGINAL.filled())
-                }),
-            )
+            .draw_series(filtered.iter().map(|&f| {
+                Circle::new(
+                    (x0 + f as f64 * dx, shown_v[f] as f64),
+                    1,
+                    ORIGINAL.filled(),
+                )
+            }))
             .map_err(err)?
             .label("filtered")
             .legend(|(x, y)| Circle::new((x + 8, y), 2, ORIGINAL.filled()));
@@ -272,11 +275,9 @@ fn draw_axis<DB: DrawingBackend>(
         let spikes = decimate::thin(&m.spikes, n, columns / 3);
         if !spikes.is_empty() {
             chart
-                .draw_series(
-                    spikes.iter().map(|&f| {
-                        Cross::new((f as f64 * dx, ov[f] as f64), 4, SPIKE.stroke_width(2))
-                    }),
-                )
+                .draw_series(spikes.iter().map(|&f| {
+                    Cross::new((x0 + f as f64 * dx, ov[f] as f64), 4, SPIKE.stroke_width(2))
+                }))
                 .map_err(err)?
                 .label("removed as spike")
                 .legend(|(x, y)| Cross::new((x + 8, y), 4, SPIKE.stroke_width(2)));
@@ -304,7 +305,8 @@ fn draw_analog<DB: DrawingBackend>(a: &AnalogPlot, area: &DrawingArea<DB, Shift>
     } else {
         (1.0, "Sample")
     };
-    let t1 = (a.values.len().max(2) - 1) as f64 * dx;
+    let x0 = a.start;
+    let t1 = x0 + (a.values.len().max(2) - 1) as f64 * dx;
     let columns = area.dim_in_pixel().0 as usize;
     let units = if a.units.is_empty() {
         a.label.clone()
@@ -316,7 +318,7 @@ fn draw_analog<DB: DrawingBackend>(a: &AnalogPlot, area: &DrawingArea<DB, Shift>
         .margin(8)
         .x_label_area_size(34)
         .y_label_area_size(64)
-        .build_cartesian_2d(0.0..t1, lo..hi)
+        .build_cartesian_2d(x0..t1, lo..hi)
         .map_err(err)?;
     chart
         .configure_mesh()
@@ -330,7 +332,7 @@ fn draw_analog<DB: DrawingBackend>(a: &AnalogPlot, area: &DrawingArea<DB, Shift>
         .map_err(err)?;
     chart
         .draw_series(
-            decimate::polylines(0.0, dx, &a.values, &ok, columns)
+            decimate::polylines(x0, dx, &a.values, &ok, columns)
                 .into_iter()
                 .map(|p| PathElement::new(p, ANALOG.stroke_width(1))),
         )

@@ -116,7 +116,9 @@ fn draw_vertical<DB: DrawingBackend>(
         (1.0, "Sample")
     };
     let n = fp.samples();
-    let t1 = (n.max(2) - 1) as f64 * dx;
+    // On the file's time base, as the contacts, events and exports are.
+    let x0 = if rate > 0.0 { fp.start_time } else { 0.0 };
+    let t1 = x0 + (n.max(2) - 1) as f64 * dx;
     let (lo, hi) = range(
         fp.platforms
             .iter()
@@ -132,7 +134,7 @@ fn draw_vertical<DB: DrawingBackend>(
         .margin(10)
         .x_label_area_size(36)
         .y_label_area_size(70)
-        .build_cartesian_2d(0.0..t1, lo..hi)
+        .build_cartesian_2d(x0..t1, lo..hi)
         .map_err(err)?;
     chart
         .configure_mesh()
@@ -150,7 +152,7 @@ fn draw_vertical<DB: DrawingBackend>(
         let c = colour(k);
         chart
             .draw_series(
-                decimate::polylines(0.0, dx, &values, &valid, columns)
+                decimate::polylines(x0, dx, &values, &valid, columns)
                     .into_iter()
                     .map(move |l| PathElement::new(l, c.stroke_width(1))),
             )

@@ -50,6 +50,8 @@ pub struct AnalogPlot {
     pub label: String,
     pub units: String,
     pub rate: f64,
+    /// Where sample 0 sits on the x axis: its time on the file's base (`C3d::analog_time`).
+    pub start: f64,
     pub values: Vec<f32>,
 }
 
@@ -58,8 +60,13 @@ pub struct AnalogPlot {
 pub struct Plot {
     pub title: String,
     pub units: String,
-    /// Frames per second; time is frame / rate (frame numbers when the rate is unknown).
+    /// Frames per second; frame `i` is drawn at `start + i / rate` (at frame numbers when
+    /// the rate is unknown).
     pub rate: f64,
+    /// Where frame 0 sits on the x axis: its time on the file's one time base
+    /// (`C3d::frame_time`), or its frame number without a rate, so a plot's axis reads as the
+    /// file's events and the other outputs do.
+    pub start: f64,
     pub markers: Vec<MarkerPlot>,
     pub analog: Option<AnalogPlot>,
 }
@@ -235,6 +242,7 @@ impl Plot {
                     label: c.analog_labels()[k].clone(),
                     units: c.analog_units()[k].clone(),
                     rate: c.analog_rate() as f64,
+                    start: c.analog_time(0),
                     values,
                 })
             }
@@ -249,6 +257,11 @@ impl Plot {
             title,
             units: c.point_units(),
             rate: c.point_rate() as f64,
+            start: if c.point_rate() > 0.0 {
+                c.frame_time(0)
+            } else {
+                c.frame_number(0) as f64
+            },
             markers: out,
             analog,
         })
