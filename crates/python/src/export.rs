@@ -53,14 +53,14 @@ pub fn export_trc(
     .map_err(err)
 }
 
-/// export_mot(c3d, path, axes=None, threshold=10.0, zero_baseline=False, lowpass=None,
+/// export_mot(c3d, path, axes=None, threshold=10.0, zero_baseline=True, lowpass=None,
 ///            force=False) -> None
 ///
 /// Write the force plates' ground reaction as OpenSim's MOT (`c3dfix export --format mot`),
 /// atomically: per plate force (N), point (m) and free torque (N·m) per analog sample, on
 /// the file's time base; the plate options as for C3d.force_platforms.
 #[pyfunction]
-#[pyo3(signature = (c3d, path, axes=None, threshold=c3dfix::platforms::DEFAULT_THRESHOLD_N, zero_baseline=false, lowpass=None, force=false))]
+#[pyo3(signature = (c3d, path, axes=None, threshold=c3dfix::platforms::DEFAULT_THRESHOLD_N, zero_baseline=true, lowpass=None, force=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn export_mot(
     py: Python<'_>,
@@ -88,14 +88,14 @@ pub fn export_mot(
 }
 
 /// export_opensim(c3d, out_dir, markers=None, all_points=False, axes=None, threshold=10.0,
-///                zero_baseline=False, lowpass=None, force=False) -> dict
+///                zero_baseline=True, lowpass=None, force=False) -> dict
 ///
 /// Write NAME.trc and (with force plates) NAME.mot into out_dir on one time base, turned to
 /// OpenSim's frame (`c3dfix export --format opensim`): the lab's up as Y, the direction of
 /// travel as X when there is one, or the rotation axes. Returns {trc, mot (None without
 /// plates), axes, up, up_source, forward}.
 #[pyfunction]
-#[pyo3(signature = (c3d, out_dir, markers=None, all_points=false, axes=None, threshold=c3dfix::platforms::DEFAULT_THRESHOLD_N, zero_baseline=false, lowpass=None, force=false))]
+#[pyo3(signature = (c3d, out_dir, markers=None, all_points=false, axes=None, threshold=c3dfix::platforms::DEFAULT_THRESHOLD_N, zero_baseline=true, lowpass=None, force=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn export_opensim(
     py: Python<'_>,

@@ -186,3 +186,15 @@ def test_opensim_reads_the_export(path, tmp_path):
             q = ef.getPointAtTime(t[row])
             np.testing.assert_allclose([f.get(a) for a in range(3)], m[row, base : base + 3], atol=1e-9)
             np.testing.assert_allclose([q.get(a) for a in range(3)], m[row, base + 3 : base + 6], atol=1e-9)
+
+
+def test_plate_defaults_agree_everywhere():
+    """Every function that computes plates removes the unloaded level by default, as the
+    library's ForceOptions::default() and the command line do; the stub says the same."""
+    import inspect
+
+    stub = (Path(c3dfix.__file__).parent / "__init__.pyi").read_text()
+    for f in (c3dfix.export_mot, c3dfix.export_opensim, c3dfix.C3d.force_platforms):
+        params = inspect.signature(f).parameters
+        assert params["zero_baseline"].default is True, f.__name__
+    assert "zero_baseline: bool = False" not in stub

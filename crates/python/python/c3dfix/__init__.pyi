@@ -163,7 +163,7 @@ def export_mot(
     path: _Path,
     axes: Optional[str] = None,
     threshold: float = 10.0,
-    zero_baseline: bool = False,
+    zero_baseline: bool = True,
     lowpass: Optional[str] = None,
     force: bool = False,
 ) -> None:
@@ -178,7 +178,7 @@ def export_opensim(
     all_points: bool = False,
     axes: Optional[str] = None,
     threshold: float = 10.0,
-    zero_baseline: bool = False,
+    zero_baseline: bool = True,
     lowpass: Optional[str] = None,
     force: bool = False,
 ) -> Dict[str, Any]:
