@@ -58,3 +58,212 @@ fn load_with(path: &std::path::Path, recorded: bool) -> Result<Trial, String> {
     }
     Trial::new(c.point_rate() as f64, xyz, valid).map_err(|e| e.to_string())
 }
+
+/// The trials the evaluations run on (`fill_eval`, `swap_eval`), one list so both speak
+/// of the same labs: (set, lab, corpus, path). Copies of one trial in other formats are listed once; files
+/// too short for gaps, without markers, with every sample flagged invalid or static (NexGen
+/// test1.c3d holds one pose) are left out.
+// The bench reads two trials of its own and not this list.
+#[allow(dead_code)]
+pub const FILES: &[(&str, &str, &str, &str)] = &[
+    (
+        "walking",
+        "mac",
+        "samples",
+        "sample_00/Motion Analysis Corporation/Walk1.c3d",
+    ),
+    (
+        "walking",
+        "ist",
+        "samples",
+        "sample_00/Innovative Sports Training/Gait with EMG.c3d",
+    ),
+    (
+        "walking",
+        "coda",
+        "samples",
+        "sample_00/Codamotion/codamotion_gaitwands_20150204.c3d",
+    ),
+    (
+        "walking",
+        "coda",
+        "samples",
+        "sample_00/Codamotion/codamotion_gaitwands_19970212.c3d",
+    ),
+    ("walking", "amass", "samples", "sample_01/Eb015pr.c3d"),
+    ("walking", "vicon370", "samples", "sample_02/pc_real.c3d"),
+    ("walking", "vicon370", "samples", "sample_03/gait-raw.c3d"),
+    ("walking", "vicon370", "samples", "sample_04/sub_labels.c3d"),
+    ("walking", "mac", "samples", "sample_06/newwalk.c3d"),
+    ("walking", "mac", "samples", "sample_06/MACsample.c3d"),
+    ("walking", "viconws", "samples", "sample_09/PlugInC3D.c3d"),
+    ("walking", "amti", "samples", "sample_10/TYPE-3.c3d"),
+    ("walking", "mac", "samples", "sample_11/evart.c3d"),
+    ("walking", "viconws", "samples", "sample_11/2198928.c3d"),
+    (
+        "walking",
+        "nexus",
+        "samples",
+        "sample_25/analogfpscale03.c3d",
+    ),
+    (
+        "walking",
+        "nexus",
+        "samples",
+        "sample_25/analogfpscale04.c3d",
+    ),
+    ("walking", "bts", "samples", "sample_28/dynamic.C3D"),
+    ("walking", "marche", "samples", "sample_30/marche281.c3d"),
+    ("walking", "marche", "samples", "sample_30/admarche2.c3d"),
+    ("walking", "mac", "extra", "btkdata_Gait.c3d"),
+    ("walking", "bts", "extra", "btkdata_561xxa01_anonym.C3D"),
+    ("fullbody", "cmu", "fullbody", "85_02.c3d"),
+    ("fullbody", "cmu", "fullbody", "85_12.c3d"),
+    ("fullbody", "cmu", "fullbody", "135_02.c3d"),
+    ("fullbody", "numediart", "fullbody", "03_rolling.c3d"),
+    (
+        "fullbody",
+        "mac",
+        "samples",
+        "sample_00/Motion Analysis Corporation/Sample_Jump2.c3d",
+    ),
+    (
+        "fullbody",
+        "art",
+        "samples",
+        "sample_00/Advanced Realtime Tracking GmbH/arthuman-sample.c3d",
+    ),
+    ("fullbody", "art", "samples", "sample_37/ART-Human_real.c3d"),
+    ("fullbody", "phoenix", "samples", "sample_13/Dance1.c3d"),
+    ("fullbody", "mm", "samples", "sample_34/AlbertoREAL.c3d"),
+    ("fullbody", "mm", "samples", "sample_34/Basketball.c3d"),
+    (
+        "fullbody",
+        "phasespace",
+        "samples",
+        "sample_20/phasespace_sample.c3d",
+    ),
+    ("fullbody", "optitrack", "extra", "btkdata_mocap36.c3d"),
+    // `../c3d-more`: one lab per source, except the CMU trials (the lab of `cmu` above).
+    // Its other labs chose nothing: they are the held-apart labs.
+    (
+        "walking",
+        "cmu",
+        "more",
+        "EmbodiedCognition__pagoda__cooper-motion.c3d",
+    ),
+    (
+        "walking",
+        "HansUniVie",
+        "more",
+        "HansUniVie__MuscleLength__test.c3d",
+    ),
+    (
+        "fullbody",
+        "PhilD001",
+        "more",
+        "PhilD001__biomechZoo__hockey_wristshot009.c3d",
+    ),
+    (
+        "fullbody",
+        "PhilD001",
+        "more",
+        "PhilD001__biomechZoo__ti003.c3d",
+    ),
+    (
+        "walking",
+        "cadop",
+        "more",
+        "cadop__pyCGM__Movement_trial.c3d",
+    ),
+    (
+        "fullbody",
+        "keenon",
+        "more",
+        "keenon__nimblephysics__JA1Gait35.c3d",
+    ),
+    (
+        "fullbody",
+        "cmu",
+        "more",
+        "keenon__nimblephysics__cmu_02_05.c3d",
+    ),
+    (
+        "fullbody",
+        "cmu",
+        "more",
+        "keenon__nimblephysics__cmu_dribble_shoot_basketball.c3d",
+    ),
+    (
+        "fullbody",
+        "keenon",
+        "more",
+        "keenon__nimblephysics__nick_freeform_001.c3d",
+    ),
+    (
+        "fullbody",
+        "keenon",
+        "more",
+        "keenon__nimblephysics__squat.c3d",
+    ),
+    (
+        "walking",
+        "martinfelis",
+        "more",
+        "martinfelis__puppeteer__testdata.c3d",
+    ),
+    (
+        "fullbody",
+        "opensim",
+        "more",
+        "opensim-org__opensim-core__doubleLegLanding.c3d",
+    ),
+    (
+        "walking",
+        "opensim",
+        "more",
+        "opensim-org__opensim-core__walking2.c3d",
+    ),
+    (
+        "walking",
+        "pyomeca",
+        "more",
+        "pyomeca__ezc3d-testFiles__FP_Type1.c3d",
+    ),
+    (
+        "walking",
+        "pyomeca",
+        "more",
+        "pyomeca__ezc3d-testFiles__Qualisys.c3d",
+    ),
+    (
+        "walking",
+        "qualisys",
+        "more",
+        "qualisys__cgm2-web-report-uploader__ClinicalGait_Gait1.c3d",
+    ),
+    (
+        "walking",
+        "qualisys",
+        "more",
+        "qualisys__cgm2-web-report-uploader__FunctionalKnee_GaitFB2.c3d",
+    ),
+    (
+        "walking",
+        "tsalemink",
+        "more",
+        "tsalemink__C3D-parser__AUC_CB_Dynamic0003.c3d",
+    ),
+    (
+        "walking",
+        "tsalemink",
+        "more",
+        "tsalemink__C3D-parser__FMC_MH0222_BP15.c3d",
+    ),
+    (
+        "walking",
+        "tsalemink",
+        "more",
+        "tsalemink__C3D-parser__RBWH_bfnd_w1.c3d",
+    ),
+];
