@@ -93,19 +93,7 @@ fn minus_zero_is_zero() {
 }
 
 fn corpus() -> Vec<std::path::PathBuf> {
-    let mut v = Vec::new();
-    for d in [
-        testkit::c3d_samples(),
-        testkit::c3d_extra(),
-        testkit::c3d_more(),
-        testkit::c3d_fullbody(),
-    ]
-    .into_iter()
-    .flatten()
-    {
-        v.extend(testkit::files_with_ext(&d, "c3d"));
-    }
-    v
+    testkit::every_c3d_file()
 }
 
 /// The data difference between `a` and `a` converted as asked and read back (`None` when the

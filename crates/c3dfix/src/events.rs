@@ -88,12 +88,11 @@ fn trial_error(path: &Path, e: impl std::fmt::Display) -> Error {
     }
 }
 
-/// The markers of each role (point indices), found among the markers of `c` (model outputs
-/// are never taken).
-pub fn choose_markers(c: &c3d::C3d, names: &MarkerNames, path: &Path) -> Result<MarkerChoice> {
+/// The point labels of `c` with model outputs blanked, so that a role is never given to an
+/// angle or a moment that happens to share a marker's name.
+fn marker_labels(c: &c3d::C3d) -> Vec<String> {
     let outputs = c.model_output_labels();
-    let labels: Vec<String> = c
-        .point_labels()
+    c.point_labels()
         .into_iter()
         .map(|l| {
             if outputs.contains(&l) {
@@ -102,7 +101,13 @@ pub fn choose_markers(c: &c3d::C3d, names: &MarkerNames, path: &Path) -> Result<
                 l
             }
         })
-        .collect();
+        .collect()
+}
+
+/// The markers of each role (point indices), found among the markers of `c` (model outputs
+/// are never taken).
+pub fn choose_markers(c: &c3d::C3d, names: &MarkerNames, path: &Path) -> Result<MarkerChoice> {
+    let labels = marker_labels(c);
     gait::find_markers(&labels, names).map_err(|e| trial_error(path, e))
 }
 
@@ -112,18 +117,7 @@ pub fn choose_markers(c: &c3d::C3d, names: &MarkerNames, path: &Path) -> Result<
 /// choice is updated to say so).
 pub fn feet(c: &c3d::C3d, choice: &mut MarkerChoice, path: &Path) -> Result<Feet> {
     let f = feet_of(c, choice, path)?;
-    let outputs = c.model_output_labels();
-    let labels: Vec<String> = c
-        .point_labels()
-        .into_iter()
-        .map(|l| {
-            if outputs.contains(&l) {
-                String::new()
-            } else {
-                l
-            }
-        })
-        .collect();
+    let labels = marker_labels(c);
     let mut swapped = false;
     for (k, (heel, side)) in [(&f.left_heel, 'l'), (&f.right_heel, 'r')]
         .into_iter()

@@ -6,19 +6,7 @@ use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
 fn corpus() -> Vec<PathBuf> {
-    let mut v = Vec::new();
-    for d in [
-        testkit::c3d_samples(),
-        testkit::c3d_extra(),
-        testkit::c3d_more(),
-        testkit::c3d_fullbody(),
-    ]
-    .into_iter()
-    .flatten()
-    {
-        v.extend(testkit::files_with_ext(&d, "c3d"));
-    }
-    v
+    testkit::every_c3d_file()
 }
 
 /// Repair `bytes` (read from `path`) as `opts` says; the bytes written and the summary, or

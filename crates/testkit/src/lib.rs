@@ -142,6 +142,16 @@ pub fn all_c3d_files() -> Vec<PathBuf> {
     v
 }
 
+/// Every C3D file of the four C3D corpora, `c3d-more` included (the labs nothing was tuned
+/// on): what the whole-corpus checks (reruns, round trips) run over.
+pub fn every_c3d_file() -> Vec<PathBuf> {
+    let mut v = all_c3d_files();
+    if let Some(d) = c3d_more() {
+        v.extend(files_with_ext(&d, "c3d"));
+    }
+    v
+}
+
 /// A path relative to the corpus, for readable test output.
 pub fn short(p: &Path) -> String {
     let s = p.to_string_lossy();
