@@ -49,6 +49,16 @@ struct Tally {
 impl Tally {
     fn add(&mut self, truth: &[(Side, Kind, f64)], found: &[(Side, Kind, f64)], count_extra: bool) {
         self.trials += 1;
+        self.add_events(truth, found, count_extra);
+    }
+
+    /// As [`Tally::add`], without counting a trial (one trial's events added in parts).
+    fn add_events(
+        &mut self,
+        truth: &[(Side, Kind, f64)],
+        found: &[(Side, Kind, f64)],
+        count_extra: bool,
+    ) {
         for &(side, kind, t) in truth {
             let k = kind_index(kind);
             self.truth[k] += 1;
@@ -229,6 +239,32 @@ fn main() {
     if let Some(v) = arg(&args, "--min-speed") {
         opts.kinematic.min_speed_mm_s = v;
     }
+    if let Some(v) = arg(&args, "--oconnor-hz") {
+        opts.kinematic.oconnor_lowpass_hz = v;
+    }
+    if let Some(v) = arg(&args, "--desailly-ratio") {
+        opts.kinematic.desailly_cutoff_ratio = v;
+    }
+    for (flag, slot) in [
+        ("--strike-method", &mut opts.kinematic.strike_method),
+        ("--off-method", &mut opts.kinematic.off_method),
+    ] {
+        if let Some(m) = args
+            .iter()
+            .position(|a| a == flag)
+            .and_then(|i| args.get(i + 1))
+        {
+            match m.parse() {
+                Ok(m) => *slot = m,
+                Err(e) => {
+                    eprintln!("{flag}: {e}");
+                    std::process::exit(2);
+                }
+            }
+        }
+    }
+    let calib_window = arg(&args, "--calibrate-window").unwrap_or(events::CALIBRATE_WINDOW_S);
+    opts.no_calibrate = args.iter().any(|a| a == "--no-calibrate");
     let verbose = args.iter().any(|a| a == "-v");
 
     let corpora: Vec<(&str, Option<PathBuf>)> = vec![
@@ -241,6 +277,7 @@ fn main() {
     let mut table: BTreeMap<(&str, &str), BTreeMap<String, Tally>> = BTreeMap::new();
     let mut seen: Vec<(usize, i64)> = Vec::new();
     let mut skipped: Vec<String> = Vec::new();
+    let mut rates: BTreeMap<String, std::collections::BTreeSet<i64>> = BTreeMap::new();
     for (corpus, root) in &corpora {
         let Some(root) = root else { continue };
         for path in testkit::files_with_ext(root, "c3d") {
@@ -279,31 +316,53 @@ fn main() {
             let triple = |v: &[Event]| -> Vec<(Side, Kind, f64)> {
                 v.iter().map(|e| (e.side, e.kind, at(e))).collect()
             };
-            let kin = match gait::kinematic_events(&feet, rate, &opts.kinematic) {
-                Ok(k) => Some(triple(&k)),
+            let kin_raw = match gait::kinematic_events(&feet, rate, &opts.kinematic) {
+                Ok(k) => Some(k),
                 Err(e) => {
                     skipped.push(format!("{name}: kinematics: {e}"));
                     None
                 }
             };
-            let plates = if c.platform_params().plates.is_empty() {
+            let kin = kin_raw.as_ref().map(|k| triple(k));
+            let plates_raw = if c.platform_params().plates.is_empty() {
                 Vec::new()
             } else {
-                events::plate_events(&c, &feet, &opts.plate)
-                    .map(|p| triple(&p))
-                    .unwrap_or_default()
+                events::plate_events(&c, &feet, &opts.plate).unwrap_or_default()
             };
+            let plates = triple(&plates_raw);
+            let window = calib_window * rate;
+            // auto as `c3dfix events` gives it: kinematics shifted by the trial's own plate
+            // lag, plate events where a foot lands on a plate.
+            let auto = kin_raw.as_ref().map(|k| {
+                let k = if opts.no_calibrate {
+                    k.clone()
+                } else {
+                    gait::calibrate(&plates_raw, k, window)
+                };
+                triple(&events::merge_auto(&plates_raw, &k, rate))
+            });
+            // Each plate event against the kinematics calibrated on the trial's other plate
+            // events (leave one out), so no event judges its own shift.
+            let loo: Vec<((Side, Kind, f64), Vec<(Side, Kind, f64)>)> = match &kin_raw {
+                Some(k) if !opts.no_calibrate => (0..plates_raw.len())
+                    .map(|i| {
+                        let others: Vec<Event> = plates_raw
+                            .iter()
+                            .enumerate()
+                            .filter(|(j, _)| *j != i)
+                            .map(|(_, e)| *e)
+                            .collect();
+                        (plates[i], triple(&gait::calibrate(&others, k, window)))
+                    })
+                    .collect(),
+                _ => Vec::new(),
+            };
+            rates.entry(lab.clone()).or_default().insert(rate as i64);
             let lab_events: Vec<(Side, Kind, f64)> = c
                 .events()
                 .iter()
                 .filter_map(|e| side_kind(&e.context, &e.label).map(|(s, k)| (s, k, e.time)))
                 .collect();
-            let group = if *corpus == "c3d-samples" {
-                "tuning"
-            } else {
-                "held out"
-            };
-            let _ = group;
             if verbose {
                 println!(
                     "{name} [{lab}] rate {rate} first frame {} lab events {} plate events {} kinematic {}",
@@ -341,6 +400,16 @@ fn main() {
                         .add(&lab_events, &plates, false);
                 }
             }
+            if !lab_events.is_empty() {
+                if let Some(a) = &auto {
+                    table
+                        .entry(("lab", "auto (plates, calibrated kinematics elsewhere)"))
+                        .or_default()
+                        .entry(lab.clone())
+                        .or_default()
+                        .add(&lab_events, a, true);
+                }
+            }
             if !plates.is_empty() {
                 if let Some(k) = &kin {
                     table
@@ -349,6 +418,20 @@ fn main() {
                         .entry(lab.clone())
                         .or_default()
                         .add(&plates, k, false);
+                }
+                if !loo.is_empty() {
+                    let t = table
+                        .entry((
+                            "plate",
+                            "kinematics calibrated on the trial's other plate events",
+                        ))
+                        .or_default()
+                        .entry(lab.clone())
+                        .or_default();
+                    t.trials += 1;
+                    for (truth, found) in &loo {
+                        t.add_events(std::slice::from_ref(truth), found, false);
+                    }
                 }
             }
         }
@@ -363,6 +446,14 @@ fn main() {
         opts.plate.threshold_n
     );
     println!(
+        "methods: strikes {:?}, offs {:?}; O'Connor low-pass {} Hz; Desailly cut-off {} x stride frequency; calibrated on the trial's plates: {}",
+        opts.kinematic.strike_method,
+        opts.kinematic.off_method,
+        opts.kinematic.oconnor_lowpass_hz,
+        opts.kinematic.desailly_cutoff_ratio,
+        !opts.no_calibrate
+    );
+    println!(
         "found within ±{} ms; |error| in ms; signed = detected − truth (median)",
         WINDOW_S * 1000.0
     );
@@ -375,7 +466,12 @@ fn main() {
         );
         let mut groups: BTreeMap<&str, Tally> = BTreeMap::new();
         for (lab, t) in labs {
-            println!("{}", t.line(lab, *truth == "lab"));
+            let hz: Vec<String> = rates
+                .get(lab)
+                .map(|r| r.iter().map(|v| v.to_string()).collect())
+                .unwrap_or_default();
+            let name = format!("{lab} ({} Hz)", hz.join("/"));
+            println!("{}", t.line(&name, *truth == "lab"));
             let g = if lab.starts_with("c3d-samples") {
                 "ALL tuning (c3d-samples)"
             } else {

@@ -46,6 +46,9 @@ pub struct EventOptions {
     pub markers: MarkerNames,
     pub kinematic: KinematicOptions,
     pub plate: PlateOptions,
+    /// In `auto`, shift the kinematic events by their median lead or lag against the
+    /// trial's own plate events of the same kind ([`gait::calibrate`]; on by default).
+    pub no_calibrate: bool,
 }
 
 /// One detected event, as printed and written.
@@ -80,6 +83,13 @@ pub struct Detected {
 /// Half the window (s) within which a plate event replaces a kinematic event of the same
 /// foot and kind in `auto`: less than half the shortest step, more than any method's error.
 pub const AUTO_MERGE_S: f64 = 0.2;
+
+/// Half the window (s) within which a kinematic event is paired with a plate event of the
+/// same foot and kind to measure the trial's lead or lag ([`gait::calibrate`]): wider than
+/// the methods' lags on the tuning labs (up to 70 ms), narrow enough that a step on the
+/// plate is not paired with the neighbouring step's event. Chosen on the tuning labs
+/// (c3d-samples; docs/events.md).
+pub const CALIBRATE_WINDOW_S: f64 = 0.06;
 
 fn trial_error(path: &Path, e: impl std::fmt::Display) -> Error {
     Error::Trial {
@@ -309,7 +319,12 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
                 plate_events(c, &feet, &opts.plate)?
             };
             match gait::kinematic_events(&feet, rate, &opts.kinematic) {
-                Ok(k) => merge_auto(&plates, &k, rate),
+                Ok(k) if opts.no_calibrate => merge_auto(&plates, &k, rate),
+                Ok(k) => merge_auto(
+                    &plates,
+                    &gait::calibrate(&plates, &k, CALIBRATE_WINDOW_S * rate),
+                    rate,
+                ),
                 Err(e) if !plates.is_empty() => {
                     warnings.push(format!("markers: {e}; only the plates' events are given"));
                     plates

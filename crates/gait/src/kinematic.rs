@@ -1,8 +1,14 @@
-//! Foot strike and foot off from the markers, by Zeni, Richards & Higginson (2008), "Two
-//! simple methods for determining gait events during treadmill and overground walking
-//! using kinematic data", Gait & Posture 27(4): 710–714.
+//! Foot strike and foot off from the markers. Three methods share the walking direction
+//! and the checks here; each event kind uses the method [`KinematicOptions`] names
+//! ([`Method`]), chosen by measurement (`events_eval`, docs/events.md):
 //!
-//! Along the walking direction, relative to the sacrum, the heel reaches its most forward
+//! - [`Method::Zeni`] (here): Zeni, Richards & Higginson (2008), "Two simple methods for
+//!   determining gait events during treadmill and overground walking using kinematic
+//!   data", Gait & Posture 27(4): 710–714, with strikes refined by the feet's heights;
+//! - [`Method::OConnor`] ([`crate::oconnor`]): the foot centre's vertical velocity;
+//! - [`Method::Desailly`] ([`crate::desailly`]): high-pass filtered forward positions.
+//!
+//! Zeni's method: along the walking direction, relative to the sacrum, the heel reaches its most forward
 //! position at foot strike and the toe its most backward position at foot off. Here the
 //! walking direction is the pelvis' horizontal displacement over a window of about one
 //! step either side of each frame ([`KinematicOptions::direction_window_s`]), so it follows
@@ -16,9 +22,46 @@ use crate::error::{Error, Result};
 use crate::signal;
 use crate::{Event, Feet, Kind, Side, Source};
 
-/// The method's constants.
+/// A kinematic method for one kind of event.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// Heel and toe extremes relative to the pelvis (Zeni 2008), strikes refined.
+    #[default]
+    Zeni,
+    /// The foot centre's vertical velocity (O'Connor 2007).
+    OConnor,
+    /// High-pass filtered forward heel and toe positions (Desailly 2009).
+    Desailly,
+}
+
+impl std::str::FromStr for Method {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.to_ascii_lowercase().as_str() {
+            "zeni" => Ok(Method::Zeni),
+            "oconnor" | "o'connor" => Ok(Method::OConnor),
+            "desailly" => Ok(Method::Desailly),
+            _ => Err(Error::Input(format!(
+                "method {s}: expected zeni, oconnor or desailly"
+            ))),
+        }
+    }
+}
+
+/// The methods' constants.
 #[derive(Debug, Clone, PartialEq)]
 pub struct KinematicOptions {
+    /// The method for foot strikes.
+    pub strike_method: Method,
+    /// The method for foot offs.
+    pub off_method: Method,
+    /// O'Connor: low-pass cut-off (Hz) applied to the foot centre's height before it is
+    /// differentiated (the paper filters its markers; the cut-off is chosen on the tuning
+    /// labs).
+    pub oconnor_lowpass_hz: f64,
+    /// Desailly: high-pass cut-off as a multiple of the trial's stride frequency (the paper
+    /// ties its cut-off to the gait frequency; the multiple is chosen on the tuning labs).
+    pub desailly_cutoff_ratio: f64,
     /// Half the window (s) over which the pelvis' displacement gives the walking direction:
     /// about one step, so the side-to-side sway of each step cancels.
     pub direction_window_s: f64,
@@ -47,6 +90,10 @@ pub struct KinematicOptions {
 impl Default for KinematicOptions {
     fn default() -> Self {
         KinematicOptions {
+            strike_method: Method::Zeni,
+            off_method: Method::Zeni,
+            oconnor_lowpass_hz: 7.0,
+            desailly_cutoff_ratio: 0.5,
             direction_window_s: 0.5,
             min_speed_mm_s: 200.0,
             min_half_stride_s: 0.25,
@@ -105,8 +152,22 @@ fn all_missing(t: &[[f64; 3]]) -> bool {
     !t.iter().any(|p| p.iter().all(|v| v.is_finite()))
 }
 
-/// Foot strikes and foot offs of both feet (sorted by time), by Zeni's method.
-pub fn kinematic_events(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Result<Vec<Event>> {
+/// What every method shares for one trial: the lab's vertical, the pelvis (short gaps
+/// filled), the walking direction per frame and the search widths in frames.
+pub struct Prepared {
+    pub vertical: Vertical,
+    pub pelvis: Vec<[f64; 3]>,
+    pub dir: Vec<[f64; 3]>,
+    pub rate: f64,
+    /// Frames either side within which an extremum must be the largest
+    /// ([`KinematicOptions::min_half_stride_s`]).
+    pub half: usize,
+    /// Frames either side over which its prominence is measured.
+    pub reach: usize,
+}
+
+/// Check the input and find what the methods share.
+pub fn prepare(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Result<Prepared> {
     feet.check()?;
     if !(rate.is_finite() && rate > 0.0) {
         return Err(Error::Input(format!(
@@ -154,33 +215,51 @@ pub fn kinematic_events(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Resu
         });
     }
     let half = ((opts.min_half_stride_s * rate).round() as usize).max(1);
-    let reach = 2 * half;
-    let smooth = ((opts.smooth_s * rate / 2.0).round()) as usize;
+    Ok(Prepared {
+        vertical,
+        pelvis,
+        dir,
+        rate,
+        half,
+        reach: 2 * half,
+    })
+}
+
+/// Foot strikes and foot offs of both feet (sorted by time), each kind by the method
+/// [`KinematicOptions`] names for it.
+pub fn kinematic_events(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Result<Vec<Event>> {
+    let prep = prepare(feet, rate, opts)?;
+    let n = feet.frames();
     let mut out = Vec::new();
     for side in Side::BOTH {
-        let (heel, toe) = feet.foot(side);
-        let heel = signal::smooth(&along(heel, &pelvis, &dir), smooth);
-        let toe: Vec<f64> = signal::smooth(&along(toe, &pelvis, &dir), smooth)
-            .into_iter()
-            .map(|v| -v)
-            .collect();
-        for (kind, x, offset) in [
-            (Kind::FootStrike, &heel, opts.strike_offset_s),
-            (Kind::FootOff, &toe, opts.off_offset_s),
+        let zeni = zeni(feet, side, &prep, opts);
+        let stride_hz = stride_frequency(&zeni.0, rate);
+        for (kind, method, offset) in [
+            (Kind::FootStrike, opts.strike_method, opts.strike_offset_s),
+            (Kind::FootOff, opts.off_method, opts.off_offset_s),
         ] {
-            let range = match (signal::quantile(x, 0.05), signal::quantile(x, 0.95)) {
-                (Some(a), Some(b)) => b - a,
-                _ => continue,
-            };
-            let prominence = (0.25 * range).max(40.0);
-            for i in signal::maxima(x, half, reach, prominence) {
-                let i = match (opts.touch_mm, kind) {
-                    (_, Kind::FootStrike) if feet.heel_is_ankle(side) => {
-                        i + opts.ankle_strike_offset_s * rate
+            let strike = kind == Kind::FootStrike;
+            let found = match method {
+                Method::Zeni if strike => zeni.0.clone(),
+                Method::Zeni => zeni.1.clone(),
+                Method::OConnor => {
+                    let (s, o) = crate::oconnor::events(feet, side, &prep, opts);
+                    if strike {
+                        s
+                    } else {
+                        o
                     }
-                    (Some(d), Kind::FootStrike) => refine_strike(feet, side, vertical, i, rate, d),
-                    _ => i,
-                };
+                }
+                Method::Desailly => {
+                    let (s, o) = crate::desailly::events(feet, side, &prep, stride_hz, opts);
+                    if strike {
+                        s
+                    } else {
+                        o
+                    }
+                }
+            };
+            for i in found {
                 let index = i + offset * rate;
                 if index >= 0.0 && index <= (n - 1) as f64 {
                     out.push(Event {
@@ -196,6 +275,56 @@ pub fn kinematic_events(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Resu
     }
     crate::sort_events(&mut out);
     Ok(out)
+}
+
+/// The stride frequency (Hz) from one foot's successive strikes: the median interval's
+/// inverse, 1 Hz (a typical walk) when fewer than two strikes are seen.
+pub fn stride_frequency(strikes: &[f64], rate: f64) -> f64 {
+    let gaps: Vec<f64> = strikes.windows(2).map(|w| w[1] - w[0]).collect();
+    match signal::quantile(&gaps, 0.5) {
+        Some(g) if g > 0.0 => rate / g,
+        _ => 1.0,
+    }
+}
+
+/// Zeni's strikes (refined as [`KinematicOptions::touch_mm`] says) and offs of one foot, as
+/// fractional frame indices before the options' offsets.
+pub fn zeni(
+    feet: &Feet,
+    side: Side,
+    prep: &Prepared,
+    opts: &KinematicOptions,
+) -> (Vec<f64>, Vec<f64>) {
+    let rate = prep.rate;
+    let smooth = ((opts.smooth_s * rate / 2.0).round()) as usize;
+    let (heel, toe) = feet.foot(side);
+    let heel = signal::smooth(&along(heel, &prep.pelvis, &prep.dir), smooth);
+    let toe: Vec<f64> = signal::smooth(&along(toe, &prep.pelvis, &prep.dir), smooth)
+        .into_iter()
+        .map(|v| -v)
+        .collect();
+    let mut strikes = Vec::new();
+    let mut offs = Vec::new();
+    for (kind, x) in [(Kind::FootStrike, &heel), (Kind::FootOff, &toe)] {
+        let range = match (signal::quantile(x, 0.05), signal::quantile(x, 0.95)) {
+            (Some(a), Some(b)) => b - a,
+            _ => continue,
+        };
+        let prominence = (0.25 * range).max(40.0);
+        for i in signal::maxima(x, prep.half, prep.reach, prominence) {
+            match (opts.touch_mm, kind) {
+                (_, Kind::FootStrike) if feet.heel_is_ankle(side) => {
+                    strikes.push(i + opts.ankle_strike_offset_s * rate)
+                }
+                (Some(d), Kind::FootStrike) => {
+                    strikes.push(refine_strike(feet, side, prep.vertical, i, rate, d))
+                }
+                (None, Kind::FootStrike) => strikes.push(i),
+                (_, Kind::FootOff) => offs.push(i),
+            }
+        }
+    }
+    (strikes, offs)
 }
 
 /// Heights of a foot's heel and toe per frame (NaN where missing).

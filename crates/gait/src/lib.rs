@@ -1,5 +1,6 @@
 //! Gait events on plain arrays: foot strike and foot off, from the markers
-//! ([`kinematic`], Zeni et al. 2008) and from the force plates ([`plates`]).
+//! ([`kinematic`]: Zeni et al. 2008, O'Connor et al. 2007, Desailly et al. 2009) and from
+//! the force plates ([`plates`]).
 //!
 //! Nothing here knows about C3D: trajectories are `[x, y, z]` per frame in millimetres with
 //! NaN where a sample is missing, plate loads are newtons per analog sample. Event times are
@@ -10,14 +11,18 @@
 //! sets and takes names given by a person instead.
 
 pub mod axes;
+pub mod calibrate;
+pub mod desailly;
 mod error;
 pub mod kinematic;
 pub mod markers;
+pub mod oconnor;
 pub mod plates;
 mod signal;
 
+pub use calibrate::calibrate;
 pub use error::{Error, Result};
-pub use kinematic::{kinematic_events, KinematicOptions};
+pub use kinematic::{kinematic_events, KinematicOptions, Method};
 pub use markers::{find_markers, MarkerChoice, MarkerNames};
 pub use plates::{plate_events, PlateInput, PlateOptions};
 
