@@ -266,6 +266,7 @@ fn main() {
     let calib_window = arg(&args, "--calibrate-window").unwrap_or(events::CALIBRATE_WINDOW_S);
     opts.no_calibrate = args.iter().any(|a| a == "--no-calibrate");
     let verbose = args.iter().any(|a| a == "-v");
+    let misses = args.iter().any(|a| a == "--misses");
 
     let corpora: Vec<(&str, Option<PathBuf>)> = vec![
         ("c3d-samples", testkit::c3d_samples()),
@@ -329,6 +330,22 @@ fn main() {
             } else {
                 events::plate_events(&c, &feet, &opts.plate).unwrap_or_default()
             };
+            // Both feet landing on the plates together is a jump or a landing, not a step:
+            // such trials are not walking and their plates are no truth for gait events.
+            let jump = plates_raw.iter().any(|a| {
+                plates_raw.iter().any(|b| {
+                    a.kind == Kind::FootStrike
+                        && b.kind == Kind::FootStrike
+                        && a.side != b.side
+                        && (a.index - b.index).abs() <= 0.05 * rate
+                })
+            });
+            if jump {
+                skipped.push(format!(
+                    "{name}: both feet land on the plates together (a jump or landing, not walking)"
+                ));
+                continue;
+            }
             let plates = triple(&plates_raw);
             let window = calib_window * rate;
             // auto as `c3dfix events` gives it: kinematics shifted by the trial's own plate
@@ -380,6 +397,49 @@ fn main() {
                 show.sort_by(|a, b| a.1 .2.total_cmp(&b.1 .2));
                 for (src, (s, k, t)) in show {
                     println!("    {t:8.3} {src:<6} {:?} {:?}", s, k);
+                }
+            }
+            if misses {
+                if let Some(k) = &kin {
+                    let t0 = c.frame_time(0);
+                    let n = feet.frames();
+                    let span = (n.saturating_sub(1)) as f64 / rate;
+                    let mut shown = Vec::new();
+                    for (truth_name, truth) in [("lab", &lab_events), ("plate", &plates)] {
+                        for &(side, kind, t) in truth.iter() {
+                            let nearest = k
+                                .iter()
+                                .filter(|f| f.0 == side && f.1 == kind)
+                                .map(|f| f.2 - t)
+                                .min_by(|a, b| a.abs().total_cmp(&b.abs()));
+                            if nearest.is_some_and(|d| d.abs() <= WINDOW_S)
+                                || shown.contains(&(side, kind, (t * 1000.0) as i64))
+                            {
+                                continue;
+                            }
+                            shown.push((side, kind, (t * 1000.0) as i64));
+                            let i = ((t - t0) * rate).round().max(0.0) as usize;
+                            let (a, b) = (
+                                i.saturating_sub((0.25 * rate) as usize),
+                                (i + (0.25 * rate) as usize + 1).min(n),
+                            );
+                            let (heel, toe) = feet.foot(side);
+                            let valid = |x: &[[f64; 3]]| {
+                                let w = &x[a.min(n)..b.max(a.min(n))];
+                                100.0 * w.iter().filter(|p| p[0].is_finite()).count() as f64
+                                    / w.len().max(1) as f64
+                            };
+                            println!(
+                                "missed {name} [{lab}] {truth_name} {side:?} {kind:?} at {t:.3} s: {:.2} s after the start, {:.2} s before the end; nearest kinematic {} ; heel {:.0} % toe {:.0} % pelvis {:.0} % valid within 0.25 s",
+                                t - t0,
+                                t0 + span - t,
+                                nearest.map_or("none".to_string(), |d| format!("{:+.0} ms", d * 1000.0)),
+                                valid(heel),
+                                valid(toe),
+                                valid(&feet.pelvis),
+                            );
+                        }
+                    }
                 }
             }
             if !lab_events.is_empty() {

@@ -110,7 +110,7 @@ impl Default for KinematicOptions {
 pub const MIN_FRAMES: usize = 3;
 
 /// The walking direction per frame (unit, horizontal; NaN where the pelvis is unknown or
-/// slower than walking).
+/// slower than walking, except next to walking: see [`hold_direction`]).
 pub fn walking_direction(
     pelvis: &[[f64; 3]],
     vertical: Vertical,
@@ -119,7 +119,7 @@ pub fn walking_direction(
 ) -> Vec<[f64; 3]> {
     let n = pelvis.len();
     let h = ((opts.direction_window_s * rate).round() as usize).max(1);
-    (0..n)
+    let mut dir: Vec<[f64; 3]> = (0..n)
         .map(|i| {
             let (a, b) = (i.saturating_sub(h), (i + h).min(n - 1));
             let d = vertical.horizontal([
@@ -135,7 +135,44 @@ pub fn walking_direction(
                 [f64::NAN; 3]
             }
         })
-        .collect()
+        .collect();
+    hold_direction(&mut dir, pelvis, 2 * h);
+    dir
+}
+
+/// Give frames without a direction, where the pelvis is known, the direction of the
+/// nearest frame that has one, when it lies within `hold` frames. The first steps of a
+/// trial that starts from standing (gait initiation) and the last ones of a trial that
+/// stops come while the pelvis, averaged over the window, is still slower than walking;
+/// the labs mark their strikes and offs all the same (HansUniVie, BTK's 561xxa01 and
+/// c3d-samples' 2198928 lost their first events to this). Standing farther from walking
+/// keeps no direction, and a still foot shows no extreme, so no event is made up there.
+pub fn hold_direction(dir: &mut [[f64; 3]], pelvis: &[[f64; 3]], hold: usize) {
+    let n = dir.len();
+    let known: Vec<usize> = (0..n).filter(|&i| dir[i][0].is_finite()).collect();
+    if known.is_empty() {
+        return;
+    }
+    let mut next = 0;
+    for i in 0..n {
+        if dir[i][0].is_finite() || !pelvis[i].iter().all(|v| v.is_finite()) {
+            continue;
+        }
+        while next < known.len() && known[next] < i {
+            next += 1;
+        }
+        let after = known.get(next).map(|&k| (k - i, k));
+        let before = next.checked_sub(1).map(|j| (i - known[j], known[j]));
+        let nearest = match (before, after) {
+            (Some(b), Some(a)) => Some(if b.0 <= a.0 { b } else { a }),
+            (b, a) => b.or(a),
+        };
+        if let Some((d, k)) = nearest {
+            if d <= hold {
+                dir[i] = dir[k];
+            }
+        }
+    }
 }
 
 /// `marker − pelvis` along the walking direction, per frame (NaN where unknown).
