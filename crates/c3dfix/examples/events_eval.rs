@@ -36,6 +36,9 @@ use std::path::{Path, PathBuf};
 
 const WINDOW_S: f64 = 0.15;
 
+/// An event as compared: foot, kind, time (s).
+type Timed = (Side, Kind, f64);
+
 #[derive(Default)]
 struct Tally {
     trials: usize,
@@ -330,16 +333,20 @@ fn main() {
             } else {
                 events::plate_events(&c, &feet, &opts.plate).unwrap_or_default()
             };
-            // Both feet landing on the plates together is a jump or a landing, not a step:
-            // such trials are not walking and their plates are no truth for gait events.
-            let jump = plates_raw.iter().any(|a| {
-                plates_raw.iter().any(|b| {
-                    a.kind == Kind::FootStrike
-                        && b.kind == Kind::FootStrike
-                        && a.side != b.side
-                        && (a.index - b.index).abs() <= 0.05 * rate
+            // Both feet leaving the plates together and landing together is a jump or a
+            // landing, not a step: such trials are not walking and their plates are no truth
+            // for gait events.
+            let together = |kind: Kind| {
+                plates_raw.iter().any(|a| {
+                    plates_raw.iter().any(|b| {
+                        a.kind == kind
+                            && b.kind == kind
+                            && a.side != b.side
+                            && (a.index - b.index).abs() <= 0.05 * rate
+                    })
                 })
-            });
+            };
+            let jump = together(Kind::FootStrike) && together(Kind::FootOff);
             if jump {
                 skipped.push(format!(
                     "{name}: both feet land on the plates together (a jump or landing, not walking)"
@@ -360,7 +367,7 @@ fn main() {
             });
             // Each plate event against the kinematics calibrated on the trial's other plate
             // events (leave one out), so no event judges its own shift.
-            let loo: Vec<((Side, Kind, f64), Vec<(Side, Kind, f64)>)> = match &kin_raw {
+            let loo: Vec<(Timed, Vec<Timed>)> = match &kin_raw {
                 Some(k) if !opts.no_calibrate => (0..plates_raw.len())
                     .map(|i| {
                         let others: Vec<Event> = plates_raw

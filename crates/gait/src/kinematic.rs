@@ -525,6 +525,109 @@ mod tests {
         assert_eq!(offs, 10, "{ev:?}");
     }
 
+    /// A walk along +x at 1.2 m/s, Z up, 100 Hz, 1 s strides; each foot (heel and toe
+    /// together) stands still from its strike at t = k + `phase` to its off 0.6 s later, then
+    /// swings 1.2 m forward in 0.4 s (forward speed peaking mid-swing) while its height
+    /// rises and falls as sin² (fastest rise 0.1 s after the off, fastest fall 0.1 s before
+    /// the strike).
+    fn stepping(frames: usize) -> Feet {
+        let rate = 100.0;
+        let tau = 2.0 * std::f64::consts::PI;
+        let mut f = Feet::default();
+        for i in 0..frames {
+            let t = i as f64 / rate;
+            f.pelvis.push([1200.0 * t, 0.0, 950.0]);
+            for (phase, heel, toe) in [
+                (0.0, &mut f.left_heel, &mut f.left_toe),
+                (0.5, &mut f.right_heel, &mut f.right_toe),
+            ] {
+                let c = t - phase + 0.4; // cycles since the first swing began
+                let (k, u) = (c.floor(), c - c.floor());
+                let (x, z) = if u < 0.4 {
+                    let s = u / 0.4;
+                    (
+                        k + s - (tau * s).sin() / tau,
+                        80.0 * (std::f64::consts::PI * s).sin().powi(2),
+                    )
+                } else {
+                    (k + 1.0, 0.0)
+                };
+                let x = 1200.0 * x + 1200.0 * phase - 600.0;
+                heel.push([x - 100.0, 0.0, 60.0 + z]);
+                toe.push([x + 100.0, 0.0, 40.0 + z]);
+            }
+        }
+        f
+    }
+
+    fn times(ev: &[Event], side: Side, kind: Kind) -> Vec<f64> {
+        ev.iter()
+            .filter(|e| e.side == side && e.kind == kind)
+            .map(|e| e.index / 100.0)
+            .collect()
+    }
+
+    #[test]
+    fn oconnor_strikes_at_the_fall_and_offs_at_the_rise_of_the_foot_centre() {
+        let opts = KinematicOptions {
+            strike_method: Method::OConnor,
+            off_method: Method::OConnor,
+            off_offset_s: 0.0,
+            ..KinematicOptions::default()
+        };
+        let ev = kinematic_events(&stepping(500), 100.0, &opts).unwrap();
+        // Left strikes at t = 1, 2, 3, 4, 5: the fastest fall 0.1 s before each.
+        let s = times(&ev, Side::Left, Kind::FootStrike);
+        assert_eq!(s.len(), 5, "{s:?}");
+        for (got, want) in s.iter().zip([0.9, 1.9, 2.9, 3.9, 4.9]) {
+            assert!((got - want).abs() < 0.02, "{s:?}");
+        }
+        // Left offs at t = 0.6, 1.6, …: the fastest rise 0.1 s after each.
+        let o = times(&ev, Side::Left, Kind::FootOff);
+        assert!(o.len() >= 3, "{o:?}");
+        for got in &o {
+            assert!((got - 0.7 - (got - 0.7).round()).abs() < 0.02, "{o:?}");
+        }
+    }
+
+    #[test]
+    fn desailly_strikes_at_the_filtered_heels_forward_extreme() {
+        let opts = KinematicOptions {
+            strike_method: Method::Desailly,
+            off_method: Method::Desailly,
+            off_offset_s: 0.0,
+            ..KinematicOptions::default()
+        };
+        let ev = kinematic_events(&walk(500), 100.0, &opts).unwrap();
+        // The heel's forward swing about the progression peaks at t = 1, 2, 3, 4 s: the
+        // zero-lag filter keeps the instants.
+        let s = times(&ev, Side::Left, Kind::FootStrike);
+        assert!(s.len() >= 3, "{s:?}");
+        for got in &s {
+            assert!((got - got.round()).abs() < 0.03, "{s:?}");
+        }
+        let o = times(&ev, Side::Right, Kind::FootOff);
+        assert!(o.len() >= 3, "{o:?}");
+    }
+
+    #[test]
+    fn the_direction_is_held_into_the_first_slow_frames() {
+        // Standing 0.5 s, then walking: frames of the first second have a direction
+        // (held from the first frame walking), frames beyond the hold do not.
+        let rate = 100.0;
+        let pelvis: Vec<[f64; 3]> = (0..600)
+            .map(|i| {
+                let t = (i as f64 / rate - 3.0).max(0.0);
+                [1200.0 * t, 0.0, 950.0]
+            })
+            .collect();
+        let v = Vertical { axis: 2, sign: 1.0 };
+        let dir = walking_direction(&pelvis, v, rate, &KinematicOptions::default());
+        assert!(dir[0][0].is_nan());
+        assert!((dir[250][0] - 1.0).abs() < 1e-9, "{:?}", dir[250]);
+        assert!((dir[400][0] - 1.0).abs() < 1e-9);
+    }
+
     #[test]
     fn bad_input_is_an_error() {
         let f = walk(2);

@@ -30,10 +30,10 @@ const HEEL: &[&str] = &[
 ];
 const ANKLE: &[&str] = &["ank", "lmal", "fal", "ankle", "lma", "mal", "mall", "mm"];
 /// Toe names, best first: the second metatarsal head (Plug-in Gait's TOE) before the first
-/// and fifth.
+/// and fifth, and a lateral toe marker (`LLA_TOE`, tsalemink's AUC set) last.
 const TOE: &[&str] = &[
     "toe", "to", "mt2", "fm2", "toetip", "ttoe", "toefoot", "met", "mt1", "fm1", "p1mt", "met1",
-    "mt5", "fm5", "p5mt", "met5", "mh1", "mh5",
+    "mt5", "fm5", "p5mt", "met5", "mh1", "mh5", "latoe",
 ];
 /// Markers standing alone for the pelvis (sacrum, mid-PSIS).
 const SACRUM: &[&str] = &[
