@@ -104,8 +104,8 @@ fn auto_takes_the_plates_where_a_foot_lands_and_the_markers_elsewhere() {
             "kinematics"
         ]
     );
-    // Every one of the lab's seven events is found, within 120 ms (the kinematic strike of
-    // this trial lands 70 ms late; docs/events.md).
+    // Every one of the lab's seven events is found, within 120 ms (this trial's kinematic
+    // strikes off the plates land up to 70 ms after the lab's; docs/events.md).
     let lab = lab_events(&file);
     assert_eq!(lab.len(), 7);
     for l in &lab {

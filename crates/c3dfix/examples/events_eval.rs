@@ -2,7 +2,9 @@
 //!
 //! ```sh
 //! cargo run --release -p c3dfix --example events_eval            # the constants as shipped
-//! cargo run --release -p c3dfix --example events_eval -- --strike-offset 0.01 --off-offset -0.02 --smooth 0.04 --threshold 20
+//! cargo run --release -p c3dfix --example events_eval -- --strike zeni:0.02 --off desailly:-0.012,zeni:-0.015
+//! cargo run --release -p c3dfix --example events_eval -- --misses       # each missed event, where
+//! cargo run --release -p c3dfix --example events_eval -- --dump e.csv   # each method's error per event
 //! ```
 //!
 //! Every C3D file of `c3d-samples`, `c3d-more`, `c3d-extra` and `c3d-fullbody` whose foot
@@ -218,15 +220,22 @@ fn arg(args: &[String], name: &str) -> Option<f64> {
         .and_then(|v| v.parse().ok())
 }
 
+/// `METHOD[:OFFSET_S],…`, e.g. `zeni-landing:-0.0012,zeni:0.0225,desailly:0.021`.
+fn estimates(spec: &str) -> Result<Vec<gait::Estimate>, String> {
+    spec.split(',')
+        .map(|item| {
+            let (m, o) = item.split_once(':').unwrap_or((item, "0"));
+            Ok(gait::Estimate {
+                method: m.parse().map_err(|e: gait::Error| e.to_string())?,
+                offset_s: o.parse().map_err(|_| format!("{o}: not a number"))?,
+            })
+        })
+        .collect()
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let mut opts = EventOptions::default();
-    if let Some(v) = arg(&args, "--strike-offset") {
-        opts.kinematic.strike_offset_s = v;
-    }
-    if let Some(v) = arg(&args, "--off-offset") {
-        opts.kinematic.off_offset_s = v;
-    }
     if let Some(v) = arg(&args, "--smooth") {
         opts.kinematic.smooth_s = v;
     }
@@ -234,7 +243,7 @@ fn main() {
         opts.kinematic.ankle_strike_offset_s = v;
     }
     if let Some(v) = arg(&args, "--touch") {
-        opts.kinematic.touch_mm = (v > 0.0).then_some(v);
+        opts.kinematic.touch_mm = v;
     }
     if let Some(v) = arg(&args, "--threshold") {
         opts.plate.threshold_n = v;
@@ -249,18 +258,18 @@ fn main() {
         opts.kinematic.desailly_cutoff_ratio = v;
     }
     for (flag, slot) in [
-        ("--strike-method", &mut opts.kinematic.strike_method),
-        ("--off-method", &mut opts.kinematic.off_method),
+        ("--strike", &mut opts.kinematic.strike),
+        ("--off", &mut opts.kinematic.off),
     ] {
-        if let Some(m) = args
+        if let Some(spec) = args
             .iter()
             .position(|a| a == flag)
             .and_then(|i| args.get(i + 1))
         {
-            match m.parse() {
-                Ok(m) => *slot = m,
+            match estimates(spec) {
+                Ok(v) => *slot = v,
                 Err(e) => {
-                    eprintln!("{flag}: {e}");
+                    eprintln!("{flag} {spec}: {e}");
                     std::process::exit(2);
                 }
             }
@@ -270,6 +279,25 @@ fn main() {
     opts.no_calibrate = args.iter().any(|a| a == "--no-calibrate");
     let verbose = args.iter().any(|a| a == "-v");
     let misses = args.iter().any(|a| a == "--misses");
+    // --dump FILE: one CSV row per truth event with each method's signed error (s), for
+    // studying combinations offline (choose on tuning, report on held out).
+    let mut dump = args
+        .iter()
+        .position(|a| a == "--dump")
+        .and_then(|i| args.get(i + 1))
+        .map(|p| {
+            let f = std::fs::File::create(p);
+            let Ok(mut f) = f else {
+                eprintln!("--dump {p}: cannot create the file");
+                std::process::exit(2);
+            };
+            use std::io::Write as _;
+            let _ = writeln!(
+                f,
+                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05"
+            );
+            f
+        });
 
     let corpora: Vec<(&str, Option<PathBuf>)> = vec![
         ("c3d-samples", testkit::c3d_samples()),
@@ -406,6 +434,59 @@ fn main() {
                     println!("    {t:8.3} {src:<6} {:?} {:?}", s, k);
                 }
             }
+            if let Some(f) = dump.as_mut() {
+                use std::io::Write as _;
+                let variant = |method: gait::Method, ratio: f64| {
+                    let e = gait::Estimate {
+                        method,
+                        offset_s: 0.0,
+                    };
+                    let o = gait::KinematicOptions {
+                        strike: vec![e],
+                        off: vec![e],
+                        desailly_cutoff_ratio: ratio,
+                        oconnor_lowpass_hz: 10.0,
+                        ankle_strike_offset_s: 0.0,
+                        ..opts.kinematic.clone()
+                    };
+                    gait::kinematic_events(&feet, rate, &o)
+                        .map(|k| triple(&k))
+                        .unwrap_or_default()
+                };
+                let variants = [
+                    variant(gait::Method::Zeni, 0.5),
+                    variant(gait::Method::ZeniLanding, 0.5),
+                    variant(gait::Method::OConnor, 0.5),
+                    variant(gait::Method::Desailly, 0.3),
+                    variant(gait::Method::Desailly, 0.5),
+                ];
+                let group = if *corpus == "c3d-samples" {
+                    "tuning"
+                } else {
+                    "held_out"
+                };
+                for (truth_name, truth) in [("lab", &lab_events), ("plate", &plates)] {
+                    for &(side, kind, t) in truth.iter() {
+                        let errs: Vec<String> = variants
+                            .iter()
+                            .map(|v| {
+                                v.iter()
+                                    .filter(|f| f.0 == side && f.1 == kind)
+                                    .map(|f| f.2 - t)
+                                    .filter(|d| d.abs() <= WINDOW_S)
+                                    .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+                                    .map_or("nan".to_string(), |d| format!("{d:.5}"))
+                            })
+                            .collect();
+                        let _ = writeln!(
+                            f,
+                            "{lab},{group},{truth_name},{},{rate},{side:?},{kind:?},{t:.5},{}",
+                            name.replace(',', ";"),
+                            errs.join(",")
+                        );
+                    }
+                }
+            }
             if misses {
                 if let Some(k) = &kin {
                     let t0 = c.frame_time(0);
@@ -503,19 +584,24 @@ fn main() {
             }
         }
     }
+    let show = |v: &[gait::Estimate]| {
+        v.iter()
+            .map(|e| format!("{:?} {:+.4} s", e.method, e.offset_s))
+            .collect::<Vec<_>>()
+            .join(" + ")
+    };
     println!(
-        "kinematic: strike offset {} s, off offset {} s, smoothing {} s, min speed {} mm/s, touch {:?} mm; plates: threshold {} N",
-        opts.kinematic.strike_offset_s,
-        opts.kinematic.off_offset_s,
+        "kinematic: smoothing {} s, min speed {} mm/s, touch {} mm, ankle {:+} s; plates: threshold {} N",
         opts.kinematic.smooth_s,
         opts.kinematic.min_speed_mm_s,
         opts.kinematic.touch_mm,
+        opts.kinematic.ankle_strike_offset_s,
         opts.plate.threshold_n
     );
     println!(
-        "methods: strikes {:?}, offs {:?}; O'Connor low-pass {} Hz; Desailly cut-off {} x stride frequency; calibrated on the trial's plates: {}",
-        opts.kinematic.strike_method,
-        opts.kinematic.off_method,
+        "strikes: mean of {}; offs: mean of {}; O'Connor low-pass {} Hz; Desailly cut-off {} x stride frequency; calibrated on the trial's plates: {}",
+        show(&opts.kinematic.strike),
+        show(&opts.kinematic.off),
         opts.kinematic.oconnor_lowpass_hz,
         opts.kinematic.desailly_cutoff_ratio,
         !opts.no_calibrate

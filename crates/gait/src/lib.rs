@@ -22,7 +22,7 @@ mod signal;
 
 pub use calibrate::calibrate;
 pub use error::{Error, Result};
-pub use kinematic::{kinematic_events, KinematicOptions, Method};
+pub use kinematic::{kinematic_events, Estimate, KinematicOptions, Method};
 pub use markers::{find_markers, MarkerChoice, MarkerNames};
 pub use plates::{plate_events, PlateInput, PlateOptions};
 
