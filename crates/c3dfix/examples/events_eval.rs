@@ -137,8 +137,10 @@ impl Tally {
         }
         if extra && self.spanned > 0 {
             s += &format!(
-                " | {:>5.1}%",
-                100.0 * self.extra as f64 / self.spanned as f64
+                " | {:>5.1}% ({}/{})",
+                100.0 * self.extra as f64 / self.spanned as f64,
+                self.extra,
+                self.spanned
             );
         } else {
             s += " |     -";
