@@ -46,8 +46,9 @@ pub struct EventOptions {
     pub markers: MarkerNames,
     pub kinematic: KinematicOptions,
     pub plate: PlateOptions,
-    /// In `auto`, shift the kinematic events by their median lead or lag against the
-    /// trial's own plate events of the same kind ([`gait::calibrate`]; on by default).
+    /// In `auto`, keep the kinematic events as detected. By default they are shifted by their
+    /// median lead or lag against the trial's own plate events of the same kind
+    /// ([`gait::calibrate()`]).
     pub no_calibrate: bool,
 }
 
@@ -85,7 +86,7 @@ pub struct Detected {
 pub const AUTO_MERGE_S: f64 = 0.2;
 
 /// Half the window (s) within which a kinematic event is paired with a plate event of the
-/// same foot and kind to measure the trial's lead or lag ([`gait::calibrate`]): wider than
+/// same foot and kind to measure the trial's lead or lag ([`gait::calibrate()`]): wider than
 /// the methods' lags on the tuning labs (up to 70 ms), narrow enough that a step on the
 /// plate is not paired with the neighbouring step's event. Chosen on the tuning labs
 /// (c3d-samples; docs/events.md).

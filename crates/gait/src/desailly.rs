@@ -6,10 +6,10 @@
 //! The forward positions of the heel and the toe (metatarsal) markers are high-pass
 //! filtered: the progression and the slow part of the swing go, and what is left swings
 //! about zero with sharp turns where the foot meets and leaves the floor. The strike is at
-//! each maximum of the filtered heel, the off at each minimum of the filtered toe. The
-//! cut-off follows the trial's own stride frequency (found from its strikes), as the paper
-//! ties it to the gait frequency, so slow pathological walking and fast walking are
-//! filtered alike; the multiple is [`KinematicOptions::desailly_cutoff_ratio`]. The paper
+//! each maximum of the filtered heel, the off at each minimum of the filtered toe. Here the
+//! cut-off follows the trial's own stride frequency (found from its Zeni strikes), so slow
+//! pathological walking and fast walking are filtered alike; the multiple,
+//! [`KinematicOptions::desailly_cutoff_ratio`], is chosen on the tuning labs. The paper
 //! reports 1 ± 23 ms (strike) and 2 ± 25 ms (off) against plates in children with cerebral
 //! palsy, where position-extreme methods drift.
 //!

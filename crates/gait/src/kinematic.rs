@@ -81,12 +81,11 @@ pub struct KinematicOptions {
     /// enough that one method going astray by 100 ms still counts as one vote of three
     /// (the tuning labs' 95th percentile was lowest with no narrower limit).
     pub combine_window_s: f64,
-    /// O'Connor: low-pass cut-off (Hz) applied to the foot centre's height before it is
-    /// differentiated (the paper filters its markers; the cut-off is chosen on the tuning
-    /// labs).
+    /// O'Connor: low-pass cut-off (Hz) applied to the foot centre before it is
+    /// differentiated (chosen on the tuning labs).
     pub oconnor_lowpass_hz: f64,
-    /// Desailly: high-pass cut-off as a multiple of the trial's stride frequency (the paper
-    /// ties its cut-off to the gait frequency; the multiple is chosen on the tuning labs).
+    /// Desailly: high-pass cut-off as a multiple of the trial's stride frequency (chosen on
+    /// the tuning labs).
     pub desailly_cutoff_ratio: f64,
     /// Half the window (s) over which the pelvis' displacement gives the walking direction:
     /// about one step, so the side-to-side sway of each step cancels.

@@ -7,14 +7,15 @@
 //! foot off, and after it the vertical velocity falls to its trough as the foot comes down
 //! to land. So: mid-swing at each peak of the forward velocity, foot off at the last
 //! vertical-velocity peak before it, foot strike at the first vertical-velocity trough
-//! after it (within 0.25 s), as the paper and the implementations built on it
-//! (pyCGM2's `oconnor`, gaitalytics) place them. Both instants are kinematic landmarks a
+//! after it (within 0.25 s), as the paper and implementations built on it (pyCGM2's
+//! `oconnor`, for one) place them. Both instants are kinematic landmarks a
 //! little away from the contact itself; the mean lead or lag is the options' offset,
 //! chosen on the tuning labs.
 //!
 //! "Forward" is along the walking direction of each frame ([`crate::kinematic`]), so turns
-//! and either direction of travel work; the foot centre's height is low-pass filtered
-//! ([`KinematicOptions::oconnor_lowpass_hz`]) before it is differentiated.
+//! and either direction of travel work; the foot centre is low-pass filtered
+//! ([`KinematicOptions::oconnor_lowpass_hz`]) before it is differentiated, as velocity
+//! methods need (pyCGM2 takes a marker cut-off for the same reason).
 
 use crate::kinematic::{KinematicOptions, Prepared};
 use crate::signal::{self, Pass};

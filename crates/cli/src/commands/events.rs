@@ -14,8 +14,9 @@ pub struct Args {
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
     /// Where events come from: `plates` (a foot alone loading a plate), `kinematics` (the
-    /// heel and toe markers against the pelvis, Zeni 2008; never the file's own events) or
-    /// `auto` (plate events where a foot lands on a plate, kinematic ones elsewhere).
+    /// heel, toe and pelvis markers: Zeni 2008 and Desailly 2009 combined; never the file's
+    /// own events) or `auto` (plate events where a foot lands on a plate, kinematic ones
+    /// elsewhere, shifted by their lag on this trial's plate steps).
     #[arg(long, default_value = "auto")]
     pub from: String,
     /// Print JSON instead of text.
