@@ -680,6 +680,30 @@ mod tests {
     }
 
     #[test]
+    fn estimates_are_averaged_and_the_first_decides_which_events_exist() {
+        let f = walk(400);
+        let e = |method, offset_s| Estimate { method, offset_s };
+        let opts = KinematicOptions {
+            // Zeni's strikes at t = 1, 2, 3 s, once as is and once 40 ms later; Desailly's
+            // shifted 0.5 s away from every one of them, so it joins none.
+            strike: vec![
+                e(Method::Zeni, 0.0),
+                e(Method::Zeni, 0.04),
+                e(Method::Desailly, 0.5),
+            ],
+            off: vec![],
+            ..KinematicOptions::default()
+        };
+        let ev = kinematic_events(&f, 100.0, &opts).unwrap();
+        assert!(ev.iter().all(|e| e.kind == Kind::FootStrike), "{ev:?}");
+        let s = times(&ev, Side::Left, Kind::FootStrike);
+        assert_eq!(s.len(), 3, "{s:?}");
+        for (got, want) in s.iter().zip([1.02, 2.02, 3.02]) {
+            assert!((got - want).abs() < 0.001, "{s:?}");
+        }
+    }
+
+    #[test]
     fn the_direction_is_held_into_the_first_slow_frames() {
         // Standing 0.5 s, then walking: frames of the first second have a direction
         // (held from the first frame walking), frames beyond the hold do not.
