@@ -15,6 +15,9 @@ use std::path::Path;
 pub struct GaitOptions {
     /// Detect the events (with these options) instead of reading the file's.
     pub detect: Option<EventOptions>,
+    /// Marker names given by a person, for the toes (and, with `detect`, ignored: its own
+    /// names are used).
+    pub markers: gait::MarkerNames,
 }
 
 /// A trial's gait-cycle parameters and what they were computed from.
@@ -114,10 +117,18 @@ struct ToeData {
     names: [String; 2],
 }
 
-fn toes(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> std::result::Result<ToeData, String> {
-    let mut choice =
-        crate::events::choose_markers(c, &opts.markers, path).map_err(|e| e.to_string())?;
-    let feet = crate::events::feet(c, &mut choice, path).map_err(|e| e.to_string())?;
+fn toes(
+    c: &c3d::C3d,
+    names: &gait::MarkerNames,
+    path: &Path,
+) -> std::result::Result<ToeData, String> {
+    // The file is named once, by the report: only what is wrong here.
+    let what = |e: Error| match e {
+        Error::Trial { what, .. } => what,
+        e => e.to_string(),
+    };
+    let mut choice = crate::events::choose_markers(c, names, path).map_err(what)?;
+    let feet = crate::events::feet(c, &mut choice, path).map_err(what)?;
     let vertical = gait::axes::vertical(&feet.pelvis, &[&feet.left_toe, &feet.right_toe])
         .ok_or("no frame has both the pelvis and a toe marker, so the vertical is unknown")?;
     let labels = c.point_labels();
@@ -143,7 +154,6 @@ fn toes(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> std::result::Result<T
 /// (none found, missing at an event) are left out and said in the warnings, with every
 /// other value kept.
 pub fn gait_parameters(c: &c3d::C3d, opts: &GaitOptions, path: &Path) -> Result<GaitReport> {
-    let default_events = EventOptions::default();
     let (events, source, mut warnings) = match &opts.detect {
         Some(o) => {
             let d = detect_events(c, o, path)?;
@@ -175,8 +185,8 @@ pub fn gait_parameters(c: &c3d::C3d, opts: &GaitOptions, path: &Path) -> Result<
         ));
     }
     check_inside(c, &events, path)?;
-    let marker_opts = opts.detect.as_ref().unwrap_or(&default_events);
-    let toe_data = match toes(c, marker_opts, path) {
+    let names = opts.detect.as_ref().map_or(&opts.markers, |d| &d.markers);
+    let toe_data = match toes(c, names, path) {
         Ok(t) => Some(t),
         Err(e) => {
             warnings.push(format!("no lengths (and no walking speed): {e}"));
