@@ -14,8 +14,8 @@ pub struct Args {
     /// The trials (C3D files).
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
-    /// Print JSON instead of text.
-    #[arg(long, conflicts_with = "write")]
+    /// Print JSON instead of text (also with --write: what was written).
+    #[arg(long)]
     pub json: bool,
     /// Without --write: write the parameters of every file as CSV (file, context, name,
     /// value, unit) to this path. With --write: the trial with its ANALYSIS group written
