@@ -19,15 +19,18 @@
 //! - **Single Support** (s): opposite foot contact − opposite foot off.
 //! - **Double Support** (s): (opposite foot off − strike) + (foot off − opposite foot contact).
 //! - **Stride Length** (m): the distance between the toe marker's positions at the cycle's
-//!   two foot strikes (Nexus' default marker is LTOE / RTOE). Worked out from the data: the
-//!   positions are interpolated linearly at the event times (events fall between frames),
-//!   which matches Nexus within 3 mm on the four reference strides, where the nearest frame
-//!   is up to 6 mm off.
+//!   two foot strikes (Nexus' default marker is LTOE / RTOE).
 //! - **Step Length** (m): the toe at the cycle's closing strike against the other toe at its
 //!   strike inside the cycle, measured along the stride (the horizontal direction from the
-//!   toe's first to its second position). Worked out from the data: the FAQ names no
-//!   direction; along the stride matches Nexus within 3.6 mm on three of the four reference
-//!   steps and 6.1 mm on the fourth, a lab axis up to 14 mm.
+//!   toe's first to its second position).
+//! - *Worked out from the data* (the FAQ says only "the marker position at the time"): the
+//!   positions are taken [`NEXUS_LAG_FRAMES`] frame after each event time, interpolated
+//!   between frames. Nexus' lengths in `HansUniVie…test` (a float file) are reproduced to
+//!   0.4 mm by the toe at the frame after the event's nearest frame; `2198928.c3d` (an
+//!   integer DEC file) follows no single rule tried. One frame late, interpolated, keeps
+//!   all eight reference lengths within 3.8 mm; at the event time itself one step is 6.0 mm
+//!   off, at the nearest frame one stride 6.1 mm. The step along a lab axis instead of the
+//!   stride is up to 14 mm off, along the pelvis' travel 6.2 mm (at the event time).
 //! - **Walking Speed** (m/s): stride length / stride time.
 //! - **Step Width** (m, not in the reference files): the other toe at its strike inside the
 //!   cycle, its horizontal distance from the line of this toe's two positions (the line of
@@ -40,6 +43,10 @@ use crate::axes::Vertical;
 use crate::error::{Error, Result};
 use crate::{Kind, Side};
 use serde::Serialize;
+
+/// How many frames after an event time the toe positions are taken (see the module's
+/// documentation: worked out from Nexus' values, not from its documentation).
+pub const NEXUS_LAG_FRAMES: f64 = 1.0;
 
 /// A foot strike or foot off at a time (seconds, on the trial's time base).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -247,9 +254,10 @@ fn lengths(c: &Cycle, toes: &Toes) -> Option<(f64, f64, f64)> {
         Side::Left => Side::Right,
         Side::Right => Side::Left,
     };
-    let a = toes.at(c.side, c.strike)?;
-    let b = toes.at(c.side, c.next_strike)?;
-    let o = toes.at(other, c.opposite_strike)?;
+    let lag = NEXUS_LAG_FRAMES / toes.rate;
+    let a = toes.at(c.side, c.strike + lag)?;
+    let b = toes.at(c.side, c.next_strike + lag)?;
+    let o = toes.at(other, c.opposite_strike + lag)?;
     let stride = sub(b, a);
     let dir = horizontal_unit(stride, toes.vertical)?;
     let step = toes.vertical.horizontal(sub(b, o));
@@ -306,8 +314,8 @@ pub fn gait_parameters(events: &[TimedEvent], toes: Option<&Toes>) -> Result<Gai
                 let l = lengths(&cycle, t);
                 if l.is_none() {
                     warnings.push(format!(
-                        "{}: no lengths: a toe marker is missing at one of the cycle's foot \
-                         strikes",
+                        "{}: no lengths: a toe marker is missing a frame after one of the \
+                         cycle's foot strikes",
                         side.context()
                     ));
                 }

@@ -47,7 +47,7 @@ def test_gait_parameters_match_nexus():
     for key, (value, unit) in nexus.items():
         g = ours[key]
         assert g["unit"] == unit
-        tol = {"s": 1 / 60, "%": 1.0, "m": 0.0065}.get(unit, 0.01 * abs(value))
+        tol = {"s": 1 / 60, "%": 1.0, "m": 0.005}.get(unit, 0.01 * abs(value))
         assert abs(g["value"] - value) <= tol, (key, g["value"], value)
     assert abs(ours[("Left", "Stride Time")]["value"] - 0.795) < 1e-5
 
