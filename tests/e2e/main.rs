@@ -8,6 +8,7 @@ mod bvh;
 mod convert;
 mod events;
 mod forces;
+mod gait;
 mod hostile;
 mod library;
 mod repair;

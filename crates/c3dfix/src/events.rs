@@ -220,7 +220,7 @@ pub fn plate_events(c: &c3d::C3d, feet: &Feet, opts: &PlateOptions) -> Result<Ve
         .map(|(p, cop)| PlateInput {
             index: p.index,
             samples_per_frame: fp.samples_per_frame,
-            normal: &p.push,
+            push: &p.push,
             cop,
         })
         .collect();

@@ -21,6 +21,7 @@
 //! # Ok::<(), c3dfix::Error>(())
 //! ```
 
+pub mod analysis_group;
 pub mod axes;
 mod error;
 pub mod evaluate;
@@ -28,6 +29,7 @@ pub mod event_group;
 pub mod events;
 pub mod export;
 pub mod files;
+pub mod gait_params;
 mod gaps;
 pub mod markers;
 mod options;
@@ -47,6 +49,7 @@ pub use axes::{Axes, Direction, Up, UpSource};
 pub use error::{Error, Result};
 pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
 pub use events::{detect_events, Detected, EventOptions, EventSource, TrialEvent};
+pub use gait_params::{gait_parameters, GaitOptions, GaitReport};
 pub use gaps::{gaps, GapInfo};
 pub use options::{
     fill_method, filter_spec, max_expected_error, method_name, spike_options, RepairOptions,

@@ -41,6 +41,10 @@ enum Command {
     /// Gait events: foot strike and foot off of each foot, from the force plates and the
     /// heel, toe and pelvis markers.
     Events(commands::events::Args),
+    /// Gait-cycle parameters per side as Vicon Nexus reports them (cadence, speed, stride
+    /// and step times and lengths, foot off, support times), from the file's events or
+    /// detected ones; optionally written into the ANALYSIS group
+    Gait(commands::gait::Args),
     /// Remove spikes, fill gaps and low-pass filter one file.
     Repair(commands::repair::Args),
     /// Repair many files (folders recursively, lists, shards), in parallel.
@@ -84,6 +88,7 @@ fn main() {
         Command::Swaps(a) => commands::swaps::run(a),
         Command::Forces(a) => commands::forces::run(a),
         Command::Events(a) => commands::events::run(a),
+        Command::Gait(a) => commands::gait::run(a),
         Command::Repair(a) => commands::repair::run(a),
         Command::Batch(a) => commands::batch::run(a),
         Command::Evaluate(a) => commands::evaluate::run(a),

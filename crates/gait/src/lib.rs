@@ -7,6 +7,9 @@
 //! fractional 0-based frame indices ([`Event::index`]), so the caller maps them to its own
 //! frame numbering and time base (the `c3dfix` crate uses the file's).
 //!
+//! [`params`] computes the gait-cycle parameters Vicon Nexus reports from the events and
+//! the toe markers.
+//!
 //! The markers come from their labels through [`markers`], which knows the common marker
 //! sets and takes names given by a person instead.
 
@@ -17,6 +20,7 @@ mod error;
 pub mod kinematic;
 pub mod markers;
 pub mod oconnor;
+pub mod params;
 pub mod plates;
 mod signal;
 
@@ -24,6 +28,7 @@ pub use calibrate::calibrate;
 pub use error::{Error, Result};
 pub use kinematic::{kinematic_events, Estimate, KinematicOptions, Method};
 pub use markers::{find_markers, MarkerChoice, MarkerNames};
+pub use params::{gait_parameters, GaitParameters, TimedEvent, Toes};
 pub use plates::{plate_events, PlateInput, PlateOptions};
 
 use serde::Serialize;

@@ -1,5 +1,6 @@
 //! Foot strike and foot off from the force plates: where a plate's load rises through a
-//! threshold and falls back through it, once the plate's unloaded level is removed; the
+//! threshold and falls back through it (the caller gives the load with the plate's unloaded
+//! level removed, as the `c3dfix` library's push is); the
 //! side is the foot whose heel–toe line lies nearest the centre of pressure while the plate
 //! is loaded.
 //!
@@ -18,8 +19,11 @@ pub struct PlateInput<'a> {
     pub index: usize,
     /// Analog samples per point frame.
     pub samples_per_frame: usize,
-    /// The force along the plate's normal (N), either sign.
-    pub normal: &'a [f64],
+    /// The push on the plate (N): the force along its normal with the plate's unloaded level
+    /// removed and its sign made positive for load, as the library computes it once for
+    /// every use. Taken as is: a negative value (a pull, or noise below the level) is no
+    /// load, never counted by its magnitude.
+    pub push: &'a [f64],
     /// The centre of pressure in the lab frame (mm), NaN where unloaded.
     pub cop: &'a [[f64; 3]],
 }
@@ -42,26 +46,6 @@ impl Default for PlateOptions {
             max_foot_distance_mm: 150.0,
             min_contact_s: 0.08,
         }
-    }
-}
-
-/// The plate's unloaded level: the median of the samples whose magnitude is among the
-/// smallest tenth (a plate in a walkway is unloaded most of the time). Taken as zero when
-/// it is not small against the peak (a plate loaded throughout).
-pub fn unloaded_level(normal: &[f64]) -> f64 {
-    let mags: Vec<f64> = normal.iter().map(|v| v.abs()).collect();
-    let (Some(cut), Some(peak)) = (
-        crate::signal::quantile(&mags, 0.1),
-        crate::signal::quantile(&mags, 1.0),
-    ) else {
-        return 0.0;
-    };
-    let low: Vec<f64> = normal.iter().copied().filter(|v| v.abs() <= cut).collect();
-    let level = crate::signal::quantile(&low, 0.5).unwrap_or(0.0);
-    if level.abs() <= 0.2 * peak {
-        level
-    } else {
-        0.0
     }
 }
 
@@ -105,8 +89,8 @@ pub fn plate_events(
     let frames = feet.frames();
     for plate in plates {
         let spf = plate.samples_per_frame.max(1);
-        let level = unloaded_level(plate.normal);
-        let push: Vec<f64> = plate.normal.iter().map(|v| (v - level).abs()).collect();
+        // Load only: a pull (negative push) is no load; NaN neither.
+        let push: Vec<f64> = plate.push.iter().map(|v| v.max(0.0)).collect();
         let min = (opts.min_contact_s * analog_rate).ceil() as usize;
         for [a, b] in kinetics::contacts(&push, opts.threshold_n, analog_rate) {
             if b + 1 - a < min {
@@ -206,11 +190,16 @@ mod tests {
             pelvis: vec![[300.0, 0.0, 950.0]; frames],
             heel_is_ankle: [false; 2],
         };
-        let mut normal = vec![3.0; 100];
-        for (i, v) in normal.iter_mut().enumerate().take(75).skip(25) {
-            *v = 3.0 - 700.0 * ((i - 24) as f64 / 51.0 * std::f64::consts::PI).sin();
+        // The library's push: unloaded level removed, load positive. A pull of 300 N
+        // (samples 80-94, e.g. a plate's drift or a hand pulling) is no load.
+        let mut push = vec![0.0; 100];
+        for (i, v) in push.iter_mut().enumerate().take(75).skip(25) {
+            *v = 700.0 * ((i - 24) as f64 / 51.0 * std::f64::consts::PI).sin();
         }
-        let cop: Vec<[f64; 3]> = normal
+        for v in push.iter_mut().take(95).skip(80) {
+            *v = -300.0;
+        }
+        let cop: Vec<[f64; 3]> = push
             .iter()
             .map(|v| {
                 if v.abs() > 10.0 {
@@ -223,10 +212,9 @@ mod tests {
         let plate = PlateInput {
             index: 2,
             samples_per_frame: 10,
-            normal: &normal,
+            push: &push,
             cop: &cop,
         };
-        assert_eq!(unloaded_level(&normal), 3.0);
         let ev = plate_events(
             &[plate],
             &feet,

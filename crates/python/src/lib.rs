@@ -12,6 +12,7 @@ use std::path::PathBuf;
 
 mod export;
 mod files;
+mod gait;
 mod pickling;
 mod platforms;
 
@@ -487,6 +488,7 @@ fn _c3dfix(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(export::export_mot, m)?)?;
     m.add_function(wrap_pyfunction!(export::export_opensim, m)?)?;
     m.add_function(wrap_pyfunction!(export::lab_up, m)?)?;
+    m.add_function(wrap_pyfunction!(gait::gait_parameters, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -8,6 +8,7 @@ pub mod evaluate;
 pub mod events;
 pub mod export;
 pub mod forces;
+pub mod gait;
 pub mod gaps;
 pub mod info;
 pub mod keyframes;

@@ -1,0 +1,61 @@
+//! Gait-cycle parameters of a trial after reading (the budget: 50 ms): from the
+//! file's own events (Nexus trials of the corpora that carry them) and with the events
+//! detected first (`auto`), and on the repository's synthetic walk (detected events) where
+//! no corpus is around.
+//!
+//! `cargo bench -p c3dfix --bench gait_params` (C3D_SAMPLES, C3D_MORE as for the tests).
+
+use c3dfix::{gait_parameters, EventOptions, GaitOptions};
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use std::path::PathBuf;
+
+fn trials() -> Vec<PathBuf> {
+    let mut v = vec![testkit::workspace_root().join("sample_c3d/walk_truth.c3d")];
+    if let Some(s) = testkit::c3d_samples() {
+        v.push(s.join("sample_11/2198928.c3d"));
+    }
+    if let Some(more) = testkit::c3d_more() {
+        for name in [
+            "HansUniVie__MuscleLength__test.c3d",
+            "tsalemink__C3D-parser__RBWH_bfnd_w1.c3d",
+        ] {
+            v.push(more.join(name));
+        }
+    }
+    v
+}
+
+fn gait(c: &mut Criterion) {
+    let mut g = c.benchmark_group("gait_params");
+    for path in trials() {
+        let Ok(trial) = c3dfix::open(&path) else {
+            continue;
+        };
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_default();
+        for (label, opts) in [
+            ("file_events", GaitOptions::default()),
+            (
+                "detected",
+                GaitOptions {
+                    detect: Some(EventOptions::default()),
+                    ..GaitOptions::default()
+                },
+            ),
+        ] {
+            // A trial without a complete cycle is no timing.
+            if gait_parameters(&trial, &opts, &path).is_err() {
+                continue;
+            }
+            g.bench_with_input(BenchmarkId::new(label, &name), &trial, |b, t| {
+                b.iter(|| gait_parameters(t, &opts, &path))
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, gait);
+criterion_main!(benches);

@@ -1,0 +1,193 @@
+//! `c3dfix gait`: the gait-cycle parameters of walking trials per side, as Vicon Nexus'
+//! "Generate Gait Cycle Parameters" defines them (see `docs/gait-parameters.md`).
+
+use crate::commands::info::read_c3d;
+use crate::console::{errln, outln};
+use anyhow::Result;
+use c3dfix::events::{EventOptions, EventSource};
+use c3dfix::gait::MarkerNames;
+use c3dfix::{gait_parameters, GaitOptions, GaitReport};
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The trials (C3D files).
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
+    /// Print JSON instead of text (also with --write: what was written).
+    #[arg(long)]
+    pub json: bool,
+    /// Without --write: write the parameters of every file as CSV (file, context, name,
+    /// value, unit) to this path. With --write: the trial with its ANALYSIS group written
+    /// (one input file).
+    #[arg(short = 'o', long, value_name = "PATH")]
+    pub output: Option<PathBuf>,
+    /// Detect the events (as `c3dfix events` does) instead of reading the file's own.
+    #[arg(long)]
+    pub detect: bool,
+    /// With --detect: where events come from (plates, kinematics or auto).
+    #[arg(long, requires = "detect", default_value = "auto")]
+    pub from: String,
+    /// Name markers the search does not find: ROLE=NAME with ROLE one of lheel, rheel,
+    /// ltoe, rtoe, pelvis (the toes measure the lengths).
+    #[arg(long, value_name = "ROLE=NAME")]
+    pub markers: Vec<String>,
+    /// Write the parameters into the ANALYSIS group as Nexus writes it: to -o OUT, or
+    /// with --in-place into each file.
+    #[arg(long)]
+    pub write: bool,
+    /// With --write: write into each input file itself (atomically).
+    #[arg(long, requires = "write", conflicts_with = "output")]
+    pub in_place: bool,
+    /// With --in-place, keep each original as FILE.bak first.
+    #[arg(long, requires = "in_place")]
+    pub backup: bool,
+    /// Replace an existing output file.
+    #[arg(long)]
+    pub force: bool,
+}
+
+fn one(path: &Path, opts: &GaitOptions, a: &Args) -> Result<GaitReport> {
+    if !a.write {
+        let c = read_c3d(path)?;
+        return Ok(gait_parameters(&c, opts, path)?);
+    }
+    // A file to be written is read into memory, not mapped: it may be the file replaced.
+    let mut c = c3dfix::open(path)?;
+    let r = gait_parameters(&c, opts, path)?;
+    c3dfix::analysis_group::write_parameters(&mut c, &r.parameters)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let (dest, save) = match &a.output {
+        Some(out) => {
+            c3dfix::save::refuse_own_input(path, out)?;
+            (
+                out.as_path(),
+                c3dfix::SaveOptions {
+                    force: a.force,
+                    backup: false,
+                },
+            )
+        }
+        None => (
+            path,
+            c3dfix::SaveOptions {
+                force: true,
+                backup: a.backup,
+            },
+        ),
+    };
+    c3dfix::save(&c, dest, &save)?;
+    Ok(r)
+}
+
+fn as_json(path: &Path, r: &GaitReport) -> serde_json::Value {
+    serde_json::json!({
+        "file": path.display().to_string(),
+        "parameters": r.parameters,
+        "events": r.events,
+        "toes": r.toes,
+        "warnings": r.warnings,
+    })
+}
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+fn print_text(path: &Path, r: &GaitReport) -> Result<()> {
+    outln!(
+        "{}: gait-cycle parameters (events: {})",
+        path.display(),
+        r.events
+    )?;
+    for w in &r.warnings {
+        outln!("  warning: {w}")?;
+    }
+    for p in &r.parameters {
+        outln!(
+            "  {:<5} {:<22} {:>10.4} {}",
+            p.context,
+            p.name,
+            p.value,
+            p.unit
+        )?;
+    }
+    Ok(())
+}
+
+pub fn run(a: Args) -> Result<i32> {
+    let markers = MarkerNames::parse(&a.markers)?;
+    let detect = if a.detect {
+        Some(EventOptions {
+            from: a.from.parse::<EventSource>()?,
+            markers: markers.clone(),
+            ..EventOptions::default()
+        })
+    } else {
+        None
+    };
+    let opts = GaitOptions { detect, markers };
+    if a.write && a.output.is_none() && !a.in_place {
+        anyhow::bail!("--write needs -o OUT (one input file) or --in-place");
+    }
+    if a.write && a.output.is_some() && a.files.len() != 1 {
+        anyhow::bail!("--write -o takes one input file; use --write --in-place for several");
+    }
+    if !a.write && a.force && a.output.is_none() {
+        anyhow::bail!("--force applies to an output: add -o PATH");
+    }
+    let csv_out = if a.write { None } else { a.output.clone() };
+    if let Some(out) = &csv_out {
+        let inputs: Vec<&Path> = a.files.iter().map(|p| p.as_path()).collect();
+        c3dfix::save::refuse_input(out, &inputs, "the CSV")?;
+    }
+    let mut failed = 0;
+    let mut docs = Vec::new();
+    let mut csv = String::from("file,context,name,value,unit\n");
+    let several = a.files.len() > 1;
+    for f in &a.files {
+        let r = match one(f, &opts, &a) {
+            Ok(r) => r,
+            Err(e) if several => {
+                failed += 1;
+                errln!("c3dfix: error: {}", crate::console::describe(&e));
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
+        if csv_out.is_some() {
+            for p in &r.parameters {
+                csv.push_str(&format!(
+                    "{},{},{},{},{}\n",
+                    csv_field(&f.display().to_string()),
+                    p.context,
+                    csv_field(p.name),
+                    p.value,
+                    csv_field(p.unit)
+                ));
+            }
+            for w in &r.warnings {
+                errln!("c3dfix: warning: {}: {w}", f.display());
+            }
+        } else if a.json {
+            docs.push(as_json(f, &r));
+        } else {
+            print_text(f, &r)?;
+        }
+    }
+    if let Some(out) = &csv_out {
+        c3dfix::save::write_atomic(out, csv.as_bytes(), a.force)?;
+    } else if a.json {
+        let doc = if several {
+            serde_json::json!({ "files": docs })
+        } else {
+            docs.pop().unwrap_or(serde_json::Value::Null)
+        };
+        outln!("{}", serde_json::to_string_pretty(&doc)?)?;
+    }
+    Ok(if failed > 0 { 2 } else { 0 })
+}
