@@ -6,6 +6,7 @@ use std::process::{Command, Output};
 mod auto_eval;
 mod bvh;
 mod convert;
+mod cycles;
 mod events;
 mod forces;
 mod hostile;

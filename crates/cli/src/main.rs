@@ -41,6 +41,9 @@ enum Command {
     /// Gait events: foot strike and foot off of each foot, from the force plates and the
     /// heel, toe and pelvis markers.
     Events(commands::events::Args),
+    /// Gait cycles: markers, analog channels and plate forces from each foot strike to the
+    /// next of the same foot, time-normalised to 0–100 % (101 rows per cycle), as CSV.
+    Cycles(commands::cycles::Args),
     /// Remove spikes, fill gaps and low-pass filter one file.
     Repair(commands::repair::Args),
     /// Repair many files (folders recursively, lists, shards), in parallel.
@@ -84,6 +87,7 @@ fn main() {
         Command::Swaps(a) => commands::swaps::run(a),
         Command::Forces(a) => commands::forces::run(a),
         Command::Events(a) => commands::events::run(a),
+        Command::Cycles(a) => commands::cycles::run(a),
         Command::Repair(a) => commands::repair::run(a),
         Command::Batch(a) => commands::batch::run(a),
         Command::Evaluate(a) => commands::evaluate::run(a),
