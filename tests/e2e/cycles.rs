@@ -203,7 +203,17 @@ fn cycles_run_between_the_labs_strikes_and_read_the_markers_on_the_files_time_ba
 fn plate_forces_over_a_cycle_rise_at_the_strike_and_end_at_the_labs_foot_off() {
     let Some(file) = fmc() else { return };
     let dir = tempfile::tempdir().unwrap();
-    let t = cycles_csv(dir.path(), &[s(&file), "--forces", "--side", "left"]);
+    let t = cycles_csv(
+        dir.path(),
+        &[
+            s(&file),
+            "--forces",
+            "--side",
+            "left",
+            "--analog",
+            "Force.Fz2",
+        ],
+    );
     assert_eq!(t.rows.len(), 2 * 101);
     assert!(t.head.contains(&"FP4_Fz (N)".to_string()), "{:?}", t.head);
     // The first left cycle lands on no plate: plate 2 is loaded only as the next strike
@@ -228,6 +238,12 @@ fn plate_forces_over_a_cycle_rise_at_the_strike_and_end_at_the_labs_foot_off() {
         (last as f64 - off).abs() <= 1.5,
         "unloaded after {last} %, lab {off:.1} %"
     );
+    // The plate's own Fz channel, read as an analog channel at its own rate, is the lab's
+    // vertical force turned round (the plate's z points down; its unloaded level is 0 N).
+    for k in 0..t.rows.len() {
+        let (a, f) = (t.f(k, "Force.Fz2 (N)"), t.f(k, "FP2_Fz (N)"));
+        assert!((a + f).abs() < 1e-3, "row {k}: channel {a}, plate {f}");
+    }
     // Body weight is carried in between (a vertical force of several hundred newtons).
     let peak = loaded
         .iter()
