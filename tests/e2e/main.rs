@@ -13,6 +13,7 @@ mod hostile;
 mod library;
 mod repair;
 mod reruns;
+mod seen;
 mod swaps;
 mod validity;
 mod view;

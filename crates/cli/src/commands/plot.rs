@@ -27,6 +27,10 @@ pub struct Args {
     /// With --forces: the plates' options, as for `forces`.
     #[command(flatten)]
     pub plates: crate::plates::PlateArgs,
+    /// Draw the events the detector finds (as `c3dfix events --from auto`) besides the
+    /// file's own, in another colour, labels at the bottom.
+    #[arg(long, conflicts_with = "forces")]
+    pub detect_events: bool,
     /// Output picture: .svg or .png.
     #[arg(short, long)]
     pub output: PathBuf,
@@ -60,12 +64,16 @@ pub fn run(a: Args) -> Result<i32> {
         crate::output::file_name(&a.file),
         a.against.as_deref().map(crate::output::file_name),
     );
-    let plot = Plot::gather(
+    let mut plot = Plot::gather(
         (&c, &fname),
         orig.as_ref().zip(oname.as_deref()),
         &a.marker,
         a.analog.as_deref(),
     )?;
+    if a.detect_events {
+        plot.events
+            .extend(crate::event_marks::detected(&c, &a.file)?);
+    }
     let bytes = render(&plot, format)?;
     write_atomic(&a.output, &bytes, a.force)?;
     Ok(0)
