@@ -63,6 +63,38 @@ fn texts(svg: &str) -> Vec<(f64, f64, String)> {
         .collect()
 }
 
+/// Each event labelled once (the file's along the top of the first panel, the detected
+/// ones along its bottom), centred on its time on the panel's axis.
+fn check_labels(svg: &str, lab: &Labelled, detected: &Labelled) {
+    let t = texts(svg);
+    // The time axis of the first panel: ticks 3.0 and 5.0 s give the scale.
+    let tick = |v: &str| t.iter().find(|x| x.2 == v).expect(v).0;
+    let (x3, x5) = (tick("3.0"), tick("5.0"));
+    let at = |time: f64| x3 + (time - 3.0) * (x5 - x3) / 2.0;
+    let labels: Vec<&(f64, f64, String)> = t
+        .iter()
+        .filter(|x| ["LFS", "LFO", "RFS", "RFO"].contains(&x.2.as_str()))
+        .collect();
+    // Within 2 px of its time: the label's pixel and the ticks' rounding.
+    assert_eq!(labels.len(), lab.len() + detected.len(), "{labels:?}");
+    let top = labels.iter().map(|l| l.1).fold(f64::MAX, f64::min);
+    for (set, is_top) in [(lab, true), (detected, false)] {
+        let row: Vec<_> = labels.iter().filter(|l| (l.1 == top) == is_top).collect();
+        assert_eq!(row.len(), set.len(), "top {is_top}: {row:?}");
+        for ((name, time), l) in set.iter().zip(row) {
+            assert_eq!(&l.2, name, "{time} s");
+            assert!(
+                (l.0 - at(*time)).abs() <= 2.0,
+                "{name} at {time} s drawn at x {} (expected {:.1})",
+                l.0,
+                at(*time)
+            );
+        }
+    }
+    assert!(t.iter().any(|x| x.2 == "events (file)"));
+    assert!(t.iter().any(|x| x.2 == "events (detected)"));
+}
+
 #[test]
 fn plot_draws_the_files_events_and_detected_ones_at_their_times() {
     let Some(file) = fmc() else { return };
@@ -80,39 +112,22 @@ fn plot_draws_the_files_events_and_detected_ones_at_their_times() {
         s(&svg),
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
-    let t = texts(&std::fs::read_to_string(&svg).unwrap());
-    // The time axis of the first panel: ticks 3.0 and 5.0 s give the scale (each drawn at
-    // a whole pixel, so a time is placed within a pixel and a half of its own).
-    let tick = |v: &str| t.iter().find(|x| x.2 == v).expect(v).0;
-    let (x3, x5) = (tick("3.0"), tick("5.0"));
-    let at = |time: f64| x3 + (time - 3.0) * (x5 - x3) / 2.0;
     let (lab, detected) = events(&file);
     assert_eq!(lab.len(), 12);
     assert!(detected.len() >= 10, "{detected:?}");
-    let labels: Vec<&(f64, f64, String)> = t
-        .iter()
-        .filter(|x| ["LFS", "LFO", "RFS", "RFO"].contains(&x.2.as_str()))
-        .collect();
-    // Each event labelled once (on the top row of panels): the file's along the top, the
-    // detected ones along the bottom, each centred on its time (within 2 px: the label's
-    // pixel and the ticks' rounding).
-    assert_eq!(labels.len(), lab.len() + detected.len(), "{labels:?}");
-    let top = labels.iter().map(|l| l.1).fold(f64::MAX, f64::min);
-    for (set, is_top) in [(&lab, true), (&detected, false)] {
-        let row: Vec<_> = labels.iter().filter(|l| (l.1 == top) == is_top).collect();
-        assert_eq!(row.len(), set.len(), "top {is_top}: {row:?}");
-        for ((name, time), l) in set.iter().zip(row) {
-            assert_eq!(&l.2, name, "{time} s");
-            assert!(
-                (l.0 - at(*time)).abs() <= 2.0,
-                "{name} at {time} s drawn at x {} (expected {:.1})",
-                l.0,
-                at(*time)
-            );
-        }
-    }
-    assert!(t.iter().any(|x| x.2 == "events (file)"));
-    assert!(t.iter().any(|x| x.2 == "events (detected)"));
+    check_labels(&std::fs::read_to_string(&svg).unwrap(), &lab, &detected);
+    // On the plates' vertical force too.
+    let out = c3dfix(&[
+        "plot",
+        s(&file),
+        "--forces",
+        "--detect-events",
+        "-o",
+        s(&svg),
+        "--force",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    check_labels(&std::fs::read_to_string(&svg).unwrap(), &lab, &detected);
     // Without the flag, the file's events only.
     let out = c3dfix(&[
         "plot",

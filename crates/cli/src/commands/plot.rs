@@ -29,7 +29,7 @@ pub struct Args {
     pub plates: crate::plates::PlateArgs,
     /// Draw the events the detector finds (as `c3dfix events --from auto`) besides the
     /// file's own, in another colour, labels at the bottom.
-    #[arg(long, conflicts_with = "forces")]
+    #[arg(long)]
     pub detect_events: bool,
     /// Output picture: .svg or .png.
     #[arg(short, long)]
@@ -55,7 +55,9 @@ pub fn run(a: Args) -> Result<i32> {
         for w in &fp.warnings {
             crate::console::errln!("c3dfix: warning: {}: {w}", a.file.display());
         }
-        let bytes = crate::plot::render_forces(&fp, &crate::output::file_name(&a.file), format)?;
+        let events = event_marks(&c, &a)?;
+        let bytes =
+            crate::plot::render_forces(&fp, &crate::output::file_name(&a.file), &events, format)?;
         write_atomic(&a.output, &bytes, a.force)?;
         return Ok(0);
     }
@@ -70,11 +72,22 @@ pub fn run(a: Args) -> Result<i32> {
         &a.marker,
         a.analog.as_deref(),
     )?;
-    if a.detect_events {
-        plot.events
-            .extend(crate::event_marks::detected(&c, &a.file)?);
-    }
+    plot.events = event_marks(&c, &a)?;
     let bytes = render(&plot, format)?;
     write_atomic(&a.output, &bytes, a.force)?;
     Ok(0)
+}
+
+/// The events drawn: the file's own, and the detector's with `--detect-events`; none where
+/// the file states no rate (the axis is then in frames or samples).
+fn event_marks(c: &c3d::C3d, a: &Args) -> Result<Vec<crate::event_marks::Mark>> {
+    let rate = c.point_rate();
+    if rate.is_nan() || rate <= 0.0 {
+        return Ok(Vec::new());
+    }
+    let mut events = crate::event_marks::from_file(c);
+    if a.detect_events {
+        events.extend(crate::event_marks::detected(c, &a.file)?);
+    }
+    Ok(events)
 }

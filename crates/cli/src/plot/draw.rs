@@ -20,9 +20,10 @@ const REPAIRED: RGBColor = RGBColor(255, 127, 14);
 const FILLED: RGBColor = RGBColor(44, 160, 44);
 const SPIKE: RGBColor = RGBColor(214, 39, 40);
 const ANALOG: RGBColor = RGBColor(90, 90, 90);
-/// The file's own events and detected ones: two colours, so neither passes for the other.
-const EVENT: RGBColor = RGBColor(148, 103, 189);
-const DETECTED: RGBColor = RGBColor(140, 86, 75);
+/// The file's own events and detected ones: two colours, so neither passes for the other,
+/// and neither is a plate's colour on `plot --forces`.
+const EVENT: RGBColor = RGBColor(227, 119, 194);
+const DETECTED: RGBColor = RGBColor(128, 128, 0);
 
 const PANEL_W: u32 = 640;
 const PANEL_H: u32 = 250;
@@ -354,7 +355,7 @@ fn draw_analog<DB: DrawingBackend>(
 /// Each event within the x range as a vertical line over the panel's height; with
 /// `labels`, its short label at the top (the file's) or the bottom (detected ones, so the
 /// two never cover each other), centred on the line, and a legend entry per kind.
-fn draw_events<DB: DrawingBackend>(
+pub(super) fn draw_events<DB: DrawingBackend>(
     chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
     events: &[Mark],
     (x0, x1): (f64, f64),
