@@ -459,3 +459,90 @@ impl Cycles {
         s
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use c3d::{Analog, C3d, Parameters, Points, Processor, Value};
+
+    /// 100 Hz, POINT:UNITS metres, a marker moving 1 cm per frame along x and a knee angle
+    /// of (frame) degrees; left strikes at 0.1 and 0.5 s.
+    fn trial() -> C3d {
+        let frames = 100;
+        let mut pts = Points::new(frames, 2);
+        for f in 0..frames {
+            let k = pts.index(f, 0);
+            pts.xyz[k] = [f as f32 * 0.01, 0.0, 0.9];
+            pts.residual[k] = 0.5;
+            let k = pts.index(f, 1);
+            pts.xyz[k] = [f as f32, 0.0, 0.0];
+            pts.residual[k] = 0.0;
+        }
+        let mut ps = Parameters::new();
+        ps.set_f32("POINT", "RATE", 100.0).unwrap();
+        ps.set_strings("POINT", "LABELS", &["SACR".into(), "LKneeAngles".into()])
+            .unwrap();
+        ps.set_strings("POINT", "UNITS", &["m".into()]).unwrap();
+        ps.set_strings("POINT", "ANGLES", &["LKneeAngles".into()])
+            .unwrap();
+        ps.set_strings("POINT", "ANGLE_UNITS", &["deg".into()])
+            .unwrap();
+        ps.set_i16("EVENT", "USED", 2).unwrap();
+        ps.set(
+            "EVENT",
+            "TIMES",
+            vec![2, 2],
+            Value::Float(vec![0.0, 0.1, 0.0, 0.5]),
+        )
+        .unwrap();
+        ps.set_strings("EVENT", "CONTEXTS", &["Left".into(), "left".into()])
+            .unwrap();
+        ps.set_strings(
+            "EVENT",
+            "LABELS",
+            &["Foot Strike".into(), "FOOT STRIKE".into()],
+        )
+        .unwrap();
+        C3d::new(pts, Analog::new(frames, 0, 1), ps, Processor::Intel, -1.0)
+    }
+
+    #[test]
+    fn markers_in_mm_and_angles_in_their_own_unit() {
+        let c = trial();
+        let opts = CycleOptions {
+            markers: vec!["SACR".into(), "LKneeAngles".into()],
+            ..CycleOptions::default()
+        };
+        let cy = cycles(&c, &opts, Path::new("t.c3d")).unwrap();
+        assert_eq!(cy.cycles.len(), 1);
+        let info = &cy.cycles[0];
+        assert_eq!((info.context, info.number), ("Left", 1));
+        assert_eq!((info.start_frame, info.end_frame), (11, 51));
+        let units: Vec<&str> = cy.columns.iter().map(|c| c.unit.as_str()).collect();
+        assert_eq!(units, ["mm", "mm", "mm", "deg", "deg", "deg"]);
+        // k % of 0.1–0.5 s is frame 10 + 0.4 k: x = 100 + 4 k mm (metres × 1000), the
+        // angle 10 + 0.4 k degrees (never scaled).
+        for k in 0..SAMPLES {
+            let row = &cy.data[0][k * 6..(k + 1) * 6];
+            assert!(
+                (row[0] - (100.0 + 4.0 * k as f64)).abs() < 1e-3,
+                "{k}: {row:?}"
+            );
+            assert!(
+                (row[3] - (10.0 + 0.4 * k as f64)).abs() < 1e-3,
+                "{k}: {row:?}"
+            );
+        }
+        let csv = cy.to_csv();
+        assert!(csv.starts_with(
+            "side,cycle,percent,time,start_frame,start_time,end_frame,end_time,SACR_x (mm),"
+        ));
+        let first = csv.lines().nth(1).unwrap();
+        assert!(
+            first.starts_with("Left,1,0,0.100000,11,0.100000,51,0.500000,"),
+            "{first}"
+        );
+        let x: f64 = first.split(',').nth(8).unwrap().parse().unwrap();
+        assert!((x - 100.0).abs() < 1e-3, "{first}");
+    }
+}
