@@ -331,7 +331,7 @@ fn view_writes_a_self_contained_page() {
 }
 
 /// A headless Chromium, or `None` (after saying so) when there is none outside CI.
-fn chromium() -> Option<PathBuf> {
+pub(super) fn chromium() -> Option<PathBuf> {
     let names = ["chromium", "chromium-browser", "google-chrome"];
     let path = std::env::var_os("PATH").unwrap_or_default();
     let found = std::env::split_paths(&path)
@@ -390,7 +390,7 @@ fn run_chromium(bin: &Path, profile: &Path, args: &[&str], url: &str) -> String 
 
 /// The page's own self-test (`?selftest=1`) under virtual time: no console errors, a painted
 /// canvas, play advancing the frame counter, the slider moving the frame.
-fn selftest(bin: &Path, page: &Path, profile: &Path) -> serde_json::Value {
+pub(super) fn selftest(bin: &Path, page: &Path, profile: &Path) -> serde_json::Value {
     let url = format!("file://{}?selftest=1", page.display());
     let dom = run_chromium(
         bin,

@@ -23,6 +23,7 @@
 
 pub mod analysis_group;
 pub mod axes;
+pub mod cycles;
 mod error;
 pub mod evaluate;
 pub mod event_group;
@@ -46,6 +47,7 @@ pub use ::gait;
 pub use ::kinetics;
 pub use ::repair as repair_lib;
 pub use axes::{Axes, Direction, Up, UpSource};
+pub use cycles::{cycles, CycleInfo, CycleOptions, Cycles};
 pub use error::{Error, Result};
 pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
 pub use events::{detect_events, Detected, EventOptions, EventSource, TrialEvent};

@@ -4,6 +4,7 @@
 
 pub mod commands;
 pub mod console;
+pub mod event_marks;
 pub mod output;
 pub mod plates;
 pub mod plot;

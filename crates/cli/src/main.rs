@@ -45,6 +45,9 @@ enum Command {
     /// and step times and lengths, foot off, support times), from the file's events or
     /// detected ones; optionally written into the ANALYSIS group
     Gait(commands::gait::Args),
+    /// Gait cycles: markers, analog channels and plate forces from each foot strike to the
+    /// next of the same foot, time-normalised to 0–100 % (101 rows per cycle), as CSV.
+    Cycles(commands::cycles::Args),
     /// Remove spikes, fill gaps and low-pass filter one file.
     Repair(commands::repair::Args),
     /// Repair many files (folders recursively, lists, shards), in parallel.
@@ -89,6 +92,7 @@ fn main() {
         Command::Forces(a) => commands::forces::run(a),
         Command::Events(a) => commands::events::run(a),
         Command::Gait(a) => commands::gait::run(a),
+        Command::Cycles(a) => commands::cycles::run(a),
         Command::Repair(a) => commands::repair::run(a),
         Command::Batch(a) => commands::batch::run(a),
         Command::Evaluate(a) => commands::evaluate::run(a),

@@ -12,10 +12,14 @@
 //!
 //! The markers come from their labels through [`markers`], which knows the common marker
 //! sets and takes names given by a person instead.
+//!
+//! Cycles (foot strike to the next foot strike of the same foot) and signals time-normalised
+//! to 0–100 % of them are in [`cycles`].
 
 pub mod axes;
 pub mod calibrate;
 pub mod desailly;
+pub mod cycles;
 mod error;
 pub mod kinematic;
 pub mod markers;

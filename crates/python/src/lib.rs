@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
 
+mod cycles;
 mod export;
 mod files;
 mod gait;
@@ -214,15 +215,21 @@ impl PyC3d {
         Ok(out)
     }
 
-    /// Events of the EVENT group: dicts with label, context, time (s) and description.
+    /// Events of the EVENT group: dicts with label, context, time (s, on the group's base:
+    /// frame 1 of the capture at 0 s), frame (the nearest, round(time x rate) + 1, as the
+    /// file numbers frames) and description.
     #[getter]
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let out = PyList::empty(py);
+        let rate = self.inner.point_rate() as f64;
         for e in self.inner.events() {
             let d = PyDict::new(py);
             d.set_item("label", e.label)?;
             d.set_item("context", e.context)?;
             d.set_item("time", e.time)?;
+            let frame = (rate > 0.0 && e.time.is_finite())
+                .then(|| (e.time * rate).round().max(0.0) as usize + 1);
+            d.set_item("frame", frame)?;
             d.set_item("description", e.description)?;
             out.append(d)?;
         }
@@ -489,6 +496,8 @@ fn _c3dfix(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(export::export_opensim, m)?)?;
     m.add_function(wrap_pyfunction!(export::lab_up, m)?)?;
     m.add_function(wrap_pyfunction!(gait::gait_parameters, m)?)?;
+    m.add_function(wrap_pyfunction!(cycles::detect_events, m)?)?;
+    m.add_function(wrap_pyfunction!(cycles::cycles, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 
 /// A CSV field as RFC 4180 writes it: in double quotes, with quotes doubled, when it holds
 /// a comma, a quote or a line break; as it is otherwise.
-fn field(f: &str) -> std::borrow::Cow<'_, str> {
+pub(crate) fn field(f: &str) -> std::borrow::Cow<'_, str> {
     if f.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", f.replace('"', "\"\"")).into()
     } else {

@@ -7,7 +7,7 @@
 //! model outputs (Plug-in Gait's angles, forces, moments, powers stored as points) out of
 //! marker tables: they are no positions ([`crate::markers`]).
 
-mod csv;
+pub(crate) mod csv;
 mod json;
 mod mot;
 mod opensim;

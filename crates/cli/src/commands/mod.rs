@@ -3,6 +3,7 @@
 pub mod batch;
 pub mod bvh_info;
 pub mod convert;
+pub mod cycles;
 pub mod diff;
 pub mod evaluate;
 pub mod events;

@@ -27,6 +27,10 @@ pub struct Args {
     /// With --forces: the plates' options, as for `forces`.
     #[command(flatten)]
     pub plates: crate::plates::PlateArgs,
+    /// Draw the events the detector finds (as `c3dfix events --from auto`) besides the
+    /// file's own, in another colour, labels at the bottom.
+    #[arg(long)]
+    pub detect_events: bool,
     /// Output picture: .svg or .png.
     #[arg(short, long)]
     pub output: PathBuf,
@@ -51,7 +55,9 @@ pub fn run(a: Args) -> Result<i32> {
         for w in &fp.warnings {
             crate::console::errln!("c3dfix: warning: {}: {w}", a.file.display());
         }
-        let bytes = crate::plot::render_forces(&fp, &crate::output::file_name(&a.file), format)?;
+        let events = event_marks(&c, &a)?;
+        let bytes =
+            crate::plot::render_forces(&fp, &crate::output::file_name(&a.file), &events, format)?;
         write_atomic(&a.output, &bytes, a.force)?;
         return Ok(0);
     }
@@ -60,13 +66,28 @@ pub fn run(a: Args) -> Result<i32> {
         crate::output::file_name(&a.file),
         a.against.as_deref().map(crate::output::file_name),
     );
-    let plot = Plot::gather(
+    let mut plot = Plot::gather(
         (&c, &fname),
         orig.as_ref().zip(oname.as_deref()),
         &a.marker,
         a.analog.as_deref(),
     )?;
+    plot.events = event_marks(&c, &a)?;
     let bytes = render(&plot, format)?;
     write_atomic(&a.output, &bytes, a.force)?;
     Ok(0)
+}
+
+/// The events drawn: the file's own, and the detector's with `--detect-events`; none where
+/// the file states no rate (the axis is then in frames or samples).
+fn event_marks(c: &c3d::C3d, a: &Args) -> Result<Vec<crate::event_marks::Mark>> {
+    let rate = c.point_rate();
+    if rate.is_nan() || rate <= 0.0 {
+        return Ok(Vec::new());
+    }
+    let mut events = crate::event_marks::from_file(c);
+    if a.detect_events {
+        events.extend(crate::event_marks::detected(c, &a.file)?);
+    }
+    Ok(events)
 }

@@ -21,6 +21,10 @@ pub struct Args {
     #[arg(long)]
     pub sticks: Option<PathBuf>,
     /// Output page (.html).
+    /// Mark the events the detector finds (as `c3dfix events --from auto`) on the time bar
+    /// besides the file's own, in another colour.
+    #[arg(long)]
+    pub detect_events: bool,
     #[arg(short, long)]
     pub output: PathBuf,
     /// Replace an existing output file.
@@ -80,11 +84,16 @@ pub fn run(a: Args) -> Result<i32> {
         }
         Some(fp)
     };
+    let mut events = crate::event_marks::from_file(&c);
+    if a.detect_events {
+        events.extend(crate::event_marks::detected(&c, &a.file)?);
+    }
     let html = page(
         (&c, &fname),
         orig.as_ref().zip(oname.as_deref()),
         pairs,
         plates.as_ref(),
+        events,
     )?;
     write_atomic(&a.output, html.as_bytes(), a.force)?;
     Ok(0)
@@ -94,6 +103,9 @@ pub fn run(a: Args) -> Result<i32> {
 fn run_bvh(a: &Args) -> Result<i32> {
     if a.sticks.is_some() {
         bail!("--sticks is for C3D markers: a BVH file's bones come from its hierarchy");
+    }
+    if a.detect_events {
+        bail!("--detect-events is for C3D trials: a BVH file has no foot markers to read");
     }
     let b = bvh::read(&a.file)?;
     let fname = name(&a.file);

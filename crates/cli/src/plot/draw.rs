@@ -2,10 +2,13 @@
 
 use super::decimate;
 use super::gather::{AnalogPlot, KeyframeCurves, MarkerPlot, Plot, Track, MAX_MARKERS};
+use crate::event_marks::Mark;
 use anyhow::{anyhow, bail, Context, Result};
 use bvh::interp::Interp;
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// The font every label is measured (and, for PNG, drawn) with: embedded so that plotting
 /// needs no system font libraries. DejaVu Sans, licence in `assets/DejaVuSans-LICENSE.txt`.
@@ -17,6 +20,10 @@ const REPAIRED: RGBColor = RGBColor(255, 127, 14);
 const FILLED: RGBColor = RGBColor(44, 160, 44);
 const SPIKE: RGBColor = RGBColor(214, 39, 40);
 const ANALOG: RGBColor = RGBColor(90, 90, 90);
+/// The file's own events and detected ones: two colours, so neither passes for the other,
+/// and neither is a plate's colour on `plot --forces`.
+const EVENT: RGBColor = RGBColor(227, 119, 194);
+const DETECTED: RGBColor = RGBColor(128, 128, 0);
 
 const PANEL_W: u32 = 640;
 const PANEL_H: u32 = 250;
@@ -145,7 +152,7 @@ fn draw<DB: DrawingBackend>(plot: &Plot, root: &DrawingArea<DB, Shift>) -> Resul
         }
     }
     if let (Some(a), Some(area)) = (&plot.analog, bottom) {
-        draw_analog(a, &area)?;
+        draw_analog(a, &plot.events, &area)?;
     }
     Ok(())
 }
@@ -283,6 +290,7 @@ fn draw_axis<DB: DrawingBackend>(
                 .legend(|(x, y)| Cross::new((x + 8, y), 4, SPIKE.stroke_width(2)));
         }
     }
+    draw_events(&mut chart, &plot.events, (x0, t1), (lo, hi), axis == 0)?;
     if legend {
         chart
             .configure_series_labels()
@@ -296,7 +304,11 @@ fn draw_axis<DB: DrawingBackend>(
     Ok(())
 }
 
-fn draw_analog<DB: DrawingBackend>(a: &AnalogPlot, area: &DrawingArea<DB, Shift>) -> Result<()> {
+fn draw_analog<DB: DrawingBackend>(
+    a: &AnalogPlot,
+    events: &[Mark],
+    area: &DrawingArea<DB, Shift>,
+) -> Result<()> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("drawing failed: {e}");
     let ok = vec![true; a.values.len()];
     let (lo, hi) = value_range([(a.values.as_slice(), ok.as_slice())].into_iter());
@@ -337,6 +349,57 @@ fn draw_analog<DB: DrawingBackend>(a: &AnalogPlot, area: &DrawingArea<DB, Shift>
                 .map(|p| PathElement::new(p, ANALOG.stroke_width(1))),
         )
         .map_err(err)?;
+    draw_events(&mut chart, events, (x0, t1), (lo, hi), false)
+}
+
+/// Each event within the x range as a vertical line over the panel's height; with
+/// `labels`, its short label at the top (the file's) or the bottom (detected ones, so the
+/// two never cover each other), centred on the line, and a legend entry per kind.
+pub(super) fn draw_events<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    events: &[Mark],
+    (x0, x1): (f64, f64),
+    (lo, hi): (f64, f64),
+    labels: bool,
+) -> Result<()> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("drawing failed: {e}");
+    for (detected, colour, name) in [
+        (false, EVENT, "events (file)"),
+        (true, DETECTED, "events (detected)"),
+    ] {
+        let shown: Vec<&Mark> = events
+            .iter()
+            .filter(|e| e.detected == detected && e.time >= x0 && e.time <= x1)
+            .collect();
+        if shown.is_empty() {
+            continue;
+        }
+        let anno = chart
+            .draw_series(shown.iter().map(|e| {
+                PathElement::new(vec![(e.time, lo), (e.time, hi)], colour.stroke_width(1))
+            }))
+            .map_err(err)?;
+        if labels {
+            anno.label(name).legend(move |(x, y)| {
+                PathElement::new(vec![(x + 8, y - 6), (x + 8, y + 6)], colour.stroke_width(2))
+            });
+            let (y, v) = if detected {
+                (lo, VPos::Bottom)
+            } else {
+                (hi, VPos::Top)
+            };
+            let style = TextStyle::from((FAMILY, 11).into_font())
+                .color(&colour)
+                .pos(Pos::new(HPos::Center, v));
+            chart
+                .draw_series(
+                    shown
+                        .iter()
+                        .map(|e| Text::new(e.short.clone(), (e.time, y), style.clone())),
+                )
+                .map_err(err)?;
+        }
+    }
     Ok(())
 }
 

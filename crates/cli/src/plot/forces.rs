@@ -9,6 +9,7 @@
 
 use super::decimate;
 use super::draw::{font, png_bytes, Format};
+use crate::event_marks::Mark;
 use anyhow::{anyhow, bail, Result};
 use c3dfix::axes::{horizontal_axes, platforms_up};
 use c3dfix::ForcePlatforms;
@@ -35,7 +36,13 @@ fn colour(k: usize) -> RGBColor {
 }
 
 /// Draw the plates of `fp` (from the file `name`) as SVG or PNG bytes.
-pub fn render_forces(fp: &ForcePlatforms, name: &str, format: Format) -> Result<Vec<u8>> {
+/// `events` are drawn over the vertical force as on the marker plots.
+pub fn render_forces(
+    fp: &ForcePlatforms,
+    name: &str,
+    events: &[Mark],
+    format: Format,
+) -> Result<Vec<u8>> {
     if fp.platforms.is_empty() {
         bail!(
             "{name}: no force platforms{} to plot",
@@ -52,7 +59,7 @@ pub fn render_forces(fp: &ForcePlatforms, name: &str, format: Format) -> Result<
             let mut s = String::new();
             {
                 let root = SVGBackend::with_string(&mut s, (W, H)).into_drawing_area();
-                draw(fp, name, family, &root)?;
+                draw(fp, name, events, family, &root)?;
                 root.present().map_err(|e| anyhow!("drawing failed: {e}"))?;
             }
             Ok(s.into_bytes())
@@ -61,7 +68,7 @@ pub fn render_forces(fp: &ForcePlatforms, name: &str, format: Format) -> Result<
             let mut px = vec![255u8; W as usize * H as usize * 3];
             {
                 let root = BitMapBackend::with_buffer(&mut px, (W, H)).into_drawing_area();
-                draw(fp, name, family, &root)?;
+                draw(fp, name, events, family, &root)?;
                 root.present().map_err(|e| anyhow!("drawing failed: {e}"))?;
             }
             png_bytes(&px, W, H)
@@ -72,6 +79,7 @@ pub fn render_forces(fp: &ForcePlatforms, name: &str, format: Format) -> Result<
 fn draw<DB: DrawingBackend>(
     fp: &ForcePlatforms,
     name: &str,
+    events: &[Mark],
     family: &'static str,
     root: &DrawingArea<DB, Shift>,
 ) -> Result<()> {
@@ -83,7 +91,7 @@ fn draw<DB: DrawingBackend>(
     let (_, h) = body.dim_in_pixel();
     let (top, bottom) = body.split_vertically(h * 2 / 5);
     let up = platforms_up(fp).map_or(2, |d| d.axis);
-    draw_vertical(fp, up, family, &top)?;
+    draw_vertical(fp, up, events, family, &top)?;
     draw_top_view(fp, up, family, &bottom)?;
     Ok(())
 }
@@ -105,6 +113,7 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 fn draw_vertical<DB: DrawingBackend>(
     fp: &ForcePlatforms,
     up: usize,
+    events: &[Mark],
     family: &'static str,
     area: &DrawingArea<DB, Shift>,
 ) -> Result<()> {
@@ -160,6 +169,7 @@ fn draw_vertical<DB: DrawingBackend>(
             .label(format!("plate {}", p.index))
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
     }
+    super::draw::draw_events(&mut chart, events, (x0, t1), (lo, hi), true)?;
     chart
         .configure_series_labels()
         .label_font((family, 12))

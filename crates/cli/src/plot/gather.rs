@@ -69,6 +69,9 @@ pub struct Plot {
     pub start: f64,
     pub markers: Vec<MarkerPlot>,
     pub analog: Option<AnalogPlot>,
+    /// Events drawn as labelled vertical lines: the file's own (and detected ones when
+    /// asked for), at their times on the file's base; none when the axis is in frames.
+    pub events: Vec<crate::event_marks::Mark>,
 }
 
 /// The index of marker `name` in `c`, or an error listing the markers there are.
@@ -264,6 +267,11 @@ impl Plot {
             },
             markers: out,
             analog,
+            events: if c.point_rate() > 0.0 {
+                crate::event_marks::from_file(c)
+            } else {
+                Vec::new()
+            },
         })
     }
 }

@@ -45,6 +45,18 @@ struct Meta<'a> {
     plates: Vec<pack::PlateOutline>,
     /// Data units per newton for the ground reaction arrows.
     force_scale: f64,
+    /// Events marked on the time bar, at their frames.
+    events: Vec<BarEvent>,
+}
+
+/// One event on the time bar: where it falls among the stored frames and how it reads.
+#[derive(Serialize)]
+struct BarEvent {
+    /// 0-based stored frame, fractional (an event between frames sits between them).
+    index: f64,
+    short: String,
+    full: String,
+    detected: bool,
 }
 
 /// One trial as the page shows it, whichever format it came from.
@@ -87,6 +99,8 @@ pub struct Style {
     pub up: Option<c3dfix::Direction>,
     /// Whether a residual of 0 marks a computed sample in this file (see [`fills_marked`]).
     pub fills_marked: bool,
+    /// Events to mark on the time bar (times on the file's base).
+    pub events: Vec<crate::event_marks::Mark>,
 }
 
 /// Whether the file's residuals tell filled samples from measured ones: a residual of 0
@@ -159,6 +173,32 @@ pub fn up_axis(p: &Points) -> usize {
     }
 }
 
+/// The events within the stored frames, placed on them: frame `n` of the capture is at
+/// (`n` − 1) / rate, the first stored frame is `first_frame`, so an event at `t` s falls at
+/// index `t` × rate − (`first_frame` − 1). None without a rate.
+fn bar_events(
+    events: &[crate::event_marks::Mark],
+    rate: f32,
+    first_frame: usize,
+    frames: usize,
+) -> Vec<BarEvent> {
+    let rate = rate as f64;
+    if !(rate > 0.0 && rate.is_finite()) || frames == 0 {
+        return Vec::new();
+    }
+    events
+        .iter()
+        .map(|e| (e, e.time * rate - first_frame.saturating_sub(1) as f64))
+        .filter(|(_, i)| *i >= -0.5 && *i <= frames as f64 - 0.5)
+        .map(|(e, index)| BarEvent {
+            index,
+            short: e.short.clone(),
+            full: e.full.clone(),
+            detected: e.detected,
+        })
+        .collect()
+}
+
 fn escape_html(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
@@ -182,6 +222,7 @@ pub fn page(
     original: Option<(&C3d, &str)>,
     sticks: Vec<(usize, usize)>,
     plates: Option<&c3dfix::ForcePlatforms>,
+    events: Vec<crate::event_marks::Mark>,
 ) -> Result<String> {
     let (c, name) = file;
     let (points, labels, new_index) = markers_only(c);
@@ -215,6 +256,7 @@ pub fn page(
             .map(|fp| pack::plate_frames(fp, c.frames())),
         up: c3dfix::axes::up(c).map(|u| u.up),
         fills_marked: fills_marked(&points),
+        events,
     };
     let trial = Trial {
         name,
@@ -275,6 +317,7 @@ pub fn render(
             .as_ref()
             .map_or_else(Vec::new, |p| p.outlines.clone()),
         force_scale: style.plates.as_ref().map_or(0.0, |p| p.scale),
+        events: bar_events(&style.events, file.rate, file.first_frame, p.frames()),
     };
     let fields = [
         ("TITLE", escape_html(&title)),

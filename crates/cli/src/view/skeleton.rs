@@ -80,6 +80,7 @@ pub fn page(file: (&bvh::Bvh, &str), against: Option<(&bvh::Bvh, &str)>) -> Resu
         plates: None,
         up: None,
         fills_marked: false,
+        events: Vec::new(),
     };
     let trial = Trial {
         name,

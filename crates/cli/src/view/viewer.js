@@ -402,6 +402,24 @@
   $('fwd').onclick = () => step(1);
   $('speed').onchange = (e) => { speed = Number(e.target.value) || 1; };
   slider.addEventListener('input', () => setFrame(slider.value));
+  // Events on the time bar: a tick at each event's frame (the file's own above, detected ones
+  // below, in another colour), its short label beside it, the full wording as a tooltip; a
+  // click goes to the event's frame. The slider's thumb centre runs from half a thumb in
+  // from each end, so the ticks are laid on that span.
+  const events = meta.events || [];
+  const THUMB = 16;
+  const markFrac = (index) => (N > 1 ? Math.min(1, Math.max(0, index / (N - 1))) : 0);
+  for (const e of events) {
+    const el = document.createElement('span');
+    el.className = e.detected ? 'ev det' : 'ev';
+    el.style.left = 'calc(' + THUMB / 2 + 'px + (100% - ' + THUMB + 'px) * ' + markFrac(e.index) + ')';
+    el.title = e.full;
+    const t = document.createElement('span');
+    t.textContent = e.short;
+    el.appendChild(t);
+    el.addEventListener('click', () => { pause(); setFrame(e.index); });
+    $('marks').appendChild(el);
+  }
   $('labels').onchange = (e) => { showLabels = e.target.checked; draw(); };
   $('sticks').onchange = (e) => { showSticks = e.target.checked; draw(); };
   $('orig').onchange = (e) => { showOrig = e.target.checked; draw(); };
@@ -574,9 +592,29 @@
           const platesOk = P === 0 || (r.plates_drawn === P && r.arrows_drawn > 0 && !(r.arrows_unloaded > 0));
           // Markers at a third of the trial as well: a trial may begin with every marker
           // missing (the c3d.org plate samples do), which is no fault of the page.
+          // Events: one tick per event, each where the slider's thumb stands at the
+          // event's frame (within 3 px), and a click on a tick going to that frame.
+          const ticks = Array.from(document.querySelectorAll('#marks .ev'));
+          const sr = slider.getBoundingClientRect();
+          r.events = events.length;
+          r.event_ticks = ticks.length;
+          r.event_labels = ticks.map((el) => el.textContent);
+          r.event_offsets = ticks.map((el, i) => {
+            const x = el.getBoundingClientRect().left + 1;
+            const want = sr.left + THUMB / 2 + (sr.width - THUMB) * markFrac(events[i].index);
+            return Math.round((x - want) * 10) / 10;
+          });
+          if (ticks.length) {
+            const k = Math.floor(ticks.length / 2);
+            ticks[k].click();
+            r.event_clicked = Math.round(events[k].index);
+            r.frame_after_event_click = frame;
+          }
+          const eventsOk = ticks.length === events.length && r.event_offsets.every((d) => Math.abs(d) <= 3) &&
+            (ticks.length === 0 || r.frame_after_event_click === r.event_clicked);
           setFrame(Math.floor(N / 3));
           r.markers_drawn_later = drawn;
-          r.ok = platesOk && errors.length === 0 && r.painted_pixels > 500 && Math.max(r.markers_drawn, r.markers_drawn_later) > 0 &&
+          r.ok = platesOk && eventsOk && errors.length === 0 && r.painted_pixels > 500 && Math.max(r.markers_drawn, r.markers_drawn_later) > 0 &&
             r.played_to > 0 && r.slider_frame === target && r.reversed_to !== target;
           out.textContent = JSON.stringify(r);
           document.body.appendChild(out);

@@ -54,7 +54,10 @@ class C3d:
     @property
     def parameters(self) -> Dict[str, Dict[str, Union[npt.NDArray[np.float64], str, List[str]]]]: ...
     @property
-    def events(self) -> List[Dict[str, Any]]: ...
+    def events(self) -> List[Dict[str, Any]]:
+        """The EVENT group: dicts with label, context, time (s, frame 1 of the capture at
+        0 s), frame (round(time x rate) + 1, the file's numbering; None without a rate) and
+        description."""
     @property
     def warnings(self) -> List[str]: ...
     def force_platforms(
@@ -195,3 +198,29 @@ def gait_parameters(c3d: C3d, detect: bool = False) -> List[Dict[str, Any]]:
     dicts with context ("Left"/"Right"), name, value and unit; from the file's own Foot
     Strike / Foot Off events, or detected ones with detect=True. Lengths come from the toe
     markers (left out when missing). Raises C3dError when no side has a complete cycle."""
+def detect_events(
+    c3d: C3d,
+    source: str = "auto",
+    markers: Optional[Sequence[str]] = None,
+) -> List[Dict[str, Any]]:
+    """Foot strikes and foot offs as `c3dfix events --json` finds them: context, label,
+    time (s on the EVENT group's base), frame (the file's numbering), source ("plate" or
+    "kinematics") and plate. source: "plates", "kinematics" or "auto"; markers as
+    ["lheel=LHEEL", "pelvis=LPSI+RPSI"]. Raises C3dError without walking or foot markers."""
+
+def cycles(
+    c3d: C3d,
+    side: str = "both",
+    markers: Optional[Sequence[str]] = None,
+    analog: Optional[Sequence[str]] = None,
+    forces: bool = False,
+    detect: bool = False,
+    source: str = "auto",
+) -> Dict[str, Any]:
+    """Gait cycles (foot strike to the next of the same foot) time-normalised to 0-100 %
+    in 101 samples (linear, both ends included; NaN where the signal is missing): `data`
+    float64 (cycles, 101, columns), `columns`, `units`, `percent`, and per cycle `side`,
+    `number`, `start_time`, `end_time` (s, the file's base), `start_frame`, `end_frame`;
+    `events` "file" or "detected" (detect=True, source as in detect_events). markers in mm
+    (model outputs in their units), analog channels in physical units, forces per plate
+    (N, lab frame); none named: every marker."""
