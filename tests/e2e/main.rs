@@ -8,11 +8,13 @@ mod bvh;
 mod convert;
 mod events;
 mod forces;
+mod frames;
 mod hostile;
 mod library;
 mod repair;
 mod reruns;
 mod swaps;
+mod upright;
 mod validity;
 mod view;
 
