@@ -292,6 +292,9 @@ fn the_cop_of_a_contact_lies_under_a_foot() {
 #[test]
 fn an_unloaded_plates_mot_rows_are_zero() {
     let (mut trials, mut unloaded_rows, mut loaded_rows) = (0usize, 0usize, 0usize);
+    // Rows outside every contact whose push reached the threshold (runs too short for a
+    // footfall): no load in the MOT, though the plate's COP is defined there.
+    let mut blips = 0usize;
     for f in corpus() {
         let Ok(c) = c3dfix::open(&f) else { continue };
         let fp = force_platforms(&c, &ForceOptions::default()).expect("default options");
@@ -351,10 +354,11 @@ fn an_unloaded_plates_mot_rows_are_zero() {
                     );
                 }
                 unloaded_rows += 1;
+                blips += usize::from(p.cop[i][0].is_finite());
             }
         }
     }
-    eprintln!("{trials} trials: {unloaded_rows} unloaded rows zero, {loaded_rows} loaded rows carry force");
+    eprintln!("{trials} trials: {unloaded_rows} unloaded rows zero ({blips} of them above the threshold for less than a footfall), {loaded_rows} loaded rows carry force");
     if !corpus().is_empty() {
         assert!(trials >= 55, "{trials} trials with plates");
     }
