@@ -160,8 +160,9 @@ pub fn corners_up(k: &[[f64; 3]; 4]) -> Option<Direction> {
     })
 }
 
-/// The up the markers give (model outputs left out): the floor's, where one shows (see
-/// [`floor`]); else the axis of the largest median spread
+/// The up the markers give (model outputs left out): the floor's, where one shows (the one
+/// direction along which every sampled frame's lowest marker stays in a narrow band just
+/// above the origin); else the axis of the largest median spread
 /// within a frame, over up to 64 frames spread through the trial, signed by the markers'
 /// median coordinate along it (a body stands above a floor at 0). The spread is that of the
 /// middle 80 % of the frame's markers (10th to 90th percentile), so a hockey stick's blade
