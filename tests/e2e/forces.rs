@@ -554,7 +554,12 @@ fn mot_export_of_every_plate_type_in_the_corpora_is_complete_and_finite() {
             let i = (0..fz.len())
                 .max_by(|&a, &b| fz[a].abs().total_cmp(&fz[b].abs()))
                 .unwrap();
-            if p["cop"][i][0].is_number() {
+            // Rows outside the plate's contacts are no load in the MOT (see `mot`).
+            let in_contact = p["contacts"].as_array().unwrap().iter().any(|c| {
+                (c["first_sample"].as_u64().unwrap()..=c["last_sample"].as_u64().unwrap())
+                    .contains(&(i as u64))
+            });
+            if p["cop"][i][0].is_number() && in_contact {
                 assert!(close(rows[i][2 + 9 * k], fz[i], 1e-5), "{}", file.display());
             }
         }

@@ -10,12 +10,14 @@ mod cycles;
 mod events;
 mod forces;
 mod gait;
+mod frames;
 mod hostile;
 mod library;
 mod repair;
 mod reruns;
 mod seen;
 mod swaps;
+mod upright;
 mod validity;
 mod view;
 

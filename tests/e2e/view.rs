@@ -331,7 +331,7 @@ fn view_writes_a_self_contained_page() {
 }
 
 /// A headless Chromium, or `None` (after saying so) when there is none outside CI.
-pub(super) fn chromium() -> Option<PathBuf> {
+pub(crate) fn chromium() -> Option<PathBuf> {
     let names = ["chromium", "chromium-browser", "google-chrome"];
     let path = std::env::var_os("PATH").unwrap_or_default();
     let found = std::env::split_paths(&path)
@@ -348,6 +348,17 @@ pub(super) fn chromium() -> Option<PathBuf> {
 
 /// Run headless Chromium with `args` then `url`, and give back its standard output.
 fn run_chromium(bin: &Path, profile: &Path, args: &[&str], url: &str) -> String {
+    run_chromium_for(bin, profile, args, url, Duration::from_secs(180))
+}
+
+/// [`run_chromium`], killed and failed after `limit`.
+pub(crate) fn run_chromium_for(
+    bin: &Path,
+    profile: &Path,
+    args: &[&str],
+    url: &str,
+    limit: Duration,
+) -> String {
     let mut child = Command::new(bin)
         .args([
             "--headless",
@@ -378,10 +389,10 @@ fn run_chromium(bin: &Path, profile: &Path, args: &[&str], url: &str) -> String 
         if child.try_wait().expect("wait for chromium").is_some() {
             break;
         }
-        if start.elapsed() > Duration::from_secs(180) {
+        if start.elapsed() > limit {
             let _ = child.kill();
             let _ = child.wait();
-            panic!("chromium did not finish in 180 s");
+            panic!("chromium did not finish in {limit:?}");
         }
         std::thread::sleep(Duration::from_millis(100));
     }
@@ -607,12 +618,10 @@ fn the_viewer_draws_the_plates_and_the_ground_reaction() {
     );
 }
 
-/// The lab's up as `info --json` reports it, for every file of every corpus: from the plates
-/// wherever a file has plates with sound CORNERS, else from the markers. The viewer, the
-/// OpenSim export and `plot --forces` all stand on this one answer.
-#[test]
-fn every_corpus_trial_has_the_expected_up() {
-    let dirs: Vec<PathBuf> = [
+/// Every C3D file of the corpora that are present, sorted (empty without any).
+pub(crate) fn corpus_files() -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    for d in [
         testkit::c3d_samples(),
         testkit::c3d_extra(),
         testkit::c3d_fullbody(),
@@ -620,15 +629,20 @@ fn every_corpus_trial_has_the_expected_up() {
     ]
     .into_iter()
     .flatten()
-    .collect();
-    if dirs.is_empty() {
-        return;
+    {
+        collect_c3d(&d, &mut files);
     }
+    files.sort();
+    files
+}
+
+/// The lab's up of the corpus file `name`, as its source knows it.
+pub(crate) fn expected_up(name: &str) -> &'static str {
     // Labs whose data is not Z-up, each known from its source: OpenSim-style Y-up trials
     // (nimblephysics' own captures), MotionMonitor and ezc3d's metre trial whose plates face
     // +y, NexGen's Y-up markers, BTS systems (sample_28, BTK's 561xxa01) whose plates face +y
     // and whose lowest markers stay at one y.
-    let y_up = [
+    const Y_UP: [&str; 9] = [
         "btkdata_561xxa01_anonym.C3D",
         "dynamic.C3D",
         "standing.C3D",
@@ -639,26 +653,38 @@ fn every_corpus_trial_has_the_expected_up() {
         "MotionMonitorC3D.c3d",
         "test1.c3d",
     ];
-    // Files where no floor tells the markers' up (a cube, a face, hands, a robot arm, two
-    // people side by side, Phoenix's dance and golf trials with X up): what is reported is
-    // pinned so that a change is seen, not claimed to be the truth.
-    let no_floor = [
-        ("btkdata_MyCube.c3d", "-x"),
-        ("BKINtechnologies.c3d", "-x"),
-        ("ART-Human_2persons_integer.c3d", "-x"),
-        ("ART-Human_hands_real_no6dof.c3d", "+x"),
-        ("Dance.c3d", "+x"),
-        ("Dance1.c3d", "+x"),
-        ("golfswing.c3d", "+x"),
-        ("golfswing1.c3d", "+x"),
-    ];
-    // Known wrong: CMU's rolling subject lies on the floor, wider than tall; its lab is +z.
-    let known_wrong = [("03_rolling.c3d", "-x")];
-    let mut files = Vec::new();
-    for d in &dirs {
-        collect_c3d(d, &mut files);
+    // Phoenix's dance and golf trials stand on X: their lowest marker stays 0–70 mm above
+    // x = 0 all through, as a floor at the origin holds it.
+    const X_UP: [&str; 4] = ["Dance.c3d", "Dance1.c3d", "golfswing.c3d", "golfswing1.c3d"];
+    // Files where no floor tells the markers' up (a cube, a robot arm's plane): what is
+    // reported is pinned so that a change is seen, not claimed to be the truth.
+    const NO_FLOOR: [(&str, &str); 2] =
+        [("btkdata_MyCube.c3d", "-x"), ("BKINtechnologies.c3d", "-x")];
+    // Stood up by the floor, where the markers' spread alone said otherwise: CMU's subject
+    // rolling on the floor (wider than tall; its lowest marker 5–31 mm above z = 0 in 90 %
+    // of frames) and ART's two people side by side and body with hands (wider than tall
+    // along x; lowest marker 64–82 mm above z = 0, highest 1.50–1.58 m: a standing
+    // person's feet and head) are +z, as the rest of their labs.
+    if let Some((_, u)) = NO_FLOOR.iter().find(|(n, _)| *n == name) {
+        u
+    } else if X_UP.contains(&name) {
+        "+x"
+    } else if Y_UP.contains(&name) {
+        "+y"
+    } else {
+        "+z"
     }
-    files.sort();
+}
+
+/// The lab's up as `info --json` reports it, for every file of every corpus: from the plates
+/// wherever a file has plates with sound CORNERS, else from the markers. The viewer, the
+/// OpenSim export and `plot --forces` all stand on this one answer.
+#[test]
+fn every_corpus_trial_has_the_expected_up() {
+    let files = corpus_files();
+    if files.is_empty() {
+        return;
+    }
     let (mut from_plates, mut checked) = (0, 0);
     for f in &files {
         let name = f.file_name().unwrap().to_string_lossy().into_owned();
@@ -674,19 +700,12 @@ fn every_corpus_trial_has_the_expected_up() {
             assert!(up.is_none() && plates == 0, "{name}: {v}");
             continue;
         }
-        let up = up.unwrap();
-        let expected = if let Some((_, u)) = no_floor
-            .iter()
-            .chain(&known_wrong)
-            .find(|(n, _)| *n == name)
-        {
-            *u
-        } else if y_up.contains(&name.as_str()) {
-            "+y"
-        } else {
-            "+z"
-        };
-        assert_eq!(up, expected, "{name}: {}", v["up_source"]);
+        assert_eq!(
+            up.unwrap(),
+            expected_up(&name),
+            "{name}: {}",
+            v["up_source"]
+        );
         if plates > 0 {
             assert_eq!(v["up_source"], "plates", "{name}");
             from_plates += 1;
@@ -747,7 +766,7 @@ fn the_viewer_stands_plug_in_gait_upright_without_model_outputs() {
     assert!(flags.iter().all(|f| f & 2 == 0));
 }
 
-fn unbase64(text: &str) -> Vec<u8> {
+pub(crate) fn unbase64(text: &str) -> Vec<u8> {
     const B64: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut out = Vec::new();
     let (mut acc, mut bits) = (0u32, 0);

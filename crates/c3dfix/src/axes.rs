@@ -6,9 +6,11 @@
 //! of its CORNERS' plane is the lab's vertical, and the manual's corner order (quadrants
 //! +x+y, −x+y, −x−y, +x−y of the plate's own axes, whose z points down into the plate) gives
 //! its sign. Without plates it comes from the markers (never model outputs, whose angles and
-//! moments are no positions): a person is taller than wide or deep, so the axis along which
-//! the markers of one frame spread most is vertical, and they stand above the floor, so the
-//! sign is that of their median height.
+//! moments are no positions): first from the floor, where one shows (the one direction along
+//! which each frame's lowest marker stays just above the lab's origin: a body keeps touching
+//! the floor, and labs put their origin on it); else a person is taller than wide or deep,
+//! so the axis along which the markers of one frame spread most is vertical, and they stand
+//! above the floor, so the sign is that of their median height.
 
 use crate::error::{Error, Result};
 use serde::Serialize;
@@ -158,7 +160,9 @@ pub fn corners_up(k: &[[f64; 3]; 4]) -> Option<Direction> {
     })
 }
 
-/// The up the markers give (model outputs left out): the axis of the largest median spread
+/// The up the markers give (model outputs left out): the floor's, where one shows (the one
+/// direction along which every sampled frame's lowest marker stays in a narrow band just
+/// above the origin); else the axis of the largest median spread
 /// within a frame, over up to 64 frames spread through the trial, signed by the markers'
 /// median coordinate along it (a body stands above a floor at 0). The spread is that of the
 /// middle 80 % of the frame's markers (10th to 90th percentile), so a hockey stick's blade
@@ -190,8 +194,11 @@ pub fn markers_up(c: &c3d::C3d) -> Option<Direction> {
         }
         out
     });
+    let mm = c3d::mm_per_unit(&c.point_units()) as f32;
     let mut spread = [Vec::new(), Vec::new(), Vec::new()];
     let mut heights = [Vec::new(), Vec::new(), Vec::new()];
+    // Per direction (−x, +x, −y, …), the height of each sampled frame's lowest marker.
+    let mut lowest: [Vec<f32>; 6] = Default::default();
     for mut frame in per_chunk.into_iter().flatten() {
         for a in 0..3 {
             heights[a].extend_from_slice(&frame[a]);
@@ -202,6 +209,8 @@ pub fn markers_up(c: &c3d::C3d) -> Option<Direction> {
                 let n = frame[a].len() - 1;
                 let at = |q: usize| frame[a][(n * q + 50) / 100];
                 spread[a].push(at(90) - at(10));
+                lowest[2 * a].push(-frame[a][n] * mm);
+                lowest[2 * a + 1].push(frame[a][0] * mm);
             }
         }
     }
@@ -209,6 +218,9 @@ pub fn markers_up(c: &c3d::C3d) -> Option<Direction> {
         v.sort_by(f32::total_cmp);
         v.get(v.len() / 2).copied()
     };
+    if let Some(d) = floor(&mut lowest) {
+        return Some(d);
+    }
     let m: Vec<f32> = spread
         .iter_mut()
         .map(median)
@@ -221,6 +233,48 @@ pub fn markers_up(c: &c3d::C3d) -> Option<Direction> {
         positive: h >= 0.0,
     })
 }
+
+/// The up a floor gives, where one shows: the direction along which every sampled frame's
+/// lowest marker stays in a narrow band just above the lab's origin. A body on a floor
+/// touches it again and again whatever it does (feet in a walk, a back, hips and hands in
+/// a roll), so its lowest marker hovers a marker's radius to a foot's height above it, and
+/// labs put their origin on the floor; along a horizontal axis the lowest marker moves
+/// with the body. This is what a subject lying or rolling on the floor, wider than tall,
+/// is stood up by. `lowest[2a + s]` holds each frame's lowest height (mm) along axis `a`
+/// (s = 1 for the positive direction). `None` unless exactly one direction has such a
+/// floor (a standing trial keeps every axis' lowest marker still; the origin decides it
+/// only when it lies under the body alone).
+fn floor(lowest: &mut [Vec<f32>; 6]) -> Option<Direction> {
+    let mut found = None;
+    for (i, v) in lowest.iter_mut().enumerate() {
+        if v.len() < 8 {
+            return None;
+        }
+        v.sort_by(f32::total_cmp);
+        let n = v.len() - 1;
+        let (p5, p95) = (v[(n * 5 + 50) / 100], v[(n * 95 + 50) / 100]);
+        if p5 >= FLOOR_BELOW && p95 <= FLOOR_ABOVE && p95 - p5 <= FLOOR_BAND {
+            if found.is_some() {
+                return None;
+            }
+            found = Some(Direction {
+                axis: i / 2,
+                positive: i % 2 == 1,
+            });
+        }
+    }
+    found
+}
+
+/// How far below the origin (mm) a frame's lowest marker may be on a floor at the origin:
+/// floors are levelled to a few millimetres, and a calibration wand's origin to about as much.
+const FLOOR_BELOW: f32 = -20.0;
+/// How high (mm) the lowest marker of a frame on the floor may be: a shoe's toe and heel
+/// markers, or a marker on a back, stand up to about this.
+const FLOOR_ABOVE: f32 = 150.0;
+/// How much (mm) the lowest marker's height may wander over the trial (5th to 95th
+/// percentile of the frames).
+const FLOOR_BAND: f32 = 100.0;
 
 /// The direction of travel on the floor: the horizontal lab axis along which the markers'
 /// centroid moves furthest from the first frame to the last, signed by that move. `None`
@@ -463,6 +517,56 @@ mod tests {
         rev.reverse();
         assert_eq!(corners_up(&rev), Some(dir(2, false)));
         assert_eq!(corners_up(&[[0.0; 3]; 4]), None);
+    }
+
+    /// Each frame's lowest height along −x, +x, −y, +y, −z, +z for frames of `pts`.
+    fn lowest(frames: &[Vec<[f32; 3]>]) -> [Vec<f32>; 6] {
+        let mut out: [Vec<f32>; 6] = Default::default();
+        for f in frames {
+            for a in 0..3 {
+                let lo = f.iter().map(|p| p[a]).fold(f32::INFINITY, f32::min);
+                let hi = f.iter().map(|p| p[a]).fold(f32::NEG_INFINITY, f32::max);
+                out[2 * a].push(-hi);
+                out[2 * a + 1].push(lo);
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_body_rolling_on_the_floor_stands_on_it() {
+        // Lying along x, rolling along y and drifting along x: 1.7 m long, 0.4 m high, one
+        // side always on z = 0.
+        let frames: Vec<Vec<[f32; 3]>> = (0..64)
+            .map(|f| {
+                let y = f as f32 * 30.0;
+                (0..20)
+                    .map(|i| {
+                        let x = -1700.0 + i as f32 * 85.0 + f as f32 * 20.0;
+                        let z = 10.0 + ((f + i) % 5) as f32 * 100.0;
+                        [x, y + (i % 3) as f32 * 50.0, z]
+                    })
+                    .collect()
+            })
+            .collect();
+        assert_eq!(floor(&mut lowest(&frames)), Some(dir(2, true)));
+        // Standing still with the origin under the body on x too: two floors, no answer.
+        let still: Vec<Vec<[f32; 3]>> = (0..64)
+            .map(|_| {
+                (0..20)
+                    .map(|i| {
+                        [
+                            10.0 + i as f32,
+                            300.0 + i as f32 * 5.0,
+                            20.0 + i as f32 * 80.0,
+                        ]
+                    })
+                    .collect()
+            })
+            .collect();
+        assert_eq!(floor(&mut lowest(&still)), None);
+        // Too few frames to tell.
+        assert_eq!(floor(&mut lowest(&frames[..4])), None);
     }
 
     #[test]

@@ -283,3 +283,83 @@ fn the_cop_of_a_contact_lies_under_a_foot() {
         assert!(checked >= 40, "{checked} contacts checked");
     }
 }
+
+/// An unloaded plate's .mot rows are zero, on every corpus trial with plates: wherever a
+/// plate is in no contact (no foot pushes it the threshold), its row in the MOT that
+/// `export --format mot` and the OpenSim pair write has force and torque exactly 0 and the
+/// point at the plate's centre, so an ExternalLoads applies nothing there; and inside a
+/// contact the row carries the plate's force.
+#[test]
+fn an_unloaded_plates_mot_rows_are_zero() {
+    let (mut trials, mut unloaded_rows, mut loaded_rows) = (0usize, 0usize, 0usize);
+    // Rows outside every contact whose push reached the threshold (runs too short for a
+    // footfall): no load in the MOT, though the plate's COP is defined there.
+    let mut blips = 0usize;
+    for f in corpus() {
+        let Ok(c) = c3dfix::open(&f) else { continue };
+        let fp = force_platforms(&c, &ForceOptions::default()).expect("default options");
+        if fp.platforms.is_empty() {
+            continue;
+        }
+        let name = testkit::short(&f);
+        let Ok(text) = c3dfix::export::mot(&c, &fp, &f, &c3dfix::Axes::default()) else {
+            continue; // refused with a reason (no analog rate, a unit MOT cannot state)
+        };
+        trials += 1;
+        let rows: Vec<Vec<f64>> = text
+            .lines()
+            .skip_while(|l| *l != "endheader")
+            .skip(2)
+            .map(|l| {
+                l.split('\t')
+                    .map(|x| x.parse().expect("a number"))
+                    .collect()
+            })
+            .collect();
+        assert_eq!(rows.len(), fp.samples(), "{name}");
+        for (k, p) in fp.platforms.iter().enumerate() {
+            let col = 1 + 9 * k;
+            let mut inside = vec![false; rows.len()];
+            for c in &p.contacts {
+                inside[c.first_sample..=c.last_sample.min(rows.len() - 1)].fill(true);
+            }
+            let m = c3dfix::units::metres_per(&p.units.position).expect("a unit");
+            for (i, row) in rows.iter().enumerate() {
+                let force = &row[col..col + 3];
+                let point = &row[col + 3..col + 6];
+                let torque = &row[col + 6..col + 9];
+                if inside[i] {
+                    if p.push[i] >= 2.0 * ForceOptions::default().threshold {
+                        assert!(
+                            force.iter().any(|&x| x != 0.0),
+                            "{name} plate {} row {i}",
+                            p.index
+                        );
+                        loaded_rows += 1;
+                    }
+                    continue;
+                }
+                assert!(
+                    force.iter().chain(torque).all(|&x| x == 0.0),
+                    "{name} plate {}: row {i} (time {}) outside every contact carries {force:?} N, {torque:?} N·m (push {:.2} N)",
+                    p.index,
+                    row[0],
+                    p.push[i]
+                );
+                for a in 0..3 {
+                    assert!(
+                        (point[a] - p.centre[a] * m).abs() < 1e-6,
+                        "{name} plate {}: row {i}'s point {point:?} is not the centre",
+                        p.index
+                    );
+                }
+                unloaded_rows += 1;
+                blips += usize::from(p.cop[i][0].is_finite());
+            }
+        }
+    }
+    eprintln!("{trials} trials: {unloaded_rows} unloaded rows zero ({blips} of them above the threshold for less than a footfall), {loaded_rows} loaded rows carry force");
+    if !corpus().is_empty() {
+        assert!(trials >= 55, "{trials} trials with plates");
+    }
+}

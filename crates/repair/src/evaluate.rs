@@ -51,6 +51,13 @@ pub struct EvalConfig {
     pub seed: u64,
     /// Other fill settings (`method` and `max_gap` are overridden).
     pub fill: FillOptions,
+    /// Knock the gaps out at a trial's start or end instead of inside it. A real gap there
+    /// has recorded samples on one side only, so the polynomial methods cannot fill it and
+    /// `auto` leans on its donors: its expected errors must be judged on such gaps apart.
+    /// Each gap is made by cutting the trial (to at least half its frames) where the gap
+    /// begins or ends, so that any recorded stretch may serve, not only the trial's first
+    /// and last frames; the 2–3 markers of a group lose the same frames.
+    pub at_trial_ends: bool,
 }
 
 impl Default for EvalConfig {
@@ -63,6 +70,7 @@ impl Default for EvalConfig {
             group: 1,
             seed: 1,
             fill: FillOptions::default(),
+            at_trial_ends: false,
         }
     }
 }
@@ -170,8 +178,15 @@ pub fn evaluate(trial: &Trial, cfg: &EvalConfig) -> Result<Evaluation> {
     let mut gaps = Vec::new();
     for &len in &cfg.gap_lengths {
         let mut rng = SplitMix64::new(cfg.seed ^ (len as u64).wrapping_mul(0x9E37_79B9));
-        let groups: Vec<Vec<(usize, usize)>> = (0..cfg.gaps_per_length)
-            .filter_map(|_| place(trial, &markers, &neighbours, len, &mut rng))
+        let groups: Vec<Placed> = (0..cfg.gaps_per_length)
+            .filter_map(|_| {
+                if cfg.at_trial_ends {
+                    place_at_end(trial, &markers, &neighbours, len, &mut rng)
+                } else {
+                    place(trial, &markers, &neighbours, len, &mut rng)
+                        .map(|g| (g, 0..trial.frames()))
+                }
+            })
             .collect();
         // errors[method] = per-sample errors, failures[method] = gaps left.
         let per_group: Vec<Vec<MethodRun>> = groups
@@ -189,7 +204,7 @@ pub fn evaluate(trial: &Trial, cfg: &EvalConfig) -> Result<Evaluation> {
             scores.push(summarize(
                 method,
                 len,
-                groups.iter().map(Vec::len).sum(),
+                groups.iter().map(|g| g.0.len()).sum(),
                 failed,
                 e,
             ));
@@ -301,6 +316,52 @@ fn place(
     None
 }
 
+/// One artificial gap group at a trial's start or end (see [`EvalConfig::at_trial_ends`]):
+/// the group, and the frames the trial is cut to so that the gap touches its first or last
+/// frame. The part kept holds at least half the trial; the gap needs `MARGIN` recorded
+/// samples on its inner side only.
+fn place_at_end(
+    trial: &Trial,
+    markers: &[usize],
+    neighbours: &[Vec<usize>],
+    len: usize,
+    rng: &mut SplitMix64,
+) -> Option<Placed> {
+    let n = trial.frames();
+    if markers.is_empty() || n < 2 * (len + MARGIN) + 2 {
+        return None;
+    }
+    for _ in 0..TRIES {
+        let m = markers[rng.range(0, markers.len())];
+        // The trial starts with the gap (cut at `a`) or ends with it (cut at `a + len`).
+        let at_start = rng.range(0, 2) == 0;
+        let (a, keep) = if at_start {
+            let a = rng.range(0, n / 2);
+            (a, a..n)
+        } else {
+            let end = rng.range(n - n / 2, n + 1);
+            (end - len, 0..end)
+        };
+        let recorded = if at_start {
+            a..a + len + MARGIN
+        } else {
+            a - MARGIN..a + len
+        };
+        let clean = |j: usize| {
+            trial.valid[j][recorded.clone()].iter().all(|&v| v) && !computed(trial, j, a, len)
+        };
+        if !clean(m) || !neighbours[m].iter().all(|&j| clean(j)) {
+            continue;
+        }
+        let g = std::iter::once(m)
+            .chain(neighbours[m].iter().copied())
+            .map(|j| (j, a))
+            .collect();
+        return Some((g, keep));
+    }
+    None
+}
+
 /// Whether marker `m` over frames `a..a + len` is a point computed from other markers
 /// rather than a recording: it keeps its distance to three or more of them constant (to
 /// 10⁻⁵ of it; `RIGID_PARTNERS`, `RIGID_TOL`). Plug-in Gait's virtual markers (segment
@@ -340,10 +401,28 @@ pub fn computed(trial: &Trial, m: usize, a: usize, len: usize) -> bool {
 /// One method on one group: per-sample errors, gaps it could not fill, per-gap records.
 type MethodRun = (Vec<f64>, usize, Vec<GapScore>);
 
-/// Errors of every method on one group of artificial gaps.
-fn run_group(trial: &Trial, g: &[(usize, usize)], len: usize, cfg: &EvalConfig) -> Vec<MethodRun> {
+/// An artificial gap group, `(marker, first frame)` per marker, and the frames of the trial
+/// it is filled in (the whole trial, or the part that starts or ends with the gap).
+type Placed = (Vec<(usize, usize)>, std::ops::Range<usize>);
+
+/// Errors of every method on one group of artificial gaps. Records give the gaps' frames in
+/// the whole trial.
+fn run_group(trial: &Trial, placed: &Placed, len: usize, cfg: &EvalConfig) -> Vec<MethodRun> {
+    let (whole, keep) = placed;
+    let cut = Trial {
+        rate_hz: trial.rate_hz,
+        xyz: trial.xyz.iter().map(|v| v[keep.clone()].to_vec()).collect(),
+        valid: trial
+            .valid
+            .iter()
+            .map(|v| v[keep.clone()].to_vec())
+            .collect(),
+    };
+    let trial = &cut;
+    let n = trial.frames();
+    let g: Vec<(usize, usize)> = whole.iter().map(|&(m, a)| (m, a - keep.start)).collect();
     let mut valid = trial.valid.clone();
-    for &(m, a) in g {
+    for &(m, a) in &g {
         valid[m][a..a + len].iter_mut().for_each(|v| *v = false);
     }
     let steps = max_steps(&trial.xyz, &valid);
@@ -367,8 +446,8 @@ fn run_group(trial: &Trial, g: &[(usize, usize)], len: usize, cfg: &EvalConfig) 
                     first: a,
                     last: a + len - 1,
                     len,
-                    at_start: false,
-                    at_end: false,
+                    at_start: a == 0,
+                    at_end: a + len == n,
                 })
                 .collect();
             // The group filled together, as the pipeline fills a trial's gaps (into a copy:
@@ -400,7 +479,7 @@ fn run_group(trial: &Trial, g: &[(usize, usize)], len: usize, cfg: &EvalConfig) 
                             method,
                             gap_len: len,
                             marker: m,
-                            first: a,
+                            first: a + keep.start,
                             mean: errs.iter().sum::<f64>() / errs.len().max(1) as f64,
                             max: errs.iter().copied().fold(0.0, f64::max),
                             expected: expected_error,

@@ -15,7 +15,10 @@ use std::path::Path;
 ///
 /// OpenSim takes no NaN: where a plate carries less than the threshold the COP is undefined,
 /// and the row says "no load" — force and torque 0, the point at the plate's centre, so that
-/// a force applied there is nothing.
+/// a force applied there is nothing. Rows outside every contact of the plate say so too: a
+/// run above the threshold shorter than a footfall can be ([`kinetics::contact::MIN_CONTACT_S`]) is
+/// noise crossing it, no foot (`sub_labels.c3d` has 15 N for a few samples between steps),
+/// and an ExternalLoads would apply it as a push.
 pub fn mot(c: &c3d::C3d, fp: &ForcePlatforms, path: &Path, axes: &Axes) -> Result<String> {
     let trial = |what: String| Error::Trial {
         path: path.to_path_buf(),
@@ -65,12 +68,26 @@ pub fn mot(c: &c3d::C3d, fp: &ForcePlatforms, path: &Path, axes: &Axes) -> Resul
         }
     }
     s.push('\n');
+    // Per plate, the samples inside one of its contacts.
+    let inside: Vec<Vec<bool>> = fp
+        .platforms
+        .iter()
+        .map(|p| {
+            let mut v = vec![false; rows];
+            for k in &p.contacts {
+                if k.first_sample < rows {
+                    v[k.first_sample..=k.last_sample.min(rows - 1)].fill(true);
+                }
+            }
+            v
+        })
+        .collect();
     for i in 0..rows {
         let _ = write!(s, "{:.6}", c.analog_time(i));
-        for (p, &m) in fp.platforms.iter().zip(&scales) {
+        for ((p, &m), inside) in fp.platforms.iter().zip(&scales).zip(&inside) {
             let at = |v: &[[f64; 3]]| v.get(i).copied().unwrap_or([f64::NAN; 3]);
             let (force, cop, torque) = (at(&p.force), at(&p.cop), at(&p.free_moment));
-            let loaded = [force, cop, torque].iter().flatten().all(|x| x.is_finite());
+            let loaded = inside[i] && [force, cop, torque].iter().flatten().all(|x| x.is_finite());
             let (force, point, torque) = if loaded {
                 (force, cop.map(|x| x * m), torque.map(|x| x * m))
             } else {

@@ -547,6 +547,51 @@
   const at = /[?&]frame=(\d+)/.exec(location.search);
   if (at) setFrame(Number(at[1]) - meta.first_frame);
 
+  // Whether the scene stands upright, read through what the renderer draws with (the page's
+  // axis mapping, its camera and projection): `screen_up` is the lab direction (raw file
+  // axes, e.g. '+z') that the home view shows as straight up on the screen, `screen_up_share`
+  // how much of that direction's screen step is vertical; and, over the frames the bounds
+  // are read from, how the markers lie against the floor grid: `below_floor`, the share of
+  // their samples more than 5 % of the scene's size under it, and `lowest_p50`, the median
+  // over frames of the lowest marker's height above it, in scene sizes.
+  function upright(r) {
+    cam = home();
+    setupCamera();
+    const c = cam.target, p0 = project(c), unit = new Float32Array(3), v = [0, 0, 0];
+    let best = null, bestDy = 0, bestShare = 0;
+    for (let a = 0; a < 3; a++) {
+      for (const s of [1, -1]) {
+        unit.fill(0); unit[a] = s;
+        get(unit, 0, 0, v);
+        const q = project([c[0] + v[0] * size * 0.1, c[1] + v[1] * size * 0.1, c[2] + v[2] * size * 0.1]);
+        if (!p0 || !q) continue;
+        const dx = q[0] - p0[0], dy = p0[1] - q[1];
+        if (dy > bestDy) { bestDy = dy; best = (s > 0 ? '+' : '-') + 'xyz'[a]; bestShare = dy / Math.hypot(dx, dy); }
+      }
+    }
+    r.screen_up = best;
+    r.screen_up_share = bestShare;
+    const lows = [];
+    let samples = 0, below = 0;
+    for (let f = 0; f < N; f += stride) {
+      let low = Infinity;
+      for (let m = 0; m < M; m++) {
+        if (!get(xyz, f, m, tmp)) continue;
+        const h = (tmp[2] - floor) / size;
+        samples++;
+        if (h < -0.05) below++;
+        low = Math.min(low, h);
+      }
+      if (low < Infinity) lows.push(low);
+    }
+    lows.sort((a, b) => a - b);
+    r.floor = floor;
+    r.size = size;
+    r.samples_checked = samples;
+    r.below_floor = samples ? below / samples : null;
+    r.lowest_p50 = lows.length ? lows[Math.floor(lows.length / 2)] : null;
+  }
+
   // Self-test (?selftest=1): plays, moves the slider and reports into the page, for the
   // project's browser test.
   if (selftest) {
@@ -614,10 +659,13 @@
             (ticks.length === 0 || r.frame_after_event_click === r.event_clicked);
           setFrame(Math.floor(N / 3));
           r.markers_drawn_later = drawn;
+          upright(r);
           r.ok = platesOk && eventsOk && errors.length === 0 && r.painted_pixels > 500 && Math.max(r.markers_drawn, r.markers_drawn_later) > 0 &&
             r.played_to > 0 && r.slider_frame === target && r.reversed_to !== target;
           out.textContent = JSON.stringify(r);
           document.body.appendChild(out);
+          // A page opened by another (the browser test loads many at once) tells it too.
+          if (window.parent !== window) window.parent.postMessage({ selftest: r }, '*');
         }, 300);
       }, 500);
     }, 100);

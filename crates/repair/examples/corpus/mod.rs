@@ -1,5 +1,5 @@
-//! A corpus trial's markers as a repair `Trial` in mm, shared by the `fill_eval` example
-//! and the `fill_eval` bench.
+//! A corpus trial's markers as a repair `Trial` in mm, shared by the `fill_eval` example,
+//! the `fill_eval` bench and the evaluation tests.
 
 use repair::Trial;
 
