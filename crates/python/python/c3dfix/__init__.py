@@ -28,6 +28,7 @@ from ._c3dfix import (
     read,
     repair,
     repair_file,
+    swaps,
 )
 
 __all__ = [
@@ -43,5 +44,6 @@ __all__ = [
     "read",
     "repair",
     "repair_file",
+    "swaps",
     "__version__",
 ]
