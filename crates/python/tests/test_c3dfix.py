@@ -269,6 +269,29 @@ def test_repair_options_are_checked_as_on_the_command_line():
     assert report["summary"]["segments_filtered"] > 0
 
 
+def test_swaps_finds_and_repair_undoes_an_injected_swap():
+    src = c3dfix.read(SAMPLES / "walk_float.c3d")
+    assert c3dfix.swaps(src)["swaps"] == []
+    a, b = src.labels.index("LASI"), src.labels.index("LPSI")
+    p = src.points
+    p[150:170, [a, b]] = p[150:170, [b, a]]
+    c = c3dfix.read(SAMPLES / "walk_float.c3d")
+    c.points = p
+    found = c3dfix.swaps(c)
+    assert [(x["kind"], x["markers"], x["first_frame"], x["last_frame"], x["settled"])
+            for x in found["swaps"]] == [("swap", ["LASI", "LPSI"], 151, 170, True)]
+    # Reported by default, changed only with swaps="fix": exchanged back exactly.
+    same, report = c3dfix.repair(c, fill="none")
+    assert report["swaps"][0]["action"] == "reported"
+    np.testing.assert_array_equal(same.points, p)
+    fixed, report = c3dfix.repair(c, fill="none", swaps="fix")
+    assert report["swaps"][0]["action"] == "undone"
+    assert report["summary"]["swaps_undone"] == 1
+    np.testing.assert_array_equal(fixed.points, src.points)
+    with pytest.raises(c3dfix.C3dError, match="expected fix, report or off"):
+        c3dfix.repair(c, swaps="undo")
+
+
 def test_bad_input_raises_c3derror_with_file_section_and_offset(tmp_path):
     bad = tmp_path / "bad.c3d"
     good = (SAMPLES / "walk_int.c3d").read_bytes()
