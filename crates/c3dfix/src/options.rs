@@ -48,9 +48,12 @@ pub enum SwapsMode {
     Off,
 }
 
-/// Why `report` is the default of `--swaps` (docs/swaps.md, "Choosing the default"): on the
-/// untouched corpus trials, undoing settled finds would change trials whose labels a person
-/// would keep, so the stage says what it sees and changes nothing unless asked.
+/// The default of `--swaps`: `report` (docs/swaps.md, "Choosing the default"). On the
+/// untouched trials of the labs no constant was chosen on, `fix` would act on 2.8 finds per
+/// 10 000 frames (3 in 10 662), not all of them shown to be label errors, and each would
+/// change recorded samples; against 72–100 % of injected swaps and 81–87 % of injected jumps
+/// it would undo at 99 % precision. A default repair changes no sample a person would keep
+/// unasked, so the stage lists what it sees and `fix` is asked for.
 pub const DEFAULT_SWAPS: SwapsMode = SwapsMode::Report;
 
 impl std::str::FromStr for SwapsMode {
