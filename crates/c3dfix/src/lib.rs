@@ -38,6 +38,7 @@ pub mod platforms;
 mod repair;
 pub mod rerun;
 pub mod save;
+pub mod swap_stage;
 mod swaps;
 pub mod trial;
 pub mod units;
@@ -55,7 +56,7 @@ pub use gait_params::{gait_parameters, GaitOptions, GaitReport};
 pub use gaps::{gaps, GapInfo};
 pub use options::{
     fill_method, filter_spec, max_expected_error, method_name, spike_options, RepairOptions,
-    DEFAULT_MAX_EXPECTED_ERROR_MM,
+    SwapsMode, DEFAULT_MAX_EXPECTED_ERROR_MM, DEFAULT_SWAPS,
 };
 pub use platforms::{
     force_platforms, Baseline, BaselineSource, Contact, ForceOptions, ForcePlatforms, PlateWarning,

@@ -1,10 +1,12 @@
-//! Repairing a whole trial: markers chosen, trajectories repaired (spikes → fill → filter),
-//! samples written back with their flags, and a report of every gap, spike and segment.
+//! Repairing a whole trial: markers chosen, label swaps undone in the file (see
+//! [`crate::swap_stage`]), trajectories repaired (spikes → fill → filter), samples written
+//! back with their flags, and a report of every swap, gap, spike and segment.
 
 use crate::error::{Error, Result};
 use crate::markers::{marker_indices, mm_per_unit, select};
 use crate::options::{method_name, RepairOptions};
 use crate::rerun;
+use crate::swap_stage::{self, SwapAction, SwapBrief};
 use crate::trial::{to_trial, write_back};
 use repair::FillOutcome;
 use serde::Serialize;
@@ -44,6 +46,19 @@ pub struct Summary {
     pub expected_error_mm_mean: Option<f64>,
     /// Every gap: where, what became of it, and its expected error in mm.
     pub gap_list: Vec<GapBrief>,
+    /// Label swaps exchanged back and label jumps made gaps by the first stage
+    /// (`--swaps fix`).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub swaps_undone: usize,
+    #[serde(skip_serializing_if = "is_zero")]
+    pub jumps_to_gaps: usize,
+    /// Every label swap and jump found (`--swaps fix` or `report`), frames in the file's
+    /// numbering, with its evidence and what was done with it.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub swap_list: Vec<SwapBrief>,
+    /// Why the swap stage checked nothing (too little to judge), if so.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub swaps_note: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub backup: Option<String>,
     /// Steps asked for and not taken because the file records them as done by an earlier
@@ -56,6 +71,10 @@ pub struct Summary {
     /// Why the file was left as it was (batch only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped: Option<String>,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// One gap in a summary.
@@ -88,6 +107,7 @@ pub struct GapBrief {
 pub struct Repaired {
     pub summary: Summary,
     config: serde_json::Value,
+    swaps: Vec<SwapBrief>,
     gaps: Vec<serde_json::Value>,
     spikes: Vec<serde_json::Value>,
     spike_mode: serde_json::Value,
@@ -97,7 +117,8 @@ pub struct Repaired {
 
 impl Repaired {
     /// The full report, as `c3dfix repair --report` writes it: the configuration, the
-    /// summary, every gap (with its outcome), spike and filtered segment, and the samples
+    /// summary, every label swap and jump found (with its evidence and what was done), every
+    /// gap (with its outcome), spike and filtered segment, and the samples
     /// changed per marker. Gaps and segments name their marker by label and by its row in
     /// `markers`; frames are the file's own frame numbers ([`c3d::C3d::frame_number`]).
     pub fn report(&self) -> serde_json::Value {
@@ -106,6 +127,7 @@ impl Repaired {
             "output": self.summary.output,
             "config": self.config,
             "summary": self.summary,
+            "swaps": self.swaps,
             "gaps": self.gaps,
             "spikes": self.spikes,
             "spike_mode": self.spike_mode,
@@ -155,12 +177,24 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
     let mut cfg = opts.config(&c.point_units())?.with_storage(storage);
     let only = opts.markers.as_ref().map(|m| select(c, m)).transpose()?;
     let points = marker_indices(c);
-    let mut trial = to_trial(c, &points, opts.zero_invalid)?;
     // What an earlier repair of this file did: done steps are not done again, its fills are
     // no data, the gaps it left under these settings stay left (see crate::rerun).
     let record = rerun::Record::read(c);
     let fill_settings = rerun::fill_settings(opts);
     let mut already_applied = Vec::new();
+    // 0. Label swaps, in the file itself, before any stage reads the trial.
+    let swap_settings = rerun::swap_settings(opts);
+    let stage = match (&record.swaps, &swap_settings) {
+        (Some(done), Some(_)) => {
+            already_applied.push(format!("swaps ({done})"));
+            swap_stage::Stage::default()
+        }
+        _ => {
+            let point_in_scope = |p: usize| only.as_ref().is_none_or(|o| o.contains(&p));
+            swap_stage::run(c, name, opts.swaps, &point_in_scope)?
+        }
+    };
+    let mut trial = to_trial(c, &points, opts.zero_invalid)?;
     let mut spikes = cfg.spikes().copied();
     let mut filter = cfg.filter().copied();
     if let (Some(done), Some(_)) = (&record.spikes, spikes) {
@@ -181,6 +215,19 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
     }
     let row_of: std::collections::HashMap<usize, usize> =
         points.iter().enumerate().map(|(r, &p)| (p, r)).collect();
+    // A settled jump's samples are a gap for the fill stage; unfilled, they are written
+    // missing.
+    let mut jumped = Vec::new();
+    for &(p, a, b) in &stage.gaps {
+        if let Some(&r) = row_of.get(&p) {
+            for f in a..=b.min(c.frames().saturating_sub(1)) {
+                if trial.valid[r][f] {
+                    trial.valid[r][f] = false;
+                    jumped.push((r, f));
+                }
+            }
+        }
+    }
     let mut earlier = repair::Earlier::default();
     if !record.filled.is_empty() {
         earlier.filled = vec![vec![false; c.frames()]; points.len()];
@@ -198,11 +245,17 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
             .collect();
     }
     // In the process's own pool, so that a forked process repairs too (see forkpool).
-    let report = forkpool::install(|| repair::repair_trial_after(&mut trial, &cfg, &earlier))
+    let mut report = forkpool::install(|| repair::repair_trial_after(&mut trial, &cfg, &earlier))
         .map_err(|source| Error::Repair {
-            path: name.to_path_buf(),
-            source,
-        })?;
+        path: name.to_path_buf(),
+        source,
+    })?;
+    for &(r, f) in &jumped {
+        if report.changes[r][f] == 0 {
+            report.changed_per_marker[r] += 1;
+        }
+        report.changes[r][f] |= repair::change::INVALIDATED;
+    }
     let labels = c.point_labels();
     let row_label = |row: usize| labels[points[row]].clone();
     let in_scope = |row: usize| only.as_ref().is_none_or(|o| o.contains(&points[row]));
@@ -222,6 +275,10 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
                     .count()
             })
             .sum(),
+        swaps_undone: count_action(&stage.briefs, SwapAction::Undone),
+        jumps_to_gaps: count_action(&stage.briefs, SwapAction::Gap),
+        swap_list: stage.briefs.clone(),
+        swaps_note: stage.note.clone(),
         ..Summary::default()
     };
     let mut gaps = Vec::new();
@@ -306,7 +363,11 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
         fill: Some(fill_settings),
         filter: record.filter.clone(),
         spikes: record.spikes.clone(),
+        swaps: record.swaps.clone().or(swap_settings),
+        undone: record.undone.iter().chain(&stage.undone).cloned().collect(),
     };
+    next.undone.sort();
+    next.undone.dedup();
     for g in report.gaps.iter().filter(|g| in_scope(g.gap.marker)) {
         let (p, a, b) = (points[g.gap.marker], g.gap.first, g.gap.last);
         match g.outcome {
@@ -334,16 +395,34 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
     };
     next.write(c).map_err(c3d_error)?;
     let wb = write_back(c, &trial, &points, &report.changes, only.as_deref()).map_err(c3d_error)?;
-    s.samples_changed = wb.changed;
+    s.samples_changed = wb.changed + stage.exchanged;
     s.samples_clamped = wb.clamped;
+    let exchanged: Vec<usize> = stage
+        .briefs
+        .iter()
+        .filter(|b| b.action == SwapAction::Undone)
+        .flat_map(|b| b.find.points.iter().copied())
+        .collect();
     s.markers_changed = (0..points.len())
-        .filter(|&r| in_scope(r) && report.changes[r].iter().any(|&x| x != 0))
+        .filter(|&r| {
+            in_scope(r)
+                && (report.changes[r].iter().any(|&x| x != 0) || exchanged.contains(&points[r]))
+        })
         .count();
     let markers = (0..points.len())
         .filter(|&r| in_scope(r))
-        .map(|r| serde_json::json!({"label": row_label(r), "samples_changed": report.changed_per_marker[r]}))
+        .map(|r| {
+            let swapped = stage
+                .briefs
+                .iter()
+                .filter(|b| b.action == SwapAction::Undone && b.find.points.contains(&points[r]))
+                .map(|b| b.find.last - b.find.first + 1)
+                .sum::<usize>();
+            serde_json::json!({"label": row_label(r), "samples_changed": report.changed_per_marker[r] + swapped})
+        })
         .collect();
     Ok(Repaired {
+        swaps: stage.briefs,
         summary: s,
         config: serde_json::to_value(&cfg).unwrap_or_default(),
         gaps,
@@ -352,4 +431,8 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
         segments,
         markers,
     })
+}
+
+fn count_action(briefs: &[SwapBrief], action: SwapAction) -> usize {
+    briefs.iter().filter(|b| b.action == action).count()
 }

@@ -12,11 +12,16 @@
 //!   two values of every gap the last run left unfilled (see [`reason_code`]).
 //! - `FILL` (char): the fill settings the gaps in `LEFT` were judged under.
 //! - `FILTER`, `SPIKES` (char): the low-pass filter and the spike removal applied, if any.
+//! - `SWAPS` (char): the swap stage applied (`--swaps fix`), if any, and `UNDONE` (float,
+//!   rows of 4): point numbers of the two markers (the second 0 for a jump), first and last
+//!   frame number of every label swap exchanged back and every label jump made a gap.
 //!
 //! A later repair (the rule, applied in [`repair::repair_trial_after`]): samples in `FILLED`
 //! are kept and are no data (no donor, no context, never a spike), so fills never breed
 //! fills; a gap in `LEFT` under the same fill settings is left again with its reason, not
-//! judged again; a filter or a spike removal the file records is not applied a second time.
+//! judged again; a filter, a spike removal or a swap stage the file records is not applied a
+//! second time (an exchange undone and found again would be exchanged back: a rerun must not
+//! undo the first run's work).
 //! Rows of more than 255 go into further dimensions of 255 (C3D dimensions are one byte),
 //! padded with rows of zeros, which name no point; a record holds at most 32 767 bytes, so
 //! longer lists continue in `FILLED2`, `FILLED3`, … (`LEFT2`, …), as POINT:LABELS2 does.
@@ -54,6 +59,21 @@ pub fn spike_settings(o: &crate::RepairOptions) -> Option<String> {
     Some(s)
 }
 
+/// The swap stage asked for, as `SWAPS` records it (`None`: nothing to record, the stage
+/// changes the file only when fixing).
+pub fn swap_settings(o: &crate::RepairOptions) -> Option<String> {
+    (o.swaps == crate::SwapsMode::Fix).then(|| "--swaps fix".to_string())
+}
+
+/// One label swap (two points) or jump (one point) a repair undid: point indices (0-based)
+/// and frame indices (0-based, inclusive).
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Undone {
+    pub points: Vec<usize>,
+    pub first: usize,
+    pub last: usize,
+}
+
 /// The parameter group c3dfix records its work in.
 pub const GROUP: &str = "C3DFIX";
 
@@ -76,6 +96,9 @@ pub struct Record {
     pub fill: Option<String>,
     pub filter: Option<String>,
     pub spikes: Option<String>,
+    pub swaps: Option<String>,
+    /// Swaps exchanged back and jumps made gaps, over all runs.
+    pub undone: Vec<Undone>,
 }
 
 /// A reason as `LEFT` stores it: a code and two values (the reason's numbers, 0 without).
@@ -185,12 +208,29 @@ impl Record {
                 })
             })
             .collect();
+        let undone = rows(c, "UNDONE", 4)
+            .iter()
+            .filter_map(|r| {
+                let (a, first, last) = place(&[r[0], r[2], r[3]])?;
+                let mut points = vec![a];
+                if r[1] != 0.0 {
+                    points.push(place(&[r[1], r[2], r[3]])?.0);
+                }
+                Some(Undone {
+                    points,
+                    first,
+                    last,
+                })
+            })
+            .collect();
         Record {
             filled,
             left,
             fill: string(c, "FILL"),
             filter: string(c, "FILTER"),
             spikes: string(c, "SPIKES"),
+            swaps: string(c, "SWAPS"),
+            undone,
         }
     }
 
@@ -224,7 +264,31 @@ impl Record {
                 ]
             })
             .collect();
+        let undone: Vec<[f32; 4]> = self
+            .undone
+            .iter()
+            .map(|u| {
+                let point = |k: usize| u.points.get(k).map_or(0.0, |&p| (p + 1) as f32);
+                [
+                    point(0),
+                    point(1),
+                    u.first as f32 + first_frame,
+                    u.last as f32 + first_frame,
+                ]
+            })
+            .collect();
         let ps = &mut c.parameters;
+        if undone.is_empty() {
+            remove_rows(ps, "UNDONE");
+        } else {
+            set_rows(
+                ps,
+                "UNDONE",
+                &undone.concat(),
+                4,
+                "label swaps undone: point numbers (second 0 for a jump), first frame, last frame",
+            )?;
+        }
         set_rows(
             ps,
             "FILLED",
@@ -256,6 +320,12 @@ impl Record {
             "SPIKES",
             self.spikes.as_deref(),
             "spike removal c3dfix applied",
+        )?;
+        set_string(
+            ps,
+            "SWAPS",
+            self.swaps.as_deref(),
+            "label swap stage c3dfix applied",
         )?;
         for r in &mut ps.records {
             if let c3d::Record::Group(g) = r {
@@ -307,6 +377,16 @@ fn set_rows(
     Ok(())
 }
 
+/// Remove `GROUP:name` and its continuations: a record of no rows is no parameter, so a
+/// repair that undid nothing adds none.
+fn remove_rows(ps: &mut c3d::Parameters, name: &str) {
+    for k in 0.. {
+        if !ps.remove(GROUP, &part(name, k)) {
+            break;
+        }
+    }
+}
+
 fn set_string(
     ps: &mut c3d::Parameters,
     name: &str,
@@ -343,6 +423,7 @@ mod tests {
     fn parts_stay_under_a_record() {
         assert_eq!(rows_per_part(3), 2295);
         assert_eq!(rows_per_part(6), 1020);
+        assert_eq!(rows_per_part(4), 1785);
         assert!(rows_per_part(6) * 6 * 4 < 30_000 && rows_per_part(3) * 3 * 4 < 30_000);
         assert_eq!(part("FILLED", 1), "FILLED2");
     }

@@ -100,7 +100,10 @@ pub fn swaps(c: &c3d::C3d, path: &Path, opts: &SwapOptions) -> Result<Swaps> {
             ));
         }
     }
-    let mut trial = to_trial(c, &points, false)?;
+    // A sample at exactly (0, 0, 0) is some writers' lost sample, never evidence of where a
+    // marker is.
+    let mut trial = to_trial(c, &points, true)?;
+    drop_processed(c, &points, &mut trial);
     if !trial.valid.iter().flatten().any(|&v| v) {
         return Err(trial_err(
             "every marker sample is missing: there is nothing to check".into(),
@@ -137,4 +140,34 @@ pub fn swaps(c: &c3d::C3d, path: &Path, opts: &SwapOptions) -> Result<Swaps> {
         swaps,
         warnings,
     })
+}
+
+/// The residuals as evidence: a sample of residual 0 is one the capture software computed
+/// (the C3D manual's mark for a processed point: its own gap fills), not a camera's
+/// measurement, so it says nothing about which point a label sat on. In a file whose markers
+/// have measured samples (residual above 0) those samples are left out of the finding (an
+/// undo still exchanges them with their span). A file that stores every sample with
+/// residual 0, as many writers do, says nothing by it, and nothing is left out.
+fn drop_processed(c: &c3d::C3d, points: &[usize], trial: &mut repair::Trial) {
+    let states = vec![(); c.point_chunks()];
+    let chunks: Vec<(bool, Vec<(usize, usize)>)> = c.map_point_chunks(states, |(), view| {
+        let (mut measured, mut processed) = (false, Vec::new());
+        for f in 0..view.frames {
+            for (row, &i) in points.iter().enumerate() {
+                let (_, r, _) = view.sample(f, i);
+                if r > 0.0 {
+                    measured = true;
+                } else if r == 0.0 {
+                    processed.push((view.first_frame + f, row));
+                }
+            }
+        }
+        (measured, processed)
+    });
+    if !chunks.iter().any(|c| c.0) {
+        return;
+    }
+    for (f, row) in chunks.into_iter().flat_map(|c| c.1) {
+        trial.valid[row][f] = false;
+    }
 }

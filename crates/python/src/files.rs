@@ -22,7 +22,7 @@ fn file_err(input: &Path, e: c3dfix::Error) -> PyErr {
 /// repair_file(input, output=None, *, in_place=False, backup=False, force=False, report=None,
 ///             fill="auto", spikes=None, lowpass=None, max_gap=200, max_expected_error=20.0,
 ///             spike_mode="gap", spike_min_mm=5.0, spike_classic=False, markers=None,
-///             zero_invalid=False) -> dict
+///             zero_invalid=False, swaps="report") -> dict
 ///
 /// `c3dfix repair INPUT -o OUTPUT` (or `--in-place`) from Python: reads the file, repairs it
 /// and writes exactly the bytes the command writes with the same options; returns the report
@@ -31,7 +31,7 @@ fn file_err(input: &Path, e: c3dfix::Error) -> PyErr {
 /// as FILE.bak), a device or folder never; the report never replaces the input or the output.
 /// Repair options as for `repair`. Raises C3dError naming the file.
 #[pyfunction]
-#[pyo3(signature = (input, output=None, *, in_place=false, backup=false, force=false, report=None, fill="auto", spikes=None, lowpass=None, max_gap=200, max_expected_error=Some(c3dfix::DEFAULT_MAX_EXPECTED_ERROR_MM), spike_mode="gap", spike_min_mm=5.0, spike_classic=false, markers=None, zero_invalid=false))]
+#[pyo3(signature = (input, output=None, *, in_place=false, backup=false, force=false, report=None, fill="auto", spikes=None, lowpass=None, max_gap=200, max_expected_error=Some(c3dfix::DEFAULT_MAX_EXPECTED_ERROR_MM), spike_mode="gap", spike_min_mm=5.0, spike_classic=false, markers=None, zero_invalid=false, swaps="report"))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn repair_file(
     py: Python<'_>,
@@ -51,6 +51,7 @@ pub(crate) fn repair_file(
     spike_classic: bool,
     markers: Option<Vec<String>>,
     zero_invalid: bool,
+    swaps: &str,
 ) -> PyResult<PyObject> {
     let dest = Destination {
         output,
@@ -69,6 +70,7 @@ pub(crate) fn repair_file(
         lowpass,
         markers,
         zero_invalid,
+        swaps: swaps.parse().map_err(err)?,
     };
     let done = py
         .allow_threads(|| c3dfix::files::repair(&input, &dest, &opts, report.as_deref()))

@@ -403,16 +403,18 @@ fn gaps(py: Python<'_>, path: PathBuf, zero_invalid: bool) -> PyResult<PyObject>
 
 /// repair(c3d, fill="auto", spikes=None, lowpass=None, max_gap=200,
 ///        max_expected_error=20.0, spike_mode="gap", spike_min_mm=5.0, spike_classic=False,
-///        markers=None, zero_invalid=False) -> (C3d, dict)
+///        markers=None, zero_invalid=False, swaps="report") -> (C3d, dict)
 ///
-/// The `c3dfix repair` pipeline (spikes -> fill -> filter) on a copy of `c3d`; returns the
+/// The `c3dfix repair` pipeline (swaps -> spikes -> fill -> filter) on a copy of `c3d`; returns the
 /// repaired copy and the report `c3dfix repair --report` writes. Options as on the command
 /// line: fill is a method name (auto, linear, lagrange2, lagrange5, spline, rigid, pattern,
 /// pca, kalman, gloersen, none), spikes "hampel[:K[:NSIGMA]]", lowpass "butterworth:ORDER:CUTOFF_HZ" or
 /// "cheby2:ORDER:CUTOFF_HZ:ATTEN_DB", markers a list of labels to repair; gaps whose expected
-/// fill error is above max_expected_error mm are left (reason "uncertain"), None fills all.
+/// fill error is above max_expected_error mm are left (reason "uncertain"), None fills all;
+/// swaps is "fix" (settled label swaps exchanged back, jumps refilled), "report" (listed in
+/// the report's "swaps", nothing changed) or "off".
 #[pyfunction]
-#[pyo3(signature = (c3d, fill="auto", spikes=None, lowpass=None, max_gap=200, max_expected_error=Some(c3dfix::DEFAULT_MAX_EXPECTED_ERROR_MM), spike_mode="gap", spike_min_mm=5.0, spike_classic=false, markers=None, zero_invalid=false))]
+#[pyo3(signature = (c3d, fill="auto", spikes=None, lowpass=None, max_gap=200, max_expected_error=Some(c3dfix::DEFAULT_MAX_EXPECTED_ERROR_MM), spike_mode="gap", spike_min_mm=5.0, spike_classic=false, markers=None, zero_invalid=false, swaps="report"))]
 #[allow(clippy::too_many_arguments)]
 fn repair(
     py: Python<'_>,
@@ -427,6 +429,7 @@ fn repair(
     spike_classic: bool,
     markers: Option<Vec<String>>,
     zero_invalid: bool,
+    swaps: &str,
 ) -> PyResult<(PyC3d, PyObject)> {
     let opts = c3dfix::RepairOptions {
         fill: fill.to_string(),
@@ -439,6 +442,7 @@ fn repair(
         lowpass,
         markers,
         zero_invalid,
+        swaps: swaps.parse().map_err(err)?,
     };
     let mut out = c3d.clone();
     let name = c3d.name();
@@ -447,6 +451,24 @@ fn repair(
         .map_err(err)?;
     let report = to_python(py, &done.report())?;
     Ok((out, report))
+}
+
+/// swaps(c3d) -> dict
+///
+/// Marker label swaps and label jumps, as `c3dfix swaps --json` lists them: "swaps" is a list
+/// of finds, each with kind ("swap" or "jump"), markers (two labels or one), first_frame and
+/// last_frame (numbered as the file numbers its frames), confidence, settled (what
+/// repair(..., swaps="fix") would undo) and evidence; also frames, markers and warnings.
+/// Too little to judge (fewer than 2 markers or 3 frames, every sample missing) raises
+/// C3dError.
+#[pyfunction]
+fn swaps(py: Python<'_>, c3d: &PyC3d) -> PyResult<PyObject> {
+    let name = c3d.name();
+    let opts = c3dfix::repair_lib::swaps::SwapOptions::default();
+    let found = py
+        .allow_threads(|| c3dfix::swaps(&c3d.inner, &name, &opts))
+        .map_err(err)?;
+    to_python(py, &serde_json::to_value(&found).map_err(err)?)
 }
 
 /// evaluate(files, gap_lengths=(5, 10, 20, 40, 80), markers=None, methods=None,
@@ -488,6 +510,7 @@ fn _c3dfix(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read, m)?)?;
     m.add_function(wrap_pyfunction!(gaps, m)?)?;
     m.add_function(wrap_pyfunction!(repair, m)?)?;
+    m.add_function(wrap_pyfunction!(swaps, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(files::repair_file, m)?)?;
     m.add_function(wrap_pyfunction!(files::convert_file, m)?)?;

@@ -269,6 +269,38 @@ def test_repair_options_are_checked_as_on_the_command_line():
     assert report["summary"]["segments_filtered"] > 0
 
 
+def test_swaps_finds_and_repair_undoes_an_injected_swap(tmp_path):
+    path = SAMPLES / "walk_float.c3d"
+    src = c3dfix.read(path)
+    assert c3dfix.swaps(src)["swaps"] == []
+    a, b = src.labels.index("LASI"), src.labels.index("LPSI")
+    # The two markers' stored samples exchanged over frames 151-170 of the file, residual
+    # words and camera masks with them (a sample edited through .points would be marked
+    # computed, residual 0, and computed samples are no evidence).
+    raw = bytearray(path.read_bytes())
+    for f in range(150, 170):
+        (pa, qa), (pb, qb) = _sample_bytes(path, f, a), _sample_bytes(path, f, b)
+        raw[pa:qa], raw[pb:qb] = raw[pb:qb], raw[pa:qa]
+    swapped = tmp_path / "swapped.c3d"
+    swapped.write_bytes(bytes(raw))
+    c = c3dfix.read(swapped)
+    found = c3dfix.swaps(c)
+    assert [(x["kind"], x["markers"], x["first_frame"], x["last_frame"], x["settled"])
+            for x in found["swaps"]] == [("swap", ["LASI", "LPSI"], 151, 170, True)]
+    # Reported by default, changed only with swaps="fix": exchanged back exactly.
+    same, report = c3dfix.repair(c, fill="none")
+    assert report["swaps"][0]["action"] == "reported"
+    np.testing.assert_array_equal(same.points, c.points)
+    fixed, report = c3dfix.repair(c, fill="none", swaps="fix")
+    assert report["swaps"][0]["action"] == "undone"
+    assert report["summary"]["swaps_undone"] == 1
+    np.testing.assert_array_equal(fixed.points, src.points)
+    np.testing.assert_array_equal(fixed.residuals, src.residuals)
+    np.testing.assert_array_equal(fixed.camera_masks, src.camera_masks)
+    with pytest.raises(c3dfix.C3dError, match="expected fix, report or off"):
+        c3dfix.repair(c, swaps="undo")
+
+
 def test_bad_input_raises_c3derror_with_file_section_and_offset(tmp_path):
     bad = tmp_path / "bad.c3d"
     good = (SAMPLES / "walk_int.c3d").read_bytes()

@@ -84,12 +84,17 @@ pub fn run(a: Args) -> Result<i32> {
     let gaps: usize = ok.iter().map(|s| s.gaps).sum();
     let spikes: usize = ok.iter().map(|s| s.spikes).sum();
     let changed: usize = ok.iter().map(|s| s.samples_changed).sum();
+    // Label swaps and jumps over every file: found, exchanged back, made gaps.
+    let swaps_found: usize = ok.iter().map(|s| s.swap_list.len()).sum();
+    let swaps_undone: usize = ok.iter().map(|s| s.swaps_undone).sum();
+    let jumps_to_gaps: usize = ok.iter().map(|s| s.jumps_to_gaps).sum();
     if t.json {
         outln!(
             "{}",
             serde_json::json!({"summary": {"files": results.len(), "repaired": ok.len() - skipped, "skipped": skipped, "unchanged": unchanged, "failed": failed,
                 "gaps": gaps, "filled": filled, "left": left, "left_because": left_because,
                 "left_at_trial_ends": left_at_ends, "left_inside": left - left_at_ends, "spikes": spikes, "samples_changed": changed,
+                "swaps_found": swaps_found, "swaps_undone": swaps_undone, "jumps_to_gaps": jumps_to_gaps,
                 "listed": plan.listed, "duplicates": plan.duplicates, "shard": t.shard.map(|s| s.to_string())}})
         )?;
     } else {
@@ -109,6 +114,12 @@ pub fn run(a: Args) -> Result<i32> {
                 String::new()
             }
         )?;
+        if swaps_found > 0 {
+            outln!(
+                "  swaps    {swaps_found} label swaps and jumps found: {swaps_undone} swaps exchanged back, {jumps_to_gaps} jumps made gaps, {} reported",
+                swaps_found - swaps_undone - jumps_to_gaps
+            )?;
+        }
         if left > 0 {
             let by: Vec<String> = left_because
                 .iter()

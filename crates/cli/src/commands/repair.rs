@@ -5,6 +5,7 @@ use crate::commands::repair_io::{self, RepairArgs};
 use crate::console::outln;
 use anyhow::Result;
 use c3dfix::files::Destination;
+use c3dfix::swap_stage::SwapAction;
 use c3dfix::Summary;
 use std::path::{Path, PathBuf};
 
@@ -134,6 +135,35 @@ pub fn print_summary(s: &Summary) -> Result<()> {
             g.first,
             g.last,
             g.expected_error_mm.unwrap_or(f64::NAN)
+        )?;
+    }
+    if let Some(note) = &s.swaps_note {
+        outln!("  swaps    not checked: {note}")?;
+    }
+    for b in &s.swap_list {
+        let x = &b.find;
+        let kind = match x.kind {
+            c3dfix::repair_lib::swaps::FindKind::Swap => "swap",
+            c3dfix::repair_lib::swaps::FindKind::Jump => "jump",
+        };
+        let action = match b.action {
+            SwapAction::Undone => "exchanged back",
+            SwapAction::Gap => "made a gap for the fill",
+            SwapAction::Reported => {
+                if x.settled {
+                    "reported (--swaps fix undoes it)"
+                } else {
+                    "reported (not settled)"
+                }
+            }
+            SwapAction::OutOfScope => "reported (a marker outside --markers)",
+        };
+        outln!(
+            "  {kind}     {} frames {}–{}, confidence {:.2}: {action}",
+            x.markers.join(" ↔ "),
+            x.first_frame,
+            x.last_frame,
+            x.confidence
         )?;
     }
     for done in &s.already_applied {

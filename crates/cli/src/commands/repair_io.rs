@@ -54,6 +54,13 @@ pub struct RepairArgs {
     /// Also treat samples whose coordinates are all exactly 0 as missing.
     #[arg(long)]
     pub zero_invalid: bool,
+    /// Label swaps and jumps, the first stage (docs/swaps.md): `fix` exchanges settled swaps
+    /// back (coordinates, residuals and camera masks as recorded) and makes settled jumps
+    /// gaps for the fill; `report` (the default: on untouched trials `fix` would change 2.8
+    /// finds per 10 000 frames, not all shown to be label errors) lists every find and
+    /// changes nothing; `off` skips it.
+    #[arg(long, default_value_t = c3dfix::DEFAULT_SWAPS, value_parser = swaps_arg)]
+    pub swaps: c3dfix::SwapsMode,
 }
 
 impl RepairArgs {
@@ -70,6 +77,7 @@ impl RepairArgs {
             lowpass: self.lowpass.clone(),
             markers: self.markers.clone(),
             zero_invalid: self.zero_invalid,
+            swaps: self.swaps,
         }
     }
 
@@ -89,6 +97,11 @@ fn expected_error_arg(s: &str) -> std::result::Result<ExpectedError, String> {
     c3dfix::max_expected_error(s)
         .map(ExpectedError)
         .map_err(|e| e.to_string())
+}
+
+/// `--swaps fix|report|off`, checked while the command line is parsed.
+fn swaps_arg(s: &str) -> std::result::Result<c3dfix::SwapsMode, String> {
+    s.parse().map_err(|e: c3dfix::Error| e.to_string())
 }
 
 /// Where to write: `-o OUT`, or the input itself with `--in-place`.

@@ -31,6 +31,7 @@ from ._c3dfix import (
     read,
     repair,
     repair_file,
+    swaps,
 )
 
 __all__ = [
@@ -49,5 +50,6 @@ __all__ = [
     "read",
     "repair",
     "repair_file",
+    "swaps",
     "__version__",
 ]

@@ -1,7 +1,7 @@
 """Type stubs of the c3dfix extension module."""
 
 from os import PathLike
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -99,8 +99,12 @@ def repair(
     spike_classic: bool = False,
     markers: Optional[Sequence[str]] = None,
     zero_invalid: bool = False,
+    swaps: Literal["fix", "report", "off"] = "report",
 ) -> Tuple[C3d, Dict[str, Any]]:
-    """Spikes -> fill -> filter on a copy; the repaired copy and the report."""
+    """Swaps -> spikes -> fill -> filter on a copy; the repaired copy and the report."""
+
+def swaps(c3d: C3d) -> Dict[str, Any]:
+    """Label swaps and jumps as `c3dfix swaps --json` lists them (frames in the file's numbering)."""
 
 def evaluate(
     files: Sequence[_Path],
@@ -131,6 +135,7 @@ def repair_file(
     spike_classic: bool = False,
     markers: Optional[Sequence[str]] = None,
     zero_invalid: bool = False,
+    swaps: Literal["fix", "report", "off"] = "report",
 ) -> Dict[str, Any]:
     """`c3dfix repair` on one file, path in and path out: the command's bytes, written
     atomically (no overwrite without force, never over a device); returns the report."""

@@ -45,8 +45,8 @@ impl Default for SwapOptions {
             partner_radius_mm: 500.0,
             max_hole: 10,
             min_jump_frames: 5,
-            min_report: 0.4,
-            min_confidence: 0.5,
+            min_report: 0.6,
+            min_confidence: 0.7,
         }
     }
 }
@@ -260,6 +260,61 @@ impl Ctx<'_> {
         ))
     }
 
+    /// How far `m` leaps between `f − 1` and `f`: that step against the mean of the steps
+    /// either side (a centred second difference). A label that lands on another point
+    /// leaps once by the offset; the frames beside the edge show half of it, so the edge is
+    /// where this is largest.
+    fn leap(&self, m: usize, f: usize) -> Option<f64> {
+        self.leap_vec(m, f).map(|d| norm(&d))
+    }
+
+    /// [`Ctx::leap`] as a vector: a jump's two leaps, going and coming back, are opposite.
+    fn leap_vec(&self, m: usize, f: usize) -> Option<[f64; 3]> {
+        if f < 2 || f + 1 >= self.t.frames() {
+            return None;
+        }
+        let p = |g: usize| self.pos(m, g, None);
+        let (p0, p1, p2, p3) = (p(f - 2)?, p(f - 1)?, p(f)?, p(f + 1)?);
+        Some(std::array::from_fn(|c| {
+            (p2[c] - p1[c]) - 0.5 * ((p1[c] - p0[c]) + (p3[c] - p2[c]))
+        }))
+    }
+
+    /// Spans `(first, last)` of `m` that open with a leap and close with the opposite leap
+    /// (a label that landed on another point and came back: the offset the first leap
+    /// adds, the second takes away), each leap a break and the largest of its neighbours,
+    /// `min_len` to [`MAX_LEAP_SPAN`] frames apart.
+    fn leap_pairs(&self, m: usize, min_len: usize) -> Vec<(usize, usize)> {
+        let nf = self.t.frames();
+        let size: Vec<f64> = (0..nf).map(|f| self.leap(m, f).unwrap_or(0.0)).collect();
+        let br = self.break_mm(m);
+        let leaps: Vec<(usize, [f64; 3])> = (2..nf.saturating_sub(1))
+            .filter(|&f| size[f] > br && size[f] >= size[f - 1] && size[f] >= size[f + 1])
+            .filter_map(|f| Some((f, self.leap_vec(m, f)?)))
+            .collect();
+        let mut out = Vec::new();
+        let mut i = 0;
+        while i < leaps.len() {
+            let (f1, v1) = leaps[i];
+            let back = leaps[i + 1..]
+                .iter()
+                .enumerate()
+                .take_while(|(_, (f2, _))| f2 - f1 <= MAX_LEAP_SPAN)
+                .find(|(_, (f2, v2))| {
+                    let sum: [f64; 3] = std::array::from_fn(|c| v1[c] + v2[c]);
+                    f2 - f1 >= min_len && norm(&sum) < 0.5 * norm(&v1).min(norm(v2))
+                });
+            match back {
+                Some((k, &(f2, _))) => {
+                    out.push((f1, f2 - 1));
+                    i += k + 2;
+                }
+                None => i += 1,
+            }
+        }
+        out
+    }
+
     /// Size of marker `m`'s step out of its predicted path (constant velocity) at `f`,
     /// with `sw` exchanged on the frames `span` holds.
     fn step(
@@ -412,10 +467,47 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
             }
         }
     }
+    // Markers with fewer than two links never have jump frames (one link cannot say which
+    // of its markers strayed): their jumps are found by continuity alone, below.
+    let few_links: Vec<usize> = (0..nm).filter(|&m| cx.links[m].len() < 2).collect();
+    for &a in &few_links {
+        jump_frames.entry(a).or_default();
+    }
+    let swapped: Vec<(usize, usize, usize)> = finds
+        .iter()
+        .flat_map(|x| x.markers.iter().map(move |&m| (m, x.first, x.last)))
+        .collect();
     for (&a, frames) in &jump_frames {
-        for (s, e, decided) in episodes(frames, opts.max_hole, nf, |f| cx.jump_verdict(a, f)) {
+        let mut eps = episodes(frames, opts.max_hole, nf, |f| cx.jump_verdict(a, f));
+        let few = cx.links[a].len() < 2;
+        // A span between two opposite leaps that holds jump frames is one jump, its edges
+        // the leaps: the episodes inside it (a link can stay whole for a few frames of the
+        // jump, splitting it) are joined into it.
+        for (s, e) in cx.leap_pairs(a, opts.min_jump_frames) {
+            let inside: Vec<usize> = frames
+                .iter()
+                .copied()
+                .filter(|&f| f >= s && f <= e)
+                .collect();
+            // A swap leaves the same two leaps on both its markers.
+            let in_swap = swapped.iter().any(|&(m, x, y)| m == a && s <= y && x <= e);
+            if in_swap || (inside.is_empty() && !few) {
+                continue;
+            }
+            eps.retain(|ep| ep.1 < s || ep.0 > e);
+            eps.push((s, e, inside));
+        }
+        eps.sort_by_key(|ep| ep.0);
+        for (s, e, decided) in eps {
             if e + 1 - s >= opts.min_jump_frames {
-                finds.push(jump_find(&cx, a, s, e, decided, opts));
+                let x = if decided.is_empty() {
+                    leap_jump_find(&cx, a, s, e, opts)
+                } else {
+                    jump_find(&cx, a, s, e, decided, opts)
+                };
+                if x.last + 1 - x.first >= opts.min_jump_frames {
+                    finds.push(x);
+                }
             }
         }
     }
@@ -423,6 +515,16 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
     finds.sort_by_key(|x| (x.first, x.markers.clone()));
     Ok(finds)
 }
+
+/// Confidence of a jump found by continuity alone whose second leap takes back the first
+/// exactly.
+const LEAP_ONLY_CONFIDENCE: f64 = 0.75;
+
+/// Longest span between a jump's two leaps looked for, frames.
+const MAX_LEAP_SPAN: usize = 120;
+
+/// Frames either side of a jump's edge searched for its leap.
+const EDGE_SEARCH: usize = 3;
 
 /// Cost of switching between labelled and exchanged, in units of link tolerance: a swap
 /// must mend more than this at its two edges together to be worth a run.
@@ -558,6 +660,10 @@ fn episodes(
     out
 }
 
+fn norm(v: &[f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
         return 0.0;
@@ -684,6 +790,22 @@ fn jump_find(
     );
     // The steps at the edges against the marker's usual steps.
     let nf = cx.t.frames();
+    // Each edge moved to the largest leap within a few frames, when that is a break: the
+    // frames a link decides can stop short of the edge (an offset along a link changes its
+    // length little), and the jump's samples are the ones between the two leaps.
+    let near = |edge: usize, lo: usize, hi: usize| -> usize {
+        (edge.saturating_sub(EDGE_SEARCH).max(lo)..=(edge + EDGE_SEARCH).min(hi))
+            .filter_map(|f| Some((cx.leap(a, f)?, f)))
+            .filter(|&(l, _)| l > cx.break_mm(a))
+            .max_by(|x, y| x.0.total_cmp(&y.0))
+            .map_or(edge, |(_, f)| f)
+    };
+    let s = near(s, 1, e);
+    let e = if e + 1 < nf {
+        near(e + 1, s + 1, nf - 1) - 1
+    } else {
+        e
+    };
 
     let (mut smoother, mut checked, mut edge_step) = (0, 0, 0.0f64);
     for f in [s, e + 1] {
@@ -699,16 +821,22 @@ fn jump_find(
         }
     }
     let p_link = 1.0 - (-2.0 * (before - 1.0).max(0.0)).exp();
-    let share = (decided.len() as f64 / (e + 1 - s) as f64).sqrt();
+    let inside = decided.iter().filter(|&&f| f >= s && f <= e).count();
+    let share = (inside as f64 / (e + 1 - s) as f64).sqrt();
     // A label that lands on another point leaves its path twice, going and coming back;
     // skin moving or a marker wobbling does neither.
+    // No edge to check (the episode runs from a gap or the trial's end to another): the
+    // links alone, which a marker set that bends slowly (a trunk at the trial's ends) also
+    // breaks, and no report.
     let p_cont = match (smoother, checked) {
-        (0, 0) => 0.5,
+        (0, 0) => 0.3,
         (b, c) if b == c => 1.0,
         (1, _) => 0.4,
         _ => 0.1,
     };
-    let confidence = (p_cont * (0.5 + 0.5 * p_link * share)).clamp(0.0, 1.0);
+    // Both edges breaking is not enough alone: the links must say the marker left its
+    // place over the episode's frames.
+    let confidence = (p_cont * (0.3 + 0.7 * p_link * share)).clamp(0.0, 1.0);
     Find {
         kind: FindKind::Jump,
         markers: vec![a],
@@ -718,12 +846,50 @@ fn jump_find(
         settled: confidence >= opts.min_confidence,
         evidence: Evidence {
             links: cx.links[a].len(),
-            frames_decided: decided.len(),
+            frames_decided: inside,
             link_error: before,
             link_error_undone: 0.0,
             edges_smoother: smoother,
             edges_checked: checked,
             edge_step_mm: edge_step,
+        },
+    }
+}
+
+/// A jump of a marker with fewer than two links, found by continuity alone between two
+/// opposite leaps ([`Ctx::leap_pairs`]): how nearly the second leap takes back the first
+/// (a label on another point and back: exactly; a foot striking the ground and leaving it:
+/// seldom) is the confidence, at most [`LEAP_ONLY_CONFIDENCE`].
+fn leap_jump_find(cx: &Ctx, a: usize, s: usize, e: usize, opts: &SwapOptions) -> Find {
+    let (v1, v2) = (cx.leap_vec(a, s), cx.leap_vec(a, e + 1));
+    let closure = match (v1, v2) {
+        (Some(v1), Some(v2)) => {
+            let sum: [f64; 3] = std::array::from_fn(|c| v1[c] + v2[c]);
+            1.0 - norm(&sum) / norm(&v1).min(norm(&v2)).max(f64::MIN_POSITIVE)
+        }
+        _ => 0.0,
+    };
+    let steps: Vec<f64> = [s, e + 1]
+        .iter()
+        .filter_map(|&f| cx.step(a, f, (a, a), (0, 0), false))
+        .collect();
+    let smoother = steps.iter().filter(|&&x| x > cx.break_mm(a)).count();
+    let confidence = (LEAP_ONLY_CONFIDENCE * closure.max(0.0)).clamp(0.0, 1.0);
+    Find {
+        kind: FindKind::Jump,
+        markers: vec![a],
+        first: s,
+        last: e,
+        confidence,
+        settled: confidence >= opts.min_confidence,
+        evidence: Evidence {
+            links: cx.links[a].len(),
+            frames_decided: 0,
+            link_error: 0.0,
+            link_error_undone: 0.0,
+            edges_smoother: smoother,
+            edges_checked: steps.len(),
+            edge_step_mm: steps.iter().copied().fold(0.0, f64::max),
         },
     }
 }
