@@ -18,8 +18,8 @@
 
 pub mod axes;
 pub mod calibrate;
-pub mod desailly;
 pub mod cycles;
+pub mod desailly;
 mod error;
 pub mod kinematic;
 pub mod markers;
