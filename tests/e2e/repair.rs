@@ -685,3 +685,79 @@ fn repair_profile_counts_the_fills_and_changes_nothing() {
         "{err}"
     );
 }
+
+/// The batch summary gives the gaps left by reason, those at a trial's start or end apart
+/// from those inside: on the bundled walk filled with the spline (which needs samples on
+/// both sides) and at most 30 frames, RFIN's gap over frames 1–15 is left for touching the
+/// trial's start, RKNE's 331–390 and LWRA's 301–345 inside it for their length.
+#[test]
+fn batch_summary_gives_left_gaps_by_reason_and_trial_ends_apart() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in");
+    std::fs::create_dir(&input).unwrap();
+    std::fs::copy(sample("walk_int.c3d"), input.join("walk_int.c3d")).unwrap();
+    let args = |out: &str, json: bool| {
+        let mut a = vec![
+            "batch".to_string(),
+            s(&input).to_string(),
+            "--out-dir".into(),
+            s(&dir.path().join(out)).to_string(),
+            "--fill".into(),
+            "spline".into(),
+            "--max-gap".into(),
+            "30".into(),
+        ];
+        if json {
+            a.push("--json".into());
+        }
+        a
+    };
+    let a = args("out", true);
+    let out = c3dfix(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let file = &lines[0]["summary"];
+    let left: Vec<(&str, u64, u64, bool, &str)> = file["gap_list"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|g| g["reason"].is_string())
+        .map(|g| {
+            (
+                g["label"].as_str().unwrap(),
+                g["first"].as_u64().unwrap(),
+                g["last"].as_u64().unwrap(),
+                g["at_trial_end"] == true,
+                g["reason"].as_str().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        left,
+        [
+            ("RKNE", 331, 390, false, "too_long"),
+            ("LWRA", 301, 345, false, "too_long"),
+            ("RFIN", 1, 15, true, "touches_edge"),
+        ]
+    );
+    let sum = &lines.last().unwrap()["summary"];
+    assert_eq!(sum["left"], 3);
+    assert_eq!(sum["left_at_trial_ends"], 1);
+    assert_eq!(sum["left_inside"], 2);
+    assert_eq!(
+        sum["left_because"],
+        serde_json::json!({"too_long": 2, "touches_edge": 1})
+    );
+    let a = args("out2", false);
+    let t = stdout(&c3dfix(&a.iter().map(String::as_str).collect::<Vec<_>>()));
+    assert!(
+        t.contains(
+            "left     3 gaps (too_long 2, touches_edge 1): 1 at a trial's start or end, 2 inside"
+        ),
+        "{t}"
+    );
+}
