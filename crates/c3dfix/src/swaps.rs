@@ -27,11 +27,11 @@ pub struct SwapFind {
     /// The points (0-based indices) the markers are, in the order of `markers`.
     #[serde(skip)]
     pub points: Vec<usize>,
-    /// 0-based first and last frame.
+    /// 0-based first and last frame (indices into the trial's frames).
     #[serde(skip)]
-    pub first: usize,
+    pub first_index: usize,
     #[serde(skip)]
-    pub last: usize,
+    pub last_index: usize,
 }
 
 /// What [`swaps`] found.
@@ -127,8 +127,8 @@ pub fn swaps(c: &c3d::C3d, path: &Path, opts: &SwapOptions) -> Result<Swaps> {
             settled: x.settled,
             evidence: x.evidence,
             points: x.markers.iter().map(|&m| points[m]).collect(),
-            first: x.first,
-            last: x.last,
+            first_index: x.first,
+            last_index: x.last,
         })
         .collect();
     Ok(Swaps {

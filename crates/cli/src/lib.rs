@@ -4,6 +4,7 @@
 
 pub mod commands;
 pub mod console;
+pub mod flags;
 pub mod output;
 pub mod plates;
 pub mod plot;

@@ -69,14 +69,14 @@ pub fn export_mot(
     axes: Option<&str>,
     threshold: f64,
     zero_baseline: bool,
-    lowpass: Option<String>,
+    lowpass: Option<&str>,
     force: bool,
 ) -> PyResult<()> {
     let rotation = self::axes(axes)?.unwrap_or_default();
     let opts = c3dfix::ForceOptions {
         threshold,
         zero_baseline,
-        lowpass,
+        lowpass: lowpass.map(str::parse).transpose().map_err(err)?,
     };
     let name = c3d.name();
     py.allow_threads(|| {
@@ -106,7 +106,7 @@ pub fn export_opensim(
     axes: Option<&str>,
     threshold: f64,
     zero_baseline: bool,
-    lowpass: Option<String>,
+    lowpass: Option<&str>,
     force: bool,
 ) -> PyResult<PyObject> {
     let opts = OpenSimOptions {
@@ -115,7 +115,7 @@ pub fn export_opensim(
         forces: c3dfix::ForceOptions {
             threshold,
             zero_baseline,
-            lowpass,
+            lowpass: lowpass.map(str::parse).transpose().map_err(err)?,
         },
         force,
     };
