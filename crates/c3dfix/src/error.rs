@@ -178,7 +178,7 @@ mod tests {
         };
         let (p, section, offset) = e.bad_file().expect("a malformed file");
         assert_eq!(p, path);
-        assert!(offset >= 512 && offset <= 1024, "offset {offset}");
+        assert!((512..=1024).contains(&offset), "offset {offset}");
         assert!(
             e.to_string()
                 .contains(&format!("{section} at byte {offset}")),

@@ -5,7 +5,7 @@
 //! the whole call.
 
 use crate::options::RepairKeywords;
-use crate::{err, to_python};
+use crate::{err, lib_err, to_python};
 use c3dfix::files::{Conversion, Destination};
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
@@ -18,18 +18,9 @@ fn file_err(input: &Path, e: c3dfix::Error) -> PyErr {
     let here = input.display();
     match e {
         Error::Options(m) => err(format!("{here}: {m}")),
-        Error::Exists { path } => err(format!(
-            "{} exists (pass force=True to overwrite)",
-            path.display()
-        )),
-        Error::OwnInput { output, input } => err(format!(
-            "the output {} is the input file {}: pass in_place=True (with backup=True to keep the original) to replace it",
-            output.display(),
-            input.display()
-        )),
         // The conflicts' own words ("backup goes with in-place") name the keywords already.
         Error::Conflict(c) => err(format!("{here}: {c}")),
-        other => err(other),
+        other => lib_err(other),
     }
 }
 

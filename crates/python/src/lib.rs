@@ -27,6 +27,24 @@ fn err(e: impl std::fmt::Display) -> PyErr {
     C3dError::new_err(e.to_string())
 }
 
+/// A library error as `C3dError`, with this package's keywords where the library's kind
+/// says how to ask for something (the library names no flag or keyword).
+fn lib_err(e: c3dfix::Error) -> PyErr {
+    use c3dfix::Error;
+    match e {
+        Error::Exists { path } => err(format!(
+            "{} exists (pass force=True to overwrite)",
+            path.display()
+        )),
+        Error::OwnInput { output, input } => err(format!(
+            "the output {} is the input file {}: pass in_place=True (with backup=True to keep the original) to replace it",
+            output.display(),
+            input.display()
+        )),
+        other => err(other),
+    }
+}
+
 /// A JSON value as the Python object `json.loads` would make.
 fn to_python(py: Python<'_>, v: &serde_json::Value) -> PyResult<PyObject> {
     let text = serde_json::to_string(v).map_err(err)?;
