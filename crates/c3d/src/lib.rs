@@ -31,7 +31,7 @@ pub use file::{C3d, NumberFormat};
 pub use force_platform::{platform_params, PlateParams, PlateProblem, PlatformParams};
 pub use header::{Header, HeaderEvent, BLOCK};
 pub use parameters::{Group, Parameter, Parameters, Record, Value};
-pub use points::{is_missing, Points};
+pub use points::{is_missing, Mark, Points};
 pub use processor::Processor;
 pub use read::{read, read_file, read_file_mapped};
 pub use units::{length_mm, mm_per_unit, UnknownUnit};

@@ -19,7 +19,35 @@ pub struct Points {
     pub camera_mask: Vec<u8>,
 }
 
+/// A sample a program writes rather than a camera system measured, as the C3D manual marks
+/// it: a computed one (filled, filtered, set by hand) keeps its coordinates with residual 0
+/// and no cameras; a missing one is at the origin with residual −1 and no cameras. The one
+/// statement of that rule, for the repair's write-back and the Python package's setter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Mark {
+    Computed([f32; 3]),
+    Missing,
+}
+
+impl Mark {
+    /// The sample as stored: coordinates, residual, camera mask.
+    pub fn stored(self) -> ([f32; 3], f32, u8) {
+        match self {
+            Mark::Computed(xyz) => (xyz, 0.0, 0),
+            Mark::Missing => ([0.0; 3], -1.0, 0),
+        }
+    }
+}
+
 impl Points {
+    /// Set sample `k` (see [`Points::index`]) as `mark` says.
+    pub fn mark(&mut self, k: usize, mark: Mark) {
+        let (xyz, residual, cameras) = mark.stored();
+        self.xyz[k] = xyz;
+        self.residual[k] = residual;
+        self.camera_mask[k] = cameras;
+    }
+
     /// `frames` × `count` samples, all invalid at the origin.
     pub fn new(frames: usize, count: usize) -> Points {
         let n = frames * count;
@@ -260,5 +288,23 @@ mod tests {
         }
         assert_eq!(p.gaps(0), vec![(1, 2), (5, 5)]);
         assert_eq!(p.validity(0), vec![true, false, false, true, true, false]);
+    }
+
+    #[test]
+    fn marked_samples_read_as_computed_or_missing() {
+        let mut p = Points::new(2, 1);
+        p.camera_mask[0] = 0b101;
+        p.mark(0, Mark::Computed([1.0, 2.0, 3.0]));
+        assert!(p.is_valid(0, 0));
+        assert_eq!(
+            (p.xyz[0], p.residual[0], p.camera_mask[0]),
+            ([1.0, 2.0, 3.0], 0.0, 0)
+        );
+        p.mark(0, Mark::Missing);
+        assert!(!p.is_valid(0, 0));
+        assert_eq!(
+            (p.xyz[0], p.residual[0], p.camera_mask[0]),
+            ([0.0; 3], -1.0, 0)
+        );
     }
 }

@@ -13,8 +13,8 @@ use std::path::Path;
 pub fn repair_and_save(input: &Path, output: &Path) -> c3dfix::Result<c3dfix::Summary> {
     let mut trial = c3dfix::open(input)?;
     let opts = RepairOptions {
-        spikes: Some("hampel".into()),
-        lowpass: Some("butterworth:4:6".into()),
+        spikes: Some("hampel".parse()?),
+        lowpass: Some("butterworth:4:6".parse()?),
         ..RepairOptions::default()
     };
     let done = c3dfix::repair(&mut trial, &opts, input)?;

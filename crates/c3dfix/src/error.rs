@@ -16,9 +16,31 @@ pub enum Error {
         source: c3d::Error,
     },
     /// A destination cannot be written (the message names it and says why: its folder is
-    /// missing, it is a device, it exists and replacing it was not asked for, …).
+    /// missing, it is a device, …).
     #[error("{0}")]
     Output(String),
+    /// A destination exists and replacing it was not asked for (each front end says how to
+    /// ask: `--force`, `force=True`).
+    #[error("{} exists and replacing it was not asked for", path.display())]
+    Exists { path: PathBuf },
+    /// An output would land on the run's own input, which only an in-place run replaces.
+    #[error(
+        "the output {} is the input file {}: replacing the input is asked for as in-place",
+        output.display(),
+        input.display()
+    )]
+    OwnInput { output: PathBuf, input: PathBuf },
+    /// Settings that do not go together.
+    #[error("{0}")]
+    Conflict(Conflict),
+    /// A setting's value outside its range: the setting, the value as given and the limits.
+    #[error("{} {value}: {limits}", setting.name())]
+    OutOfRange {
+        setting: Setting,
+        value: String,
+        /// What is accepted, e.g. "from 1 to 80 frames".
+        limits: String,
+    },
     /// Options that make no sense (an unknown method, a malformed filter spec, a marker the
     /// file does not have, a value out of range).
     #[error("{0}")]
@@ -45,7 +67,88 @@ pub enum Error {
     },
 }
 
+/// A setting the command line and the Python package both expose, as an error names it:
+/// each front end spells it its own way (`--gap-lengths`, `gap_lengths=`), from
+/// [`Setting::name`]'s plain words.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Setting {
+    /// Where the result goes (`-o OUT`, `output`).
+    Output,
+    /// Replace the input itself.
+    InPlace,
+    /// Keep the replaced input as `FILE.bak`.
+    Backup,
+    /// Replace an existing output.
+    Force,
+    /// Evaluation: which coordinates form one gap (1, 2 or 3 markers).
+    Group,
+    /// Evaluation: the artificial gaps' lengths.
+    GapLengths,
+    /// Evaluation: artificial gaps per length.
+    GapsPerLength,
+    /// Force plates: the push below which the COP is undefined.
+    Threshold,
+    /// Events: where they are detected from.
+    EventSource,
+    /// Repair: what is done with label swaps and jumps.
+    Swaps,
+}
+
+impl Setting {
+    /// The setting in plain words, as the library's own messages name it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Setting::Output => "output",
+            Setting::InPlace => "in-place",
+            Setting::Backup => "backup",
+            Setting::Force => "force",
+            Setting::Group => "group",
+            Setting::GapLengths => "gap lengths",
+            Setting::GapsPerLength => "gaps per length",
+            Setting::Threshold => "threshold",
+            Setting::EventSource => "event source",
+            Setting::Swaps => "swaps",
+        }
+    }
+}
+
+/// Destination settings that do not go together.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Conflict {
+    #[error("backup goes with in-place")]
+    BackupWithoutInPlace,
+    #[error("give either an output file or in-place, not both")]
+    OutputAndInPlace,
+    #[error("give an output file or in-place")]
+    NoDestination,
+}
+
+impl From<repair::ParseError> for Error {
+    /// A misspelt method, mode or spec is an option error.
+    fn from(e: repair::ParseError) -> Self {
+        Error::Options(e.to_string())
+    }
+}
+
 impl Error {
+    /// Where a file breaks the C3D format, when that is what went wrong: the file, the
+    /// section and the byte offset from the file's start (front ends may show or attach
+    /// them; the message already says them).
+    pub fn bad_file(&self) -> Option<(&std::path::Path, c3d::Section, u64)> {
+        match self {
+            Error::C3d {
+                path,
+                source:
+                    c3d::Error::Malformed {
+                        section, offset, ..
+                    },
+            } => Some((path, *section, *offset)),
+            _ => None,
+        }
+    }
+
     pub(crate) fn options(what: impl Into<String>) -> Self {
         Error::Options(what.into())
     }
@@ -53,3 +156,37 @@ impl Error {
 
 /// The library's result type.
 pub type Result<T> = std::result::Result<T, Error>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_truncated_file_is_a_bad_file_with_its_section_and_offset() {
+        let path = PathBuf::from(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../sample_c3d/walk_int.c3d"
+        ));
+        let Ok(bytes) = std::fs::read(&path) else {
+            panic!("{} is part of the repository", path.display());
+        };
+        // The header and the parameter section's first block only: the parameters run on.
+        let source = match c3d::read(bytes[..1024].to_vec()) {
+            Err(e) => e,
+            Ok(_) => panic!("a file cut inside its parameters must not read"),
+        };
+        let e = Error::C3d {
+            path: path.clone(),
+            source,
+        };
+        let (p, section, offset) = e.bad_file().expect("a malformed file");
+        assert_eq!(p, path);
+        assert!((512..=1024).contains(&offset), "offset {offset}");
+        assert!(
+            e.to_string()
+                .contains(&format!("{section} at byte {offset}")),
+            "{e}"
+        );
+        assert!(Error::Exists { path }.bad_file().is_none());
+    }
+}

@@ -3,9 +3,8 @@
 //! are reported in millimetres whatever POINT:UNITS a file uses, so files in metres and
 //! millimetres pool correctly.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Setting};
 use crate::markers::{marker_indices, mm_per_unit};
-use crate::options::{fill_method, method_name};
 use crate::trial::{open, to_trial};
 use repair::{EvalConfig, FillMethod};
 use serde::Serialize;
@@ -76,29 +75,45 @@ impl EvaluateOptions {
     /// The methods to compare, checked.
     pub fn fill_methods(&self) -> Result<Vec<FillMethod>> {
         match &self.methods {
-            Some(m) => m.iter().map(|s| fill_method(s)).collect(),
+            Some(m) => m.iter().map(|s| s.parse().map_err(Error::from)).collect(),
             None => Ok(FillMethod::ALL.to_vec()),
         }
     }
 
     fn check(&self) -> Result<()> {
+        let out_of_range = |setting, value: String, limits: String| Error::OutOfRange {
+            setting,
+            value,
+            limits,
+        };
         if !(1..=3).contains(&self.group) {
-            return Err(Error::options("--group must be 1, 2 or 3"));
+            return Err(out_of_range(
+                Setting::Group,
+                self.group.to_string(),
+                "must be 1, 2 or 3".into(),
+            ));
         }
-        if self.gap_lengths.is_empty()
-            || self
-                .gap_lengths
-                .iter()
-                .any(|&l| !(1..=MAX_GAP_LENGTH).contains(&l))
-        {
-            return Err(Error::options(format!(
-                "--gap-lengths must be frame counts from 1 to {MAX_GAP_LENGTH}"
-            )));
+        let lengths = 1..=MAX_GAP_LENGTH;
+        if let Some(bad) = self.gap_lengths.iter().find(|l| !lengths.contains(l)) {
+            return Err(out_of_range(
+                Setting::GapLengths,
+                bad.to_string(),
+                format!("must be frame counts from 1 to {MAX_GAP_LENGTH}"),
+            ));
+        }
+        if self.gap_lengths.is_empty() {
+            return Err(out_of_range(
+                Setting::GapLengths,
+                "(none)".into(),
+                format!("must be frame counts from 1 to {MAX_GAP_LENGTH}"),
+            ));
         }
         if !(1..=MAX_GAPS_PER_LENGTH).contains(&self.gaps_per_length) {
-            return Err(Error::options(format!(
-                "--gaps-per-length must be from 1 to {MAX_GAPS_PER_LENGTH}"
-            )));
+            return Err(out_of_range(
+                Setting::GapsPerLength,
+                self.gaps_per_length.to_string(),
+                format!("must be from 1 to {MAX_GAPS_PER_LENGTH}"),
+            ));
         }
         Ok(())
     }
@@ -192,7 +207,7 @@ pub fn evaluate(
         }
         for s in &ev.scores {
             let e = pooled
-                .entry((s.gap_len, method_name(s.method)))
+                .entry((s.gap_len, s.method.to_string()))
                 .or_insert((0.0, 0, 0.0));
             e.0 += s.mean * s.samples as f64;
             e.1 += s.samples;

@@ -6,7 +6,7 @@
 //! frame) is at `frame_time(0) + i / rate`, and its frame is the nearest one, numbered as
 //! the file numbers frames ([`c3d::C3d::frame_number`]).
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Setting};
 use crate::platforms::{force_platforms, ForceOptions};
 use gait::{Feet, KinematicOptions, MarkerChoice, MarkerNames, PlateInput, PlateOptions};
 use serde::Serialize;
@@ -31,9 +31,11 @@ impl std::str::FromStr for EventSource {
             "plates" | "plate" => Ok(EventSource::Plates),
             "kinematics" | "kinematic" | "markers" => Ok(EventSource::Kinematics),
             "auto" => Ok(EventSource::Auto),
-            _ => Err(Error::options(format!(
-                "--from {s}: expected plates, kinematics or auto"
-            ))),
+            _ => Err(Error::OutOfRange {
+                setting: Setting::EventSource,
+                value: s.to_string(),
+                limits: "expected plates, kinematics or auto".into(),
+            }),
         }
     }
 }

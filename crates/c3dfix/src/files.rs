@@ -8,9 +8,9 @@
 //! or the output. The outputs of one call (the file, its backup, the report) are written
 //! together by [`save::write_all`], all or nothing.
 
-use crate::error::{Error, Result};
+use crate::error::{Conflict, Error, Result};
 use crate::options::RepairOptions;
-use crate::repair::{repair as repair_trial, Repaired};
+use crate::repair::{repair_configured, Repaired};
 use crate::save::{
     self, check_destination, new_backup, refuse_input, refuse_own_input, replacing, write_all,
 };
@@ -36,15 +36,13 @@ impl Destination {
     /// The path written for `input`, once the options are known to go together.
     pub fn path(&self, input: &Path) -> Result<PathBuf> {
         if self.backup && !self.in_place {
-            return Err(Error::options("backup goes with in-place"));
+            return Err(Error::Conflict(Conflict::BackupWithoutInPlace));
         }
         match (&self.output, self.in_place) {
-            (Some(_), true) => Err(Error::options(
-                "give either an output file or in-place, not both",
-            )),
+            (Some(_), true) => Err(Error::Conflict(Conflict::OutputAndInPlace)),
             (Some(o), false) => Ok(o.clone()),
             (None, true) => Ok(input.to_path_buf()),
-            (None, false) => Err(Error::options("give an output file or in-place")),
+            (None, false) => Err(Error::Conflict(Conflict::NoDestination)),
         }
     }
 
@@ -55,8 +53,11 @@ impl Destination {
 }
 
 /// Repair `input` as `opts` says and write it to `dest` (and the full report, as JSON, to
-/// `report` when given): what `c3dfix repair` does. The summary names the output and the
-/// backup, if one was made; [`Repaired::report`] is the report written.
+/// `report` when given): what `c3dfix repair` and each file of `c3dfix batch` do, and
+/// Python's `repair_file`. The summary names the output and the backup, if one was made;
+/// [`Repaired::report`] is the report written. In place, a rerun that changes nothing
+/// leaves the file alone (not even its time stamp, nor a backup) and says `unchanged`:
+/// `batch --in-place` run twice touches no file the second time.
 pub fn repair(
     input: &Path,
     dest: &Destination,
@@ -67,8 +68,8 @@ pub fn repair(
     if !dest.in_place {
         refuse_own_input(input, &out)?;
     }
-    // Options that do not depend on the file are checked before any file is touched.
-    opts.config("mm")?;
+    // The options are checked once, before any file is touched.
+    let cfg = opts.config()?;
     let overwrite = dest.overwrite();
     check_destination(&out, overwrite)?;
     if let Some(r) = report {
@@ -77,7 +78,7 @@ pub fn repair(
     }
     let backup = if dest.backup { new_backup(input) } else { None };
     let mut c = open_mapped(input)?;
-    let mut done = repair_trial(&mut c, opts, input)?;
+    let mut done = repair_configured(&mut c, opts, cfg, input)?;
     done.summary.output = out.display().to_string();
     done.summary.backup = backup.as_ref().map(|b| b.display().to_string());
     let text = match report {
@@ -89,9 +90,16 @@ pub fn repair(
         path: input.to_path_buf(),
         source,
     })?;
+    let unchanged = c.source_bytes() == Some(&bytes[..]) && save::same_file(input, &out);
     // With a backup (in place), the input as it is on disk: the trial in memory holds the
     // repaired samples.
-    let mut outs = replacing(&out, &bytes, overwrite, backup.as_deref());
+    let mut outs = if unchanged {
+        done.summary.unchanged = true;
+        done.summary.backup = None;
+        Vec::new()
+    } else {
+        replacing(&out, &bytes, overwrite, backup.as_deref())
+    };
     if let Some(path) = report {
         outs.push(save::Output {
             path,

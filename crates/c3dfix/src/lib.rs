@@ -14,7 +14,7 @@
 //! use c3dfix::{RepairOptions, SaveOptions};
 //!
 //! let mut trial = c3dfix::open("walk.c3d")?;
-//! let opts = RepairOptions { lowpass: Some("butterworth:4:6".into()), ..RepairOptions::default() };
+//! let opts = RepairOptions { lowpass: Some("butterworth:4:6".parse()?), ..RepairOptions::default() };
 //! let done = c3dfix::repair(&mut trial, &opts, "walk.c3d".as_ref())?;
 //! println!("{} of {} gaps filled", done.summary.filled, done.summary.gaps);
 //! c3dfix::save(&trial, "walk_repaired.c3d".as_ref(), &SaveOptions::default())?;
@@ -49,20 +49,20 @@ pub use ::kinetics;
 pub use ::repair as repair_lib;
 pub use axes::{Axes, Direction, Up, UpSource};
 pub use cycles::{cycles, CycleInfo, CycleOptions, Cycles};
-pub use error::{Error, Result};
+pub use error::{Conflict, Error, Result, Setting};
 pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
 pub use events::{detect_events, Detected, EventOptions, EventSource, TrialEvent};
 pub use gait_params::{gait_parameters, GaitOptions, GaitReport};
 pub use gaps::{gaps, GapInfo};
 pub use options::{
-    fill_method, filter_spec, max_expected_error, method_name, spike_options, RepairOptions,
-    SwapsMode, DEFAULT_MAX_EXPECTED_ERROR_MM, DEFAULT_SWAPS,
+    max_expected_error, RepairOptions, SwapsMode, DEFAULT_MAX_EXPECTED_ERROR_MM, DEFAULT_SWAPS,
 };
 pub use platforms::{
     force_platforms, Baseline, BaselineSource, Contact, ForceOptions, ForcePlatforms, PlateWarning,
     Platform,
 };
 pub use repair::{repair, GapBrief, Repaired, Summary};
+pub use repair_lib::{FillMethod, FilterSpec, ParseError, SpikeMode, SpikeSpec};
 pub use swaps::{swaps, SwapFind, Swaps};
 pub use trial::{open, open_mapped};
 
@@ -96,41 +96,4 @@ pub fn save(c: &c3d::C3d, path: &Path, opts: &SaveOptions) -> Result<Option<Path
     let outs = save::replacing(path, &bytes, replace, backup.as_deref());
     save::write_all(&outs)?;
     Ok(backup)
-}
-
-/// Open `input`, repair it, and save the result to `output` atomically: what
-/// `c3dfix repair` does. The summary names both files (and the backup, if one was made).
-pub fn repair_file(
-    input: &Path,
-    output: &Path,
-    opts: &RepairOptions,
-    save_opts: &SaveOptions,
-) -> Result<Repaired> {
-    let mut c = open(input)?;
-    repair_opened(&mut c, input, output, opts, save_opts)
-}
-
-/// [`repair_file`] for a trial already opened from `input` (callers that look at a file
-/// first read and parse it once). The destination is checked before any work is done.
-pub fn repair_opened(
-    c: &mut c3d::C3d,
-    input: &Path,
-    output: &Path,
-    opts: &RepairOptions,
-    save_opts: &SaveOptions,
-) -> Result<Repaired> {
-    save::check_destination(output, save_opts.force || save_opts.backup)?;
-    let mut done = repair(c, opts, input)?;
-    done.summary.output = output.display().to_string();
-    // A rerun that changes nothing leaves the file alone in place (not even its time stamp
-    // or a backup): `batch --in-place` run twice touches no file the second time.
-    let same_bytes = c.encoded().is_ok_and(|b| c.source_bytes() == Some(&b[..]));
-    if same_bytes && save::same_file(input, output) {
-        done.summary.unchanged = true;
-        return Ok(done);
-    }
-    if let Some(b) = save(c, output, save_opts)? {
-        done.summary.backup = Some(b.display().to_string());
-    }
-    Ok(done)
 }

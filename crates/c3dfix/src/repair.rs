@@ -4,7 +4,7 @@
 
 use crate::error::{Error, Result};
 use crate::markers::{marker_indices, mm_per_unit, select};
-use crate::options::{method_name, RepairOptions};
+use crate::options::RepairOptions;
 use crate::rerun;
 use crate::swap_stage::{self, SwapAction, SwapBrief};
 use crate::trial::{to_trial, write_back};
@@ -82,9 +82,12 @@ fn is_zero(n: &usize) -> bool {
 pub struct GapBrief {
     pub label: String,
     /// First and last missing frame, numbered as the file numbers them
-    /// ([`c3d::C3d::frame_number`]: from the header's first frame), like `c3dfix gaps`.
-    pub first: usize,
-    pub last: usize,
+    /// ([`c3d::C3d::frame_number`]: from the header's first frame), as [`crate::GapInfo`]'s
+    /// fields of the same names; the report keeps its keys `first` and `last`.
+    #[serde(rename = "first")]
+    pub first_frame: usize,
+    #[serde(rename = "last")]
+    pub last_frame: usize,
     /// Their times in seconds ([`c3d::C3d::frame_time`]: frame n at (n − 1) / rate).
     pub first_time: f64,
     pub last_time: f64,
@@ -161,6 +164,18 @@ fn labelled<T: Serialize>(
 /// messages and the summary. Model outputs are never repaired nor used as donors; samples
 /// outside the chosen markers keep their bits; the parameters and analog data are untouched.
 pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Repaired> {
+    let cfg = opts.config()?;
+    repair_configured(c, opts, cfg, name)
+}
+
+/// [`repair`] with the options already checked into `cfg` (in millimetres), for callers that
+/// check them once before touching any file.
+pub(crate) fn repair_configured(
+    c: &mut c3d::C3d,
+    opts: &RepairOptions,
+    cfg: repair::RepairConfig,
+    name: &Path,
+) -> Result<Repaired> {
     if c.point_count() == 0 {
         return Err(Error::Trial {
             path: name.to_path_buf(),
@@ -174,7 +189,9 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
         },
         c3d::NumberFormat::Float => repair::Storage::Float32,
     };
-    let mut cfg = opts.config(&c.point_units())?.with_storage(storage);
+    let mut cfg = cfg
+        .in_units(mm_per_unit(&c.point_units()))
+        .with_storage(storage);
     let only = opts.markers.as_ref().map(|m| select(c, m)).transpose()?;
     let points = marker_indices(c);
     // What an earlier repair of this file did: done steps are not done again, its fills are
@@ -241,7 +258,14 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
         earlier.left = record
             .left
             .iter()
-            .filter_map(|l| Some((*row_of.get(&l.point)?, l.first, l.last, l.reason)))
+            .filter_map(|l| {
+                Some((
+                    *row_of.get(&l.point)?,
+                    l.first_index,
+                    l.last_index,
+                    l.reason,
+                ))
+            })
             .collect();
     }
     // In the process's own pool, so that a forked process repairs too (see forkpool).
@@ -288,8 +312,8 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
         s.gaps += 1;
         let mut brief = GapBrief {
             label: row_label(g.gap.marker),
-            first: c.frame_number(g.gap.first),
-            last: c.frame_number(g.gap.last),
+            first_frame: c.frame_number(g.gap.first),
+            last_frame: c.frame_number(g.gap.last),
             first_time: c.frame_time(g.gap.first),
             last_time: c.frame_time(g.gap.last),
             at_trial_end: g.gap.touches_edge(),
@@ -304,8 +328,8 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
                 ..
             } => {
                 s.filled += 1;
-                *s.filled_by.entry(method_name(method)).or_default() += 1;
-                brief.method = Some(method_name(method));
+                *s.filled_by.entry(method.to_string()).or_default() += 1;
+                brief.method = Some(method.to_string());
                 brief.expected_error_mm = expected_error.map(|e| e * mm);
                 expected.extend(brief.expected_error_mm);
             }
@@ -374,17 +398,18 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
             FillOutcome::Filled { .. } => next.filled.push((p, a, b)),
             FillOutcome::Skipped(reason) => next.left.push(rerun::Left {
                 point: p,
-                first: a,
-                last: b,
+                first_index: a,
+                last_index: b,
                 reason,
             }),
         }
     }
     next.filled.sort_unstable();
     next.filled.dedup();
-    next.left.sort_by_key(|l| (l.point, l.first, l.last));
+    next.left
+        .sort_by_key(|l| (l.point, l.first_index, l.last_index));
     if cfg.filter().is_some() {
-        next.filter = opts.lowpass.clone();
+        next.filter = opts.lowpass.map(|f| f.to_string());
     }
     if cfg.spikes().is_some() {
         next.spikes = rerun::spike_settings(opts);
@@ -416,7 +441,7 @@ pub fn repair(c: &mut c3d::C3d, opts: &RepairOptions, name: &Path) -> Result<Rep
                 .briefs
                 .iter()
                 .filter(|b| b.action == SwapAction::Undone && b.find.points.contains(&points[r]))
-                .map(|b| b.find.last - b.find.first + 1)
+                .map(|b| b.find.last_index - b.find.first_index + 1)
                 .sum::<usize>();
             serde_json::json!({"label": row_label(r), "samples_changed": report.changed_per_marker[r] + swapped})
         })

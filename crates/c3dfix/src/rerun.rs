@@ -36,8 +36,7 @@ pub fn fill_settings(o: &crate::RepairOptions) -> String {
         .map_or("off".to_string(), |e| format!("{e}"));
     let mut s = format!(
         "--fill {} --max-gap {} --max-expected-error {limit}",
-        o.fill.to_ascii_lowercase(),
-        o.max_gap
+        o.fill, o.max_gap
     );
     if o.zero_invalid {
         s.push_str(" --zero-invalid");
@@ -47,11 +46,10 @@ pub fn fill_settings(o: &crate::RepairOptions) -> String {
 
 /// The spike removal asked for, as `SPIKES` records it (`None`: none asked for).
 pub fn spike_settings(o: &crate::RepairOptions) -> Option<String> {
-    let spec = o.spikes.as_deref()?;
+    let spec = o.spikes?;
     let mut s = format!(
         "--spikes {spec} --spike-mode {} --spike-min-mm {}",
-        o.spike_mode.to_ascii_lowercase(),
-        o.spike_min_mm
+        o.spike_mode, o.spike_min_mm
     );
     if o.spike_classic {
         s.push_str(" --spike-classic");
@@ -82,8 +80,8 @@ pub const GROUP: &str = "C3DFIX";
 pub struct Left {
     /// Point index (0-based, into POINT:LABELS) and frame indices (0-based, inclusive).
     pub point: usize,
-    pub first: usize,
-    pub last: usize,
+    pub first_index: usize,
+    pub last_index: usize,
     pub reason: SkipReason,
 }
 
@@ -202,8 +200,8 @@ impl Record {
                 let (point, first, last) = place(r)?;
                 Some(Left {
                     point,
-                    first,
-                    last,
+                    first_index: first,
+                    last_index: last,
                     reason: reason_of(r[3], r[4], r[5])?,
                 })
             })
@@ -256,8 +254,8 @@ impl Record {
                 let r = reason_code(l.reason);
                 [
                     (l.point + 1) as f32,
-                    l.first as f32 + first_frame,
-                    l.last as f32 + first_frame,
+                    l.first_index as f32 + first_frame,
+                    l.last_index as f32 + first_frame,
                     r[0],
                     r[1],
                     r[2],

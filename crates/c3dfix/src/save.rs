@@ -193,7 +193,9 @@ pub fn check_destination(path: &Path, replace: bool) -> Result<()> {
             path.display(),
             kind_of(&m)
         ),
-        Ok(_) if !replace => bail!("{} exists (use --force to overwrite)", path.display()),
+        Ok(_) if !replace => Err(Error::Exists {
+            path: path.to_path_buf(),
+        }),
         Ok(_) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
         Err(e) => bail!("cannot write {}: {e}", path.display()),
@@ -218,11 +220,10 @@ pub fn refuse_input(dest: &Path, inputs: &[&Path], what: &str) -> Result<()> {
 /// name, with in-place (and a backup if wanted), never by `--force`.
 pub fn refuse_own_input(input: &Path, output: &Path) -> Result<()> {
     if same_file(input, output) {
-        bail!(
-            "the output {} is the input file {}: use --in-place (with --backup to keep the original) to replace it",
-            output.display(),
-            input.display()
-        );
+        return Err(Error::OwnInput {
+            output: output.to_path_buf(),
+            input: input.to_path_buf(),
+        });
     }
     Ok(())
 }

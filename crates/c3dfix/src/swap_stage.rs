@@ -84,7 +84,7 @@ pub fn run(
     let mut pairs = Vec::new();
     for f in finds {
         let overlaps = acted.iter().any(|(pts, a, b)| {
-            f.first <= *b && *a <= f.last && f.points.iter().any(|p| pts.contains(p))
+            f.first_index <= *b && *a <= f.last_index && f.points.iter().any(|p| pts.contains(p))
         });
         let action = if mode != SwapsMode::Fix || !f.settled || overlaps {
             SwapAction::Reported
@@ -93,29 +93,29 @@ pub fn run(
         } else {
             match (f.kind, f.points.as_slice()) {
                 (FindKind::Swap, &[a, b]) => {
-                    pairs.push((a, b, f.first, f.last));
+                    pairs.push((a, b, f.first_index, f.last_index));
                     SwapAction::Undone
                 }
                 (FindKind::Jump, &[a]) => {
-                    stage.gaps.push((a, f.first, f.last));
+                    stage.gaps.push((a, f.first_index, f.last_index));
                     SwapAction::Gap
                 }
                 _ => SwapAction::Reported,
             }
         };
         if matches!(action, SwapAction::Undone | SwapAction::Gap) {
-            acted.push((f.points.clone(), f.first, f.last));
+            acted.push((f.points.clone(), f.first_index, f.last_index));
             stage.undone.push(Undone {
                 points: f.points.clone(),
-                first: f.first,
-                last: f.last,
+                first: f.first_index,
+                last: f.last_index,
             });
         }
         stage.briefs.push(SwapBrief { find: f, action });
     }
     stage
         .briefs
-        .sort_by_key(|b| (b.find.first, b.find.points.clone()));
+        .sort_by_key(|b| (b.find.first_index, b.find.points.clone()));
     stage.undone.sort();
     stage.exchanged = exchange(c, &pairs).map_err(|source| Error::C3d {
         path: name.to_path_buf(),

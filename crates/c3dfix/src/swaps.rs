@@ -27,11 +27,11 @@ pub struct SwapFind {
     /// The points (0-based indices) the markers are, in the order of `markers`.
     #[serde(skip)]
     pub points: Vec<usize>,
-    /// 0-based first and last frame.
+    /// 0-based first and last frame (indices into the trial's frames).
     #[serde(skip)]
-    pub first: usize,
+    pub first_index: usize,
     #[serde(skip)]
-    pub last: usize,
+    pub last_index: usize,
 }
 
 /// What [`swaps`] found.
@@ -115,7 +115,8 @@ pub fn swaps(c: &c3d::C3d, path: &Path, opts: &SwapOptions) -> Result<Swaps> {
             *p = p.map(|v| v * mm);
         }
     }
-    let finds = find_swaps(&trial, opts).map_err(|source| Error::Repair {
+    // In the process's own pool, so that a forked process finds swaps too (see forkpool).
+    let finds = forkpool::install(|| find_swaps(&trial, opts)).map_err(|source| Error::Repair {
         path: path.to_path_buf(),
         source,
     })?;
@@ -130,8 +131,8 @@ pub fn swaps(c: &c3d::C3d, path: &Path, opts: &SwapOptions) -> Result<Swaps> {
             settled: x.settled,
             evidence: x.evidence,
             points: x.markers.iter().map(|&m| points[m]).collect(),
-            first: x.first,
-            last: x.last,
+            first_index: x.first,
+            last_index: x.last,
         })
         .collect();
     Ok(Swaps {

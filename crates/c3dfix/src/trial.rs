@@ -3,6 +3,7 @@
 //! and repaired samples written back with the C3D manual's flags.
 
 use crate::error::{Error, Result};
+use c3d::Mark;
 use repair::change;
 use std::path::Path;
 
@@ -162,9 +163,12 @@ pub fn write_back(
                                 v = v.map(|x| x.clamp(-l, l));
                             }
                         }
-                        Some((f, i, [v[0] as f32, v[1] as f32, v[2] as f32], 0.0, 0))
+                        let (xyz, r, m) =
+                            Mark::Computed([v[0] as f32, v[1] as f32, v[2] as f32]).stored();
+                        Some((f, i, xyz, r, m))
                     } else if ch & change::INVALIDATED != 0 {
-                        Some((f, i, [0.0; 3], -1.0, 0))
+                        let (xyz, r, m) = Mark::Missing.stored();
+                        Some((f, i, xyz, r, m))
                     } else {
                         None
                     }

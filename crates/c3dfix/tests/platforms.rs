@@ -537,7 +537,7 @@ fn a_low_pass_filter_smooths_the_channels() {
     let lp = force_platforms(
         &c,
         &ForceOptions {
-            lowpass: Some("butterworth:4:20".into()),
+            lowpass: Some("butterworth:4:20".parse().unwrap()),
             ..ForceOptions::default()
         },
     )
@@ -556,7 +556,7 @@ fn a_low_pass_filter_smooths_the_channels() {
     let bad = force_platforms(
         &c,
         &ForceOptions {
-            lowpass: Some("butterworth:4:600".into()),
+            lowpass: Some("butterworth:4:600".parse().unwrap()),
             ..ForceOptions::default()
         },
     );

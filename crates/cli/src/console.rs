@@ -58,7 +58,11 @@ pub(crate) use {errln, out, outln};
 pub fn describe(e: &anyhow::Error) -> String {
     let mut out = String::new();
     for cause in e.chain() {
-        let m = cause.to_string();
+        // The library's kinds that name a setting are said with this tool's flags.
+        let m = match cause.downcast_ref::<c3dfix::Error>() {
+            Some(e) => crate::flags::phrase(e),
+            None => cause.to_string(),
+        };
         if out.contains(&m) {
             continue;
         }

@@ -5,6 +5,7 @@
 pub mod commands;
 pub mod console;
 pub mod event_marks;
+pub mod flags;
 pub mod output;
 pub mod plates;
 pub mod plot;

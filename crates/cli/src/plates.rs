@@ -37,7 +37,7 @@ pub struct PlateArgs {
     /// Zero-phase low-pass filter of the plates' channels: butterworth:ORDER:CUTOFF_HZ or
     /// cheby2:ORDER:CUTOFF_HZ:ATTEN_DB (as for markers).
     #[arg(long, value_name = "SPEC")]
-    pub lowpass: Option<String>,
+    pub lowpass: Option<c3dfix::FilterSpec>,
 }
 
 impl PlateArgs {
@@ -47,7 +47,7 @@ impl PlateArgs {
                 .threshold
                 .unwrap_or(c3dfix::platforms::DEFAULT_THRESHOLD_N),
             zero_baseline: !self.no_zero_baseline,
-            lowpass: self.lowpass.clone(),
+            lowpass: self.lowpass,
         }
     }
 

@@ -25,28 +25,43 @@ pub use frame::PlateFrame;
 pub use plate::{compute, PlateOutput, PlateSpec};
 pub use wrench::PlateKind;
 
-/// Why a plate cannot be computed. Each names what is wrong so that the caller can say
-/// which plate and which parameter.
+/// Why a plate cannot be computed. [`Error::parameter`] names the FORCE_PLATFORM parameter
+/// at fault and the message says what is wrong with its value, so that the caller, who
+/// knows the plate, can say "plate 2, CORNERS: enclose no area" without taking a
+/// parameter name back out of the text.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum Error {
-    #[error("FORCE_PLATFORM:TYPE {0} is not supported (types 1, 2, 3 and 4 are)")]
+    #[error("{0} is not supported (types 1, 2, 3 and 4 are)")]
     UnsupportedType(i32),
-    #[error("FORCE_PLATFORM:CHANNEL lists {got} channels; type {kind} needs {need}")]
+    #[error("lists {got} channels; type {kind} needs {need}")]
     Channels { kind: i32, need: usize, got: usize },
-    #[error("FORCE_PLATFORM:CORNERS enclose no area (the corners coincide or lie on a line)")]
+    #[error("enclose no area (the corners coincide or lie on a line)")]
     ZeroArea,
-    #[error("FORCE_PLATFORM:CORNERS describe no plate (opposite sides differ, or the corners are not in one plane, by over 5 % of a side)")]
+    #[error("describe no plate (opposite sides differ, or the corners are not in one plane, by over 5 % of a side)")]
     NotAPlate,
-    #[error("FORCE_PLATFORM:CORNERS are not finite")]
+    #[error("are not finite")]
     CornersNotFinite,
-    #[error("FORCE_PLATFORM:CAL_MATRIX is missing; a type-4 plate needs its 6 x 6 matrix")]
+    #[error("is missing; a type-4 plate needs its 6 x 6 matrix")]
     NoCalMatrix,
-    #[error("FORCE_PLATFORM:CAL_MATRIX has {0} values; 36 (6 x 6) expected")]
+    #[error("has {0} values; 36 (6 x 6) expected")]
     CalMatrixSize(usize),
-    #[error("FORCE_PLATFORM:ORIGIN is not finite")]
+    #[error("is not finite")]
     OriginNotFinite,
     #[error("the plate's channels have different lengths")]
     Lengths,
+}
+
+impl Error {
+    /// The FORCE_PLATFORM parameter (without its group) whose value is at fault.
+    pub fn parameter(&self) -> &'static str {
+        match self {
+            Error::UnsupportedType(_) => "TYPE",
+            Error::Channels { .. } | Error::Lengths => "CHANNEL",
+            Error::ZeroArea | Error::NotAPlate | Error::CornersNotFinite => "CORNERS",
+            Error::NoCalMatrix | Error::CalMatrixSize(_) => "CAL_MATRIX",
+            Error::OriginNotFinite => "ORIGIN",
+        }
+    }
 }
 
 pub type Result<T> = std::result::Result<T, Error>;

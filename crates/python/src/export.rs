@@ -5,7 +5,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
 
-use crate::{err, PyC3d};
+use crate::{err, lib_err, PyC3d};
 use c3dfix::export::{self, OpenSimOptions, Points};
 use c3dfix::Axes;
 
@@ -50,7 +50,7 @@ pub fn export_trc(
         let t = export::trc(&c3d.inner, &name, &idx, &rotation)?;
         c3dfix::save::write_atomic(&path, t.text.as_bytes(), force)
     })
-    .map_err(err)
+    .map_err(lib_err)
 }
 
 /// export_mot(c3d, path, axes=None, threshold=10.0, zero_baseline=True, lowpass=None,
@@ -69,14 +69,14 @@ pub fn export_mot(
     axes: Option<&str>,
     threshold: f64,
     zero_baseline: bool,
-    lowpass: Option<String>,
+    lowpass: Option<&str>,
     force: bool,
 ) -> PyResult<()> {
     let rotation = self::axes(axes)?.unwrap_or_default();
     let opts = c3dfix::ForceOptions {
         threshold,
         zero_baseline,
-        lowpass,
+        lowpass: lowpass.map(str::parse).transpose().map_err(err)?,
     };
     let name = c3d.name();
     py.allow_threads(|| {
@@ -84,7 +84,7 @@ pub fn export_mot(
         let text = export::mot(&c3d.inner, &fp, &name, &rotation)?;
         c3dfix::save::write_atomic(&path, text.as_bytes(), force)
     })
-    .map_err(err)
+    .map_err(lib_err)
 }
 
 /// export_opensim(c3d, out_dir, markers=None, all_points=False, axes=None, threshold=10.0,
@@ -106,7 +106,7 @@ pub fn export_opensim(
     axes: Option<&str>,
     threshold: f64,
     zero_baseline: bool,
-    lowpass: Option<String>,
+    lowpass: Option<&str>,
     force: bool,
 ) -> PyResult<PyObject> {
     let opts = OpenSimOptions {
@@ -115,14 +115,14 @@ pub fn export_opensim(
         forces: c3dfix::ForceOptions {
             threshold,
             zero_baseline,
-            lowpass,
+            lowpass: lowpass.map(str::parse).transpose().map_err(err)?,
         },
         force,
     };
     let name = c3d.name();
     let done = py
         .allow_threads(|| export::opensim(&c3d.inner, &name, &out_dir, &opts))
-        .map_err(err)?;
+        .map_err(lib_err)?;
     let warn = py.get_type::<pyo3::exceptions::PyUserWarning>();
     for w in &done.warnings {
         let msg = std::ffi::CString::new(format!("{}: {w}", name.display())).map_err(err)?;

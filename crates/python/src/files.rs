@@ -4,18 +4,23 @@
 //! options write the same bytes, with the same checks and refusals; the GIL is released for
 //! the whole call.
 
-use crate::{err, to_python};
+use crate::options::RepairKeywords;
+use crate::{err, lib_err, to_python};
 use c3dfix::files::{Conversion, Destination};
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// A library error as `C3dError`, naming `input` when the message does not (option errors
-/// say what is wrong, not with which call), and naming the keyword where the command's
-/// message names its flag.
+/// say what is wrong, not with which call), and saying the keywords where the library's
+/// kind names a setting or says how to ask for something.
 fn file_err(input: &Path, e: c3dfix::Error) -> PyErr {
+    use c3dfix::Error;
+    let here = input.display();
     match e {
-        c3dfix::Error::Options(m) => err(format!("{}: {m}", input.display())),
-        other => err(other.to_string().replace("use --force", "pass force=True")),
+        Error::Options(m) => err(format!("{here}: {m}")),
+        // The conflicts' own words ("backup goes with in-place") name the keywords already.
+        Error::Conflict(c) => err(format!("{here}: {c}")),
+        other => lib_err(other),
     }
 }
 
@@ -32,6 +37,10 @@ fn file_err(input: &Path, e: c3dfix::Error) -> PyErr {
 /// Repair options as for `repair`. Raises C3dError naming the file.
 #[pyfunction]
 #[pyo3(signature = (input, output=None, *, in_place=false, backup=false, force=false, report=None, fill="auto", spikes=None, lowpass=None, max_gap=200, max_expected_error=Some(c3dfix::DEFAULT_MAX_EXPECTED_ERROR_MM), spike_mode="gap", spike_min_mm=5.0, spike_classic=false, markers=None, zero_invalid=false, swaps="report"))]
+// As for `repair`: the text signature says the expression default's value.
+#[pyo3(
+    text_signature = "(input, output=None, *, in_place=False, backup=False, force=False, report=None, fill='auto', spikes=None, lowpass=None, max_gap=200, max_expected_error=20.0, spike_mode='gap', spike_min_mm=5.0, spike_classic=False, markers=None, zero_invalid=False, swaps='report')"
+)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn repair_file(
     py: Python<'_>,
@@ -42,8 +51,8 @@ pub(crate) fn repair_file(
     force: bool,
     report: Option<PathBuf>,
     fill: &str,
-    spikes: Option<String>,
-    lowpass: Option<String>,
+    spikes: Option<&str>,
+    lowpass: Option<&str>,
     max_gap: usize,
     max_expected_error: Option<f64>,
     spike_mode: &str,
@@ -59,19 +68,21 @@ pub(crate) fn repair_file(
         backup,
         force,
     };
-    let opts = c3dfix::RepairOptions {
-        fill: fill.to_string(),
-        max_gap,
-        max_expected_error_mm: max_expected_error,
+    let opts = RepairKeywords {
+        fill,
         spikes,
-        spike_mode: spike_mode.to_string(),
+        lowpass,
+        max_gap,
+        max_expected_error,
+        spike_mode,
         spike_min_mm,
         spike_classic,
-        lowpass,
         markers,
         zero_invalid,
-        swaps: swaps.parse().map_err(err)?,
-    };
+        swaps,
+    }
+    .options()
+    .map_err(|e| file_err(&input, e))?;
     let done = py
         .allow_threads(|| c3dfix::files::repair(&input, &dest, &opts, report.as_deref()))
         .map_err(|e| file_err(&input, e))?;

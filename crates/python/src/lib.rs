@@ -14,6 +14,7 @@ mod cycles;
 mod export;
 mod files;
 mod gait;
+mod options;
 mod pickling;
 mod platforms;
 
@@ -26,6 +27,24 @@ pyo3::create_exception!(
 
 fn err(e: impl std::fmt::Display) -> PyErr {
     C3dError::new_err(e.to_string())
+}
+
+/// A library error as `C3dError`, with this package's keywords where the library's kind
+/// says how to ask for something (the library names no flag or keyword).
+fn lib_err(e: c3dfix::Error) -> PyErr {
+    use c3dfix::Error;
+    match e {
+        Error::Exists { path } => err(format!(
+            "{} exists (pass force=True to overwrite)",
+            path.display()
+        )),
+        Error::OwnInput { output, input } => err(format!(
+            "the output {} is the input file {}: pass in_place=True (with backup=True to keep the original) to replace it",
+            output.display(),
+            input.display()
+        )),
+        other => err(other),
+    }
 }
 
 /// A JSON value as the Python object `json.loads` would make.
@@ -87,11 +106,10 @@ impl PyC3d {
                 let k = p.index(fr, i);
                 let new = [a[[fr, i, 0]], a[[fr, i, 1]], a[[fr, i, 2]]];
                 let was_valid = p.is_valid_at(k);
+                // The library's one rule for samples set rather than measured (c3d::Mark).
                 if new.iter().any(|c| c.is_nan()) {
                     if was_valid {
-                        p.xyz[k] = [0.0; 3];
-                        p.residual[k] = -1.0;
-                        p.camera_mask[k] = 0;
+                        p.mark(k, c3d::Mark::Missing);
                     }
                     continue;
                 }
@@ -104,9 +122,7 @@ impl PyC3d {
                 {
                     continue;
                 }
-                p.xyz[k] = new32;
-                p.residual[k] = 0.0;
-                p.camera_mask[k] = 0;
+                p.mark(k, c3d::Mark::Computed(new32));
             }
         }
         Ok(())
@@ -284,12 +300,12 @@ impl PyC3d {
         py: Python<'_>,
         threshold: f64,
         zero_baseline: bool,
-        lowpass: Option<String>,
+        lowpass: Option<&str>,
     ) -> PyResult<PyObject> {
         let opts = c3dfix::ForceOptions {
             threshold,
             zero_baseline,
-            lowpass,
+            lowpass: lowpass.map(str::parse).transpose().map_err(err)?,
         };
         platforms::force_platforms(py, &self.inner, &self.name().display().to_string(), &opts)
     }
@@ -407,21 +423,26 @@ fn gaps(py: Python<'_>, path: PathBuf, zero_invalid: bool) -> PyResult<PyObject>
 ///
 /// The `c3dfix repair` pipeline (swaps -> spikes -> fill -> filter) on a copy of `c3d`; returns the
 /// repaired copy and the report `c3dfix repair --report` writes. Options as on the command
-/// line: fill is a method name (auto, linear, lagrange2, lagrange5, spline, rigid, pattern,
-/// pca, kalman, gloersen, none), spikes "hampel[:K[:NSIGMA]]", lowpass "butterworth:ORDER:CUTOFF_HZ" or
+/// line: fill is a method name (as `c3dfix repair --help` lists them: auto, linear, …,
+/// gloersen, none), spikes "hampel[:K[:NSIGMA]]", lowpass "butterworth:ORDER:CUTOFF_HZ" or
 /// "cheby2:ORDER:CUTOFF_HZ:ATTEN_DB", markers a list of labels to repair; gaps whose expected
 /// fill error is above max_expected_error mm are left (reason "uncertain"), None fills all;
 /// swaps is "fix" (settled label swaps exchanged back, jumps refilled), "report" (listed in
 /// the report's "swaps", nothing changed) or "off".
 #[pyfunction]
 #[pyo3(signature = (c3d, fill="auto", spikes=None, lowpass=None, max_gap=200, max_expected_error=Some(c3dfix::DEFAULT_MAX_EXPECTED_ERROR_MM), spike_mode="gap", spike_min_mm=5.0, spike_classic=false, markers=None, zero_invalid=false, swaps="report"))]
+// The default of max_expected_error is an expression, which pyo3 would show as `...`; the
+// text signature says its value (test_repair_defaults_agree_everywhere checks it).
+#[pyo3(
+    text_signature = "(c3d, fill='auto', spikes=None, lowpass=None, max_gap=200, max_expected_error=20.0, spike_mode='gap', spike_min_mm=5.0, spike_classic=False, markers=None, zero_invalid=False, swaps='report')"
+)]
 #[allow(clippy::too_many_arguments)]
 fn repair(
     py: Python<'_>,
     c3d: &PyC3d,
     fill: &str,
-    spikes: Option<String>,
-    lowpass: Option<String>,
+    spikes: Option<&str>,
+    lowpass: Option<&str>,
     max_gap: usize,
     max_expected_error: Option<f64>,
     spike_mode: &str,
@@ -431,19 +452,21 @@ fn repair(
     zero_invalid: bool,
     swaps: &str,
 ) -> PyResult<(PyC3d, PyObject)> {
-    let opts = c3dfix::RepairOptions {
-        fill: fill.to_string(),
-        max_gap,
-        max_expected_error_mm: max_expected_error,
+    let opts = options::RepairKeywords {
+        fill,
         spikes,
-        spike_mode: spike_mode.to_string(),
+        lowpass,
+        max_gap,
+        max_expected_error,
+        spike_mode,
         spike_min_mm,
         spike_classic,
-        lowpass,
         markers,
         zero_invalid,
-        swaps: swaps.parse().map_err(err)?,
-    };
+        swaps,
+    }
+    .options()
+    .map_err(err)?;
     let mut out = c3d.clone();
     let name = c3d.name();
     let done = py
@@ -513,6 +536,7 @@ fn _c3dfix(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(swaps, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(files::repair_file, m)?)?;
+    m.add_function(wrap_pyfunction!(options::_repair_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(files::convert_file, m)?)?;
     m.add_function(wrap_pyfunction!(export::export_trc, m)?)?;
     m.add_function(wrap_pyfunction!(export::export_mot, m)?)?;

@@ -356,3 +356,29 @@ def test_the_gil_is_released_while_repairing_and_reading():
     path = fullbody("03_rolling.c3d")
     took, pause = _longest_pause_while(lambda: [c3dfix.read(path) for _ in range(20)])
     assert pause < took / 2, (took, pause)
+
+
+def test_repair_defaults_agree_everywhere():
+    """repair and repair_file default to the library's RepairOptions::default() (read from
+    the extension), in their signatures and in the stub, keyword by keyword."""
+    import ast
+    import inspect
+
+    from c3dfix._c3dfix import _repair_defaults
+
+    want = _repair_defaults()
+    assert want["fill"] == "auto" and want["max_gap"] == 200
+    stub = ast.parse((Path(c3dfix.__file__).parent / "__init__.pyi").read_text())
+    stubbed = {}
+    for node in stub.body:
+        if isinstance(node, ast.FunctionDef) and node.name in ("repair", "repair_file"):
+            a = node.args
+            pos = a.posonlyargs + a.args
+            named = list(zip(pos[len(pos) - len(a.defaults):], a.defaults))
+            named += [(k, d) for k, d in zip(a.kwonlyargs, a.kw_defaults) if d is not None]
+            stubbed[node.name] = {k.arg: ast.literal_eval(d) for k, d in named}
+    for f in (c3dfix.repair, c3dfix.repair_file):
+        params = inspect.signature(f).parameters
+        for key, value in want.items():
+            assert params[key].default == value, (f.__name__, key, params[key].default, value)
+            assert stubbed[f.__name__][key] == value, (f.__name__, "stub", key)

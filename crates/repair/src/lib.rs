@@ -37,6 +37,7 @@ pub mod fill;
 pub mod filter;
 pub mod gaps;
 mod linalg;
+pub mod names;
 pub mod pipeline;
 pub mod profile;
 mod rng;
@@ -51,6 +52,7 @@ pub use evaluate::{
 pub use fill::{FillMethod, FillOptions, FillOutcome, SkipReason, Storage};
 pub use filter::{FilterSpec, Iir};
 pub use gaps::{find_gaps, Gap};
+pub use names::{ParseError, SpikeSpec};
 pub use pipeline::{change, repair_trial, repair_trial_after, Earlier, RepairConfig, RepairReport};
 pub use spikes::{SpikeMode, SpikeOptions};
 pub use swaps::{find_swaps, Find, FindKind, SwapOptions};

@@ -63,6 +63,20 @@ impl RepairConfig {
         self
     }
 
+    /// This configuration, given in millimetres, for data whose unit is `mm_per_unit` mm:
+    /// the spike detector's smallest deviation and the fill's expected-error limit are
+    /// divided by it (the fill also keeps it, to judge speeds in mm). Options are checked
+    /// once, in millimetres, before any file's unit is known; dividing by a positive finite
+    /// number keeps them valid.
+    pub fn in_units(mut self, mm_per_unit: f64) -> Self {
+        if let Some(s) = &mut self.spikes {
+            s.min_deviation /= mm_per_unit;
+        }
+        self.fill.max_expected_error = self.fill.max_expected_error.map(|e| e / mm_per_unit);
+        self.fill.mm_per_unit = mm_per_unit;
+        self
+    }
+
     pub fn fill(&self) -> &FillOptions {
         &self.fill
     }

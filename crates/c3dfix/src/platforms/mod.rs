@@ -19,7 +19,7 @@
 mod channels;
 mod units;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Setting};
 use c3d::C3d;
 use kinetics::PlateSpec;
 use serde::Serialize;
@@ -38,7 +38,7 @@ pub struct ForceOptions {
     pub zero_baseline: bool,
     /// A zero-phase low-pass filter of the channels, as for markers:
     /// `butterworth:ORDER:CUTOFF_HZ` or `cheby2:ORDER:CUTOFF_HZ:ATTEN_DB`.
-    pub lowpass: Option<String>,
+    pub lowpass: Option<repair::FilterSpec>,
 }
 
 /// The COP threshold of ezc3d, BTK and Visual3D's examples: 10 N.
@@ -231,20 +231,20 @@ fn triple(v: [f64; 3]) -> String {
 /// impossible filter); each plate's own trouble is a warning.
 pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
     if !(opts.threshold >= 0.0 && opts.threshold.is_finite()) {
-        return Err(Error::options(format!(
-            "--threshold {}: expected 0 N or more",
-            opts.threshold
-        )));
+        return Err(Error::OutOfRange {
+            setting: Setting::Threshold,
+            value: opts.threshold.to_string(),
+            limits: "expected 0 N or more".into(),
+        });
     }
     let rate = c.analog_rate() as f64;
     let filter = match &opts.lowpass {
         Some(spec) => {
-            let s = crate::filter_spec(spec)?;
-            let iir = s
+            let iir = spec
                 .validate()
-                .and_then(|_| s.design(rate))
-                .map_err(|e| Error::options(format!("--lowpass {spec}: {e}")))?;
-            Some((spec.clone(), iir))
+                .and_then(|_| spec.design(rate))
+                .map_err(|e| Error::options(format!("low-pass filter {spec}: {e}")))?;
+            Some((spec.to_string(), iir))
         }
         None => None,
     };
@@ -318,7 +318,9 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
         let kind = match kinetics::PlateKind::from_type(p.kind) {
             Ok(k) => k,
             Err(e) => {
-                warn(&mut out, p.index, "TYPE", format!("{}: plate left out", e));
+                let parameter = e.parameter();
+                let what = format!("FORCE_PLATFORM:{parameter} {e}: plate left out");
+                warn(&mut out, p.index, parameter, what);
                 continue;
             }
         };
@@ -450,22 +452,8 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
         let r = match kinetics::compute(&spec, &refs, opts.threshold) {
             Ok(r) => r,
             Err(e) => {
-                let parameter = match e {
-                    kinetics::Error::ZeroArea
-                    | kinetics::Error::NotAPlate
-                    | kinetics::Error::CornersNotFinite => "CORNERS",
-                    kinetics::Error::NoCalMatrix | kinetics::Error::CalMatrixSize(_) => {
-                        "CAL_MATRIX"
-                    }
-                    kinetics::Error::OriginNotFinite => "ORIGIN",
-                    kinetics::Error::UnsupportedType(_) => "TYPE",
-                    _ => "CHANNEL",
-                };
+                let parameter = e.parameter();
                 let msg = e.to_string();
-                let msg = msg
-                    .strip_prefix(&format!("FORCE_PLATFORM:{parameter} "))
-                    .unwrap_or(&msg)
-                    .to_string();
                 warn(
                     &mut out,
                     p.index,

@@ -10,8 +10,9 @@ use crate::commands::repair_io::RepairArgs;
 use crate::commands::targets::{plan, TargetArgs};
 use crate::console::outln;
 use anyhow::{bail, Result};
+use c3dfix::files::Destination;
 use c3dfix::save::write_atomic;
-use c3dfix::{SaveOptions, Summary};
+use c3dfix::Summary;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -24,9 +25,9 @@ pub struct Args {
 pub fn run(a: Args) -> Result<i32> {
     let t = &a.targets;
     let dest = t.destination()?;
-    // Options are checked once, before any file is touched.
-    a.repair.check()?;
+    // Options are checked before any file is touched.
     let opts = a.repair.options();
+    opts.config()?;
     let plan = plan(&t.named_paths()?, dest, t.shard)?;
     if plan.listed == 0 {
         bail!("no C3D files found");
@@ -42,9 +43,9 @@ pub fn run(a: Args) -> Result<i32> {
                 c3dfix::save::refuse_own_input(input, output)?;
             }
             job.prepare_output(overwrite)?;
-            // Read once: a trial without points (EMG only) has nothing to repair; it is
-            // skipped, and copied unchanged so the output folder holds every trial.
-            let mut c = c3dfix::open_mapped(input)?;
+            // A trial without points (EMG only) has nothing to repair; it is skipped, and
+            // copied unchanged so the output folder holds every trial.
+            let c = c3dfix::open_mapped(input)?;
             if c.point_count() == 0 {
                 if !t.in_place {
                     write_atomic(output, c.source_bytes().unwrap_or_default(), overwrite)?;
@@ -56,11 +57,15 @@ pub fn run(a: Args) -> Result<i32> {
                     ..Summary::default()
                 });
             }
-            let save = SaveOptions {
-                force: overwrite,
+            drop(c);
+            // The one path that repairs a file, as `c3dfix repair` and Python's repair_file.
+            let dest = Destination {
+                output: (!t.in_place).then(|| output.clone()),
+                in_place: t.in_place,
                 backup: t.backup,
+                force: t.force,
             };
-            Ok(c3dfix::repair_opened(&mut c, input, output, &opts, &save)?.summary)
+            Ok(c3dfix::files::repair(input, &dest, &opts, None)?.summary)
         },
         "summary",
     )?;

@@ -4,7 +4,7 @@
 use crate::console::{out, outln};
 use crate::ranges;
 use anyhow::Result;
-use c3dfix::{method_name, EvaluateOptions};
+use c3dfix::EvaluateOptions;
 use repair::FillMethod;
 use std::path::PathBuf;
 
@@ -66,7 +66,7 @@ pub fn run(a: Args) -> Result<i32> {
             |len, m| {
                 ev.pooled
                     .iter()
-                    .find(|p| p.gap_len == len && p.method == method_name(m) && p.samples > 0)
+                    .find(|p| p.gap_len == len && p.method == m.to_string() && p.samples > 0)
                     .map(|p| (p.mean, 0))
             },
         )?;
@@ -84,7 +84,7 @@ fn print_table(
     outln!("{title}: mean 3D error ({units}) by gap length")?;
     out!("{:>6}", "gap")?;
     for m in methods {
-        out!(" {:>10}", method_name(*m))?;
+        out!(" {:>10}", m)?;
     }
     outln!()?;
     for &len in lengths {

@@ -1,13 +1,13 @@
 //! `c3dfix repair`: spikes → fill → filter on one file, written back as a valid C3D, through
 //! the library ([`c3dfix::repair`]).
 
-use crate::commands::repair_io::{self, RepairArgs};
+use crate::commands::repair_io::RepairArgs;
 use crate::console::outln;
 use anyhow::Result;
 use c3dfix::files::Destination;
 use c3dfix::swap_stage::SwapAction;
 use c3dfix::Summary;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -35,39 +35,9 @@ pub struct Args {
     pub repair: RepairArgs,
 }
 
-/// A repair done in memory: the full report and the summary (the repaired samples are in
-/// the trial, whose bytes [`c3d::C3d::encoded`] gives).
-pub struct Repaired {
-    pub report: serde_json::Value,
-    pub summary: Summary,
-}
-
-/// Repair `c` (read from `input`, to be written to `output`, with its original kept at
-/// `backup` when given) in memory; nothing is written, so every destination can be checked
-/// and written together afterwards.
-pub fn repair_c3d(
-    c: &mut c3d::C3d,
-    input: &Path,
-    output: &Path,
-    a: &RepairArgs,
-    backup: Option<&Path>,
-) -> Result<Repaired> {
-    let mut done = c3dfix::repair(c, &a.options(), input)?;
-    done.summary.output = output.display().to_string();
-    done.summary.backup = backup.map(|b| b.display().to_string());
-    Ok(Repaired {
-        report: done.report(),
-        summary: done.summary,
-    })
-}
-
 pub fn run(a: Args) -> Result<i32> {
-    // The flags that go together are checked here to name them as the command line does;
-    // the library checks them again, with everything else (see c3dfix::files).
-    repair_io::output_path(&a.input, &a.output, a.in_place)?;
-    if a.backup && !a.in_place {
-        anyhow::bail!("--backup goes with --in-place");
-    }
+    // The library checks that the flags go together (see c3dfix::files); its kinds are said
+    // with the flags by crate::flags.
     let dest = Destination {
         output: a.output.clone(),
         in_place: a.in_place,
@@ -132,8 +102,8 @@ pub fn print_summary(s: &Summary) -> Result<()> {
         outln!(
             "  uncertain {} frames {}–{}: expected error {:.1} mm (left unfilled)",
             g.label,
-            g.first,
-            g.last,
+            g.first_frame,
+            g.last_frame,
             g.expected_error_mm.unwrap_or(f64::NAN)
         )?;
     }

@@ -2,18 +2,18 @@
 //! the library's [`c3dfix::RepairOptions`], which checks them.
 
 use crate::ranges;
-use anyhow::{bail, Result};
-use std::path::{Path, PathBuf};
+use c3dfix::{FillMethod, FilterSpec, RepairOptions, SpikeMode, SpikeSpec};
 
-/// Repair options common to `repair` and `batch`.
+/// Repair options common to `repair` and `batch`. Names and specs are read by the library's
+/// `FromStr` (a misspelt one is a usage error naming the flag), and every default is the
+/// library's [`RepairOptions::default`] (a test checks that no flag given is the default).
 #[derive(clap::Args, Clone)]
 pub struct RepairArgs {
-    /// Fill method: auto, linear, lagrange2, lagrange5, spline, rigid, pattern, pca, kalman,
-    /// gloersen (Gløersen & Federolf's published PCA), none.
-    #[arg(long, default_value = "auto")]
-    pub fill: String,
+    /// Fill method (gloersen is Gløersen & Federolf's published PCA).
+    #[arg(long, default_value_t = RepairOptions::default().fill, help = fill_help())]
+    pub fill: FillMethod,
     /// Longest gap (frames, 1 or more) to fill; longer ones are left and reported.
-    #[arg(long, default_value_t = 200, value_parser = ranges::max_gap)]
+    #[arg(long, default_value_t = RepairOptions::default().max_gap, value_parser = ranges::max_gap)]
     pub max_gap: usize,
     /// Leave gaps whose expected fill error is above this many mm (reported as `uncertain`
     /// with the estimate); `off` fills every gap a method can fill. The default, 20 mm, on
@@ -25,19 +25,19 @@ pub struct RepairArgs {
     /// less surely: within 2x 80 %, above twice 10 %; there 20 mm leaves 4.4 % of the gaps,
     /// 15 of the 18 fills worse than 50 mm, 60 of the 98 worse than 20 mm, none of the 1 287
     /// within 5 mm (docs/fill-evaluation.md, "Gaps at a trial's start or end").
-    #[arg(long, default_value = "20", value_parser = expected_error_arg)]
+    #[arg(long, default_value_t = ExpectedError(RepairOptions::default().max_expected_error_mm), value_parser = expected_error_arg)]
     pub max_expected_error: ExpectedError,
     /// Remove spikes first: `hampel[:K[:NSIGMA]]` (window of K samples each side, 1 to 1000,
     /// default 5; NSIGMA scaled MADs, a finite number above 0, default 3). Off by default.
-    #[arg(long)]
-    pub spikes: Option<String>,
+    #[arg(long, value_name = "SPEC")]
+    pub spikes: Option<SpikeSpec>,
     /// What to do with a spike: `gap` (refill it with the fill method) or `median` (replace
     /// the outlying coordinates with the window median, as MATLAB's hampel does).
-    #[arg(long, default_value = "gap")]
-    pub spike_mode: String,
+    #[arg(long, default_value_t = RepairOptions::default().spike_mode)]
+    pub spike_mode: SpikeMode,
     /// Deviations from the window median below this many millimetres are never spikes
     /// (keeps measurement noise on still coordinates from being flagged); 0 or more.
-    #[arg(long, default_value_t = 5.0, value_parser = ranges::non_negative)]
+    #[arg(long, default_value_t = RepairOptions::default().spike_min_mm, value_parser = ranges::non_negative)]
     pub spike_min_mm: f64,
     /// Judge raw coordinates (the classic Hampel identifier, as MATLAB's hampel) instead of
     /// residuals from a local robust prediction, which also finds spikes along fast motion.
@@ -46,8 +46,8 @@ pub struct RepairArgs {
     /// Low-pass filter, zero-phase: `butterworth:ORDER:CUTOFF_HZ` or
     /// `cheby2:ORDER:CUTOFF_HZ:ATTEN_DB` (ORDER 1 to 10; CUTOFF_HZ above 0 and below half the
     /// frame rate; ATTEN_DB above 0, at most 200). Off by default.
-    #[arg(long)]
-    pub lowpass: Option<String>,
+    #[arg(long, value_name = "SPEC")]
+    pub lowpass: Option<FilterSpec>,
     /// Repair only these markers (comma-separated labels); all markers still serve as donors.
     #[arg(long, value_delimiter = ',')]
     pub markers: Option<Vec<String>>,
@@ -59,38 +59,49 @@ pub struct RepairArgs {
     /// gaps for the fill; `report` (the default: on untouched trials `fix` would change 2.8
     /// finds per 10 000 frames, not all shown to be label errors) lists every find and
     /// changes nothing; `off` skips it.
-    #[arg(long, default_value_t = c3dfix::DEFAULT_SWAPS, value_parser = swaps_arg)]
+    #[arg(long, default_value_t = RepairOptions::default().swaps, value_parser = swaps_arg)]
     pub swaps: c3dfix::SwapsMode,
 }
 
+/// `--fill`'s help, listing the names from the library's one table.
+fn fill_help() -> String {
+    format!(
+        "Fill method: {} (gloersen is Gløersen & Federolf's published PCA)",
+        FillMethod::names_listed()
+    )
+}
+
 impl RepairArgs {
-    /// The library's options (checked when applied to a file, whose units they depend on).
-    pub fn options(&self) -> c3dfix::RepairOptions {
-        c3dfix::RepairOptions {
-            fill: self.fill.clone(),
+    /// The library's options (checked once by the library, before any file is touched).
+    pub fn options(&self) -> RepairOptions {
+        RepairOptions {
+            fill: self.fill,
             max_gap: self.max_gap,
             max_expected_error_mm: self.max_expected_error.0,
-            spikes: self.spikes.clone(),
-            spike_mode: self.spike_mode.clone(),
+            spikes: self.spikes,
+            spike_mode: self.spike_mode,
             spike_min_mm: self.spike_min_mm,
             spike_classic: self.spike_classic,
-            lowpass: self.lowpass.clone(),
+            lowpass: self.lowpass,
             markers: self.markers.clone(),
             zero_invalid: self.zero_invalid,
             swaps: self.swaps,
         }
-    }
-
-    /// Check the options that do not depend on a file, before any file is touched.
-    pub fn check(&self) -> Result<()> {
-        self.options().config("mm")?;
-        Ok(())
     }
 }
 
 /// `--max-expected-error`: millimetres, or `None` for `off`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExpectedError(pub Option<f64>);
+
+impl std::fmt::Display for ExpectedError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.0 {
+            Some(mm) => write!(f, "{mm}"),
+            None => f.write_str("off"),
+        }
+    }
+}
 
 /// `--max-expected-error MM|off`, checked while the command line is parsed.
 fn expected_error_arg(s: &str) -> std::result::Result<ExpectedError, String> {
@@ -101,15 +112,56 @@ fn expected_error_arg(s: &str) -> std::result::Result<ExpectedError, String> {
 
 /// `--swaps fix|report|off`, checked while the command line is parsed.
 fn swaps_arg(s: &str) -> std::result::Result<c3dfix::SwapsMode, String> {
-    s.parse().map_err(|e: c3dfix::Error| e.to_string())
+    s.parse()
+        .map_err(|e: c3dfix::Error| crate::flags::phrase(&e))
 }
 
-/// Where to write: `-o OUT`, or the input itself with `--in-place`.
-pub fn output_path(input: &Path, output: &Option<PathBuf>, in_place: bool) -> Result<PathBuf> {
-    match (output, in_place) {
-        (Some(_), true) => bail!("give either -o OUT or --in-place, not both"),
-        (Some(o), false) => Ok(o.clone()),
-        (None, true) => Ok(input.to_path_buf()),
-        (None, false) => bail!("give -o OUT or --in-place"),
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(clap::Parser)]
+    struct Cli {
+        #[command(flatten)]
+        repair: RepairArgs,
+    }
+
+    #[test]
+    fn no_flag_given_is_the_librarys_default() {
+        let cli = Cli::try_parse_from(["c3dfix"]).unwrap();
+        assert_eq!(cli.repair.options(), RepairOptions::default());
+    }
+
+    #[test]
+    fn flags_are_read_by_the_librarys_names() {
+        let cli = Cli::try_parse_from([
+            "c3dfix",
+            "--fill",
+            "Gloersen",
+            "--spikes",
+            "hampel:7",
+            "--spike-mode",
+            "median",
+            "--lowpass",
+            "butter:4:6",
+            "--max-expected-error",
+            "off",
+        ])
+        .unwrap();
+        let o = cli.repair.options();
+        assert_eq!(o.fill, FillMethod::Gloersen);
+        assert_eq!(o.spikes.map(|s| s.to_string()).as_deref(), Some("hampel:7"));
+        assert_eq!(o.spike_mode, SpikeMode::Median);
+        assert_eq!(
+            o.lowpass.map(|f| f.to_string()).as_deref(),
+            Some("butterworth:4:6")
+        );
+        assert_eq!(o.max_expected_error_mm, None);
+        let e = Cli::try_parse_from(["c3dfix", "--fill", "magic"])
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        assert!(e.contains("--fill") && e.contains("gloersen"), "{e}");
     }
 }

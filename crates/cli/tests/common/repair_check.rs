@@ -1,42 +1,44 @@
 //! What the `repair` fuzz target checks, shared with the test that replays what it found.
 //!
 //! For any bytes that read as a C3D file: the force plates compute without a panic (a bad
-//! plate is a warning) and serialise. For those with points: `c3dfix repair` (run in memory, with
+//! plate is a warning) and serialise. For those with points: the library's repair (what `c3dfix repair` runs, in memory, with
 //! options picked from the input's last byte) either fails with an error or gives bytes that
 //! read back with the same shape, that `info` can describe, and in which every sample the
 //! repair left alone (residual above 0 afterwards) and every analog value is as it was.
 
+use c3dfix::{FillMethod, RepairOptions, SpikeMode};
 use c3dfix_cli::commands::info::describe;
-use c3dfix_cli::commands::repair::repair_c3d;
-use c3dfix_cli::commands::repair_io::RepairArgs;
 use std::path::Path;
 
 /// The repair options for an input: its last byte picks the fill method, spikes and filter.
-fn options(data: &[u8]) -> RepairArgs {
+fn options(data: &[u8]) -> RepairOptions {
     let k = data.last().copied().unwrap_or(0);
     let fill = [
-        "linear",
-        "spline",
-        "auto",
-        "rigid",
-        "pca",
-        "lagrange5",
-        "pattern",
-        "none",
+        FillMethod::Linear,
+        FillMethod::Spline,
+        FillMethod::Auto,
+        FillMethod::Rigid,
+        FillMethod::Pca,
+        FillMethod::Lagrange5,
+        FillMethod::Pattern,
+        FillMethod::None,
     ];
-    RepairArgs {
-        fill: fill[(k & 7) as usize].into(),
+    let spec = |s: &str| s.parse().expect("a valid spec");
+    RepairOptions {
+        fill: fill[(k & 7) as usize],
         max_gap: 200,
-        max_expected_error: c3dfix_cli::commands::repair_io::ExpectedError(
-            (k & 2 == 0).then_some(20.0),
-        ),
-        spikes: (k & 8 != 0).then(|| "hampel:5:3".into()),
-        spike_mode: if k & 16 != 0 { "median" } else { "gap" }.into(),
+        max_expected_error_mm: (k & 2 == 0).then_some(20.0),
+        spikes: (k & 8 != 0).then(|| "hampel:5:3".parse().expect("a valid spec")),
+        spike_mode: if k & 16 != 0 {
+            SpikeMode::Median
+        } else {
+            SpikeMode::Gap
+        },
         spike_min_mm: 5.0,
         spike_classic: k & 32 != 0,
         lowpass: match k >> 6 {
-            1 => Some("butterworth:4:6".into()),
-            2 => Some("cheby2:4:10:40".into()),
+            1 => Some(spec("butterworth:4:6")),
+            2 => Some(spec("cheby2:4:10:40")),
             _ => None,
         },
         markers: None,
@@ -60,15 +62,7 @@ pub fn check(data: &[u8]) {
         return;
     }
     let original = c.clone();
-    if repair_c3d(
-        &mut c,
-        input,
-        Path::new("fuzz-output.c3d"),
-        &options(data),
-        None,
-    )
-    .is_err()
-    {
+    if c3dfix::repair(&mut c, &options(data), input).is_err() {
         return;
     }
     let Ok(bytes) = c.encoded() else {

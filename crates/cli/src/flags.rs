@@ -1,0 +1,72 @@
+//! The library's errors in the command line's words: the kinds that name a setting
+//! ([`c3dfix::Setting`]) or say how to ask for something are said here with this tool's
+//! flags, so the library never has to know them (the Python package says its keywords).
+
+use c3dfix::{Conflict, Error, Setting};
+
+/// The flag that gives a setting.
+pub fn flag(s: Setting) -> &'static str {
+    match s {
+        Setting::Output => "-o OUT",
+        Setting::InPlace => "--in-place",
+        Setting::Backup => "--backup",
+        Setting::Force => "--force",
+        Setting::Group => "--group",
+        Setting::GapLengths => "--gap-lengths",
+        Setting::GapsPerLength => "--gaps-per-length",
+        Setting::Threshold => "--threshold",
+        Setting::EventSource => "--from",
+        Setting::Swaps => "--swaps",
+        // A setting added to the library before it is given a flag here: its plain name.
+        other => other.name(),
+    }
+}
+
+/// `e` as the command line says it.
+pub fn phrase(e: &Error) -> String {
+    match e {
+        Error::Exists { path } => format!("{} exists (use --force to overwrite)", path.display()),
+        Error::OwnInput { output, input } => format!(
+            "the output {} is the input file {}: use --in-place (with --backup to keep the original) to replace it",
+            output.display(),
+            input.display()
+        ),
+        Error::Conflict(Conflict::BackupWithoutInPlace) => "--backup goes with --in-place".into(),
+        Error::Conflict(Conflict::OutputAndInPlace) => {
+            "give either -o OUT or --in-place, not both".into()
+        }
+        Error::Conflict(Conflict::NoDestination) => "give -o OUT or --in-place".into(),
+        Error::OutOfRange {
+            setting,
+            value,
+            limits,
+        } => format!("{} {value}: {limits}", flag(*setting)),
+        other => other.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+
+    #[test]
+    fn kinds_are_said_with_flags() {
+        let e = Error::Exists {
+            path: PathBuf::from("out.c3d"),
+        };
+        assert_eq!(phrase(&e), "out.c3d exists (use --force to overwrite)");
+        assert!(!e.to_string().contains("--"), "{e}");
+        let e = Error::OutOfRange {
+            setting: Setting::Group,
+            value: "4".into(),
+            limits: "must be 1, 2 or 3".into(),
+        };
+        assert_eq!(phrase(&e), "--group 4: must be 1, 2 or 3");
+        assert_eq!(e.to_string(), "group 4: must be 1, 2 or 3");
+        assert_eq!(
+            phrase(&Error::Conflict(Conflict::NoDestination)),
+            "give -o OUT or --in-place"
+        );
+    }
+}
