@@ -149,25 +149,30 @@ pub fn swaps(c: &c3d::C3d, path: &Path, opts: &SwapOptions) -> Result<Swaps> {
 /// undo still exchanges them with their span). A file that stores every sample with
 /// residual 0, as many writers do, says nothing by it, and nothing is left out.
 fn drop_processed(c: &c3d::C3d, points: &[usize], trial: &mut repair::Trial) {
-    let states = vec![(); c.point_chunks()];
-    let chunks: Vec<(bool, Vec<(usize, usize)>)> = c.map_point_chunks(states, |(), view| {
-        let (mut measured, mut processed) = (false, Vec::new());
-        for f in 0..view.frames {
-            for (row, &i) in points.iter().enumerate() {
-                let (_, r, _) = view.sample(f, i);
-                if r > 0.0 {
-                    measured = true;
-                } else if r == 0.0 {
-                    processed.push((view.first_frame + f, row));
-                }
-            }
-        }
-        (measured, processed)
-    });
-    if !chunks.iter().any(|c| c.0) {
+    // First whether anything was measured, so that a file of residual-0 samples throughout
+    // costs one scan and no list of them.
+    let measured = c
+        .map_point_chunks(vec![(); c.point_chunks()], |(), view| {
+            (0..view.frames).any(|f| points.iter().any(|&i| view.sample(f, i).1 > 0.0))
+        })
+        .into_iter()
+        .any(|m| m);
+    if !measured {
         return;
     }
-    for (f, row) in chunks.into_iter().flat_map(|c| c.1) {
+    let processed: Vec<Vec<(usize, usize)>> =
+        c.map_point_chunks(vec![(); c.point_chunks()], |(), view| {
+            let mut out = Vec::new();
+            for f in 0..view.frames {
+                for (row, &i) in points.iter().enumerate() {
+                    if view.sample(f, i).1 == 0.0 {
+                        out.push((view.first_frame + f, row));
+                    }
+                }
+            }
+            out
+        });
+    for (f, row) in processed.into_iter().flatten() {
         trial.valid[row][f] = false;
     }
 }
