@@ -168,8 +168,9 @@ pub(crate) fn find_on_trial(
         ))
     } else {
         let mm = mm_per_unit(&c.point_units());
+        // In the process's own pool, so that a forked process finds too (see forkpool).
         let run = |t: &repair::Trial| {
-            find_swaps(t, opts).map_err(|source| Error::Repair {
+            forkpool::install(|| find_swaps(t, opts)).map_err(|source| Error::Repair {
                 path: path.to_path_buf(),
                 source,
             })
