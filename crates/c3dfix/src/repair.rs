@@ -199,7 +199,8 @@ pub(crate) fn repair_configured(
     let record = rerun::Record::read(c);
     let fill_settings = rerun::fill_settings(opts);
     let mut already_applied = Vec::new();
-    // 0. Label swaps, in the file itself, before any stage reads the trial.
+    let mut trial = to_trial(c, &points, opts.zero_invalid)?;
+    // 0. Label swaps, in the file and the trial, before any other stage reads them.
     let swap_settings = rerun::swap_settings(opts);
     let stage = match (&record.swaps, &swap_settings) {
         (Some(done), Some(_)) => {
@@ -208,10 +209,9 @@ pub(crate) fn repair_configured(
         }
         _ => {
             let point_in_scope = |p: usize| only.as_ref().is_none_or(|o| o.contains(&p));
-            swap_stage::run(c, name, opts.swaps, &point_in_scope)?
+            swap_stage::run(c, name, opts.swaps, &point_in_scope, &mut trial)?
         }
     };
-    let mut trial = to_trial(c, &points, opts.zero_invalid)?;
     let mut spikes = cfg.spikes().copied();
     let mut filter = cfg.filter().copied();
     if let (Some(done), Some(_)) = (&record.spikes, spikes) {

@@ -9,9 +9,10 @@
 //! outside `--markers`, are reported and change nothing.
 
 use crate::error::{Error, Result};
+use crate::markers::marker_indices;
 use crate::options::SwapsMode;
 use crate::rerun::Undone;
-use crate::swaps::{swaps, SwapFind};
+use crate::swaps::{swaps_with, SwapFind};
 use repair::swaps::{FindKind, SwapOptions};
 use serde::Serialize;
 use std::path::Path;
@@ -58,17 +59,22 @@ pub struct Stage {
 /// which points (0-based) the repair may change. A trial with too little to judge (fewer
 /// than 2 markers or 3 frames, every sample missing) is not an error here: the repair goes
 /// on and the note says why nothing was checked.
+///
+/// `trial` is the repair's trial of the file's markers (rows as
+/// [`crate::markers::marker_indices`]): the finding reads it, and a swap undone is exchanged
+/// back in it as in the file, so the later stages read the undone samples.
 pub fn run(
     c: &mut c3d::C3d,
     name: &Path,
     mode: SwapsMode,
     in_scope: &dyn Fn(usize) -> bool,
+    trial: &mut repair::Trial,
 ) -> Result<Stage> {
     let mut stage = Stage::default();
     if mode == SwapsMode::Off {
         return Ok(stage);
     }
-    let found = match swaps(c, name, &SwapOptions::default()) {
+    let found = match swaps_with(c, name, &SwapOptions::default(), Some(trial)) {
         Ok(f) => f,
         Err(Error::Trial { what, .. }) => {
             stage.note = Some(what);
@@ -121,6 +127,22 @@ pub fn run(
         path: name.to_path_buf(),
         source,
     })?;
+    // The same exchange in the trial: its rows hold the samples as decoded, so exchanging
+    // them gives what reading the exchanged file would.
+    let points = marker_indices(c);
+    let row = |p: usize| points.iter().position(|&q| q == p);
+    for &(a, b, first, last) in &pairs {
+        if let (Some(ra), Some(rb)) = (row(a), row(b)) {
+            for f in first..=last.min(trial.frames().saturating_sub(1)) {
+                let (pa, pb) = (trial.xyz[ra][f], trial.xyz[rb][f]);
+                trial.xyz[ra][f] = pb;
+                trial.xyz[rb][f] = pa;
+                let (va, vb) = (trial.valid[ra][f], trial.valid[rb][f]);
+                trial.valid[ra][f] = vb;
+                trial.valid[rb][f] = va;
+            }
+        }
+    }
     Ok(stage)
 }
 

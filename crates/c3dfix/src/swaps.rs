@@ -49,6 +49,17 @@ pub struct Swaps {
 /// fewer than 3 frames, every sample missing. Coordinates that are not finite count as
 /// missing, as [`c3d::is_missing`] says.
 pub fn swaps(c: &c3d::C3d, path: &Path, opts: &SwapOptions) -> Result<Swaps> {
+    swaps_with(c, path, opts, None)
+}
+
+/// [`swaps`] on the trial a repair built of the file's markers (rows as
+/// [`marker_indices`]), which comes back as it was; `None` builds one.
+pub(crate) fn swaps_with(
+    c: &c3d::C3d,
+    path: &Path,
+    opts: &SwapOptions,
+    trial: Option<&mut repair::Trial>,
+) -> Result<Swaps> {
     let trial_err = |what: String| Error::Trial {
         path: path.to_path_buf(),
         what,
@@ -100,26 +111,10 @@ pub fn swaps(c: &c3d::C3d, path: &Path, opts: &SwapOptions) -> Result<Swaps> {
             ));
         }
     }
-    // A sample at exactly (0, 0, 0) is some writers' lost sample, never evidence of where a
-    // marker is.
-    let mut trial = to_trial(c, &points, true)?;
-    drop_processed(c, &points, &mut trial);
-    if !trial.valid.iter().flatten().any(|&v| v) {
-        return Err(trial_err(
-            "every marker sample is missing: there is nothing to check".into(),
-        ));
-    }
-    let mm = mm_per_unit(&c.point_units());
-    for row in &mut trial.xyz {
-        for p in row.iter_mut() {
-            *p = p.map(|v| v * mm);
-        }
-    }
-    // In the process's own pool, so that a forked process finds swaps too (see forkpool).
-    let finds = forkpool::install(|| find_swaps(&trial, opts)).map_err(|source| Error::Repair {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let finds = match trial {
+        Some(t) => find_on_trial(c, path, opts, &points, t)?,
+        None => find_on_trial(c, path, opts, &points, &mut to_trial(c, &points, false)?)?,
+    };
     let swaps = finds
         .into_iter()
         .map(|x| SwapFind {
@@ -143,6 +138,60 @@ pub fn swaps(c: &c3d::C3d, path: &Path, opts: &SwapOptions) -> Result<Swaps> {
     })
 }
 
+/// The finds among `points` of `c`, whose trajectories `trial` holds in the file's units
+/// (as [`to_trial`] gives them, with any validity): a repair passes its own trial, so that a
+/// long trial is held once. The samples the finding leaves out (at the origin, residual 0;
+/// see [`drop_processed`]) are left out for the finding only: `trial` comes back as it was.
+pub(crate) fn find_on_trial(
+    c: &c3d::C3d,
+    path: &Path,
+    opts: &SwapOptions,
+    points: &[usize],
+    trial: &mut repair::Trial,
+) -> Result<Vec<repair::swaps::Find>> {
+    let trial_err = |what: String| Error::Trial {
+        path: path.to_path_buf(),
+        what,
+    };
+    let kept = trial.valid.clone();
+    // A sample at exactly (0, 0, 0) is some writers' lost sample, never evidence of where a
+    // marker is.
+    for (xs, vs) in trial.xyz.iter().zip(trial.valid.iter_mut()) {
+        for (p, v) in xs.iter().zip(vs.iter_mut()) {
+            *v &= *p != [0.0; 3];
+        }
+    }
+    drop_processed(c, points, trial);
+    let found = if !trial.valid.iter().flatten().any(|&v| v) {
+        Err(trial_err(
+            "every marker sample is missing: there is nothing to check".into(),
+        ))
+    } else {
+        let mm = mm_per_unit(&c.point_units());
+        // In the process's own pool, so that a forked process finds too (see forkpool).
+        let run = |t: &repair::Trial| {
+            forkpool::install(|| find_swaps(t, opts)).map_err(|source| Error::Repair {
+                path: path.to_path_buf(),
+                source,
+            })
+        };
+        if mm == 1.0 {
+            run(trial)
+        } else {
+            // Other units: a copy in mm (the finding's thresholds are in mm).
+            let mut t = trial.clone();
+            for row in &mut t.xyz {
+                for p in row.iter_mut() {
+                    *p = p.map(|v| v * mm);
+                }
+            }
+            run(&t)
+        }
+    };
+    trial.valid = kept;
+    found
+}
+
 /// The residuals as evidence: a sample of residual 0 is one the capture software computed
 /// (the C3D manual's mark for a processed point: its own gap fills), not a camera's
 /// measurement, so it says nothing about which point a label sat on. In a file whose markers
@@ -150,25 +199,30 @@ pub fn swaps(c: &c3d::C3d, path: &Path, opts: &SwapOptions) -> Result<Swaps> {
 /// undo still exchanges them with their span). A file that stores every sample with
 /// residual 0, as many writers do, says nothing by it, and nothing is left out.
 fn drop_processed(c: &c3d::C3d, points: &[usize], trial: &mut repair::Trial) {
-    let states = vec![(); c.point_chunks()];
-    let chunks: Vec<(bool, Vec<(usize, usize)>)> = c.map_point_chunks(states, |(), view| {
-        let (mut measured, mut processed) = (false, Vec::new());
-        for f in 0..view.frames {
-            for (row, &i) in points.iter().enumerate() {
-                let (_, r, _) = view.sample(f, i);
-                if r > 0.0 {
-                    measured = true;
-                } else if r == 0.0 {
-                    processed.push((view.first_frame + f, row));
-                }
-            }
-        }
-        (measured, processed)
-    });
-    if !chunks.iter().any(|c| c.0) {
+    // First whether anything was measured, so that a file of residual-0 samples throughout
+    // costs one scan and no list of them.
+    let measured = c
+        .map_point_chunks(vec![(); c.point_chunks()], |(), view| {
+            (0..view.frames).any(|f| points.iter().any(|&i| view.sample(f, i).1 > 0.0))
+        })
+        .into_iter()
+        .any(|m| m);
+    if !measured {
         return;
     }
-    for (f, row) in chunks.into_iter().flat_map(|c| c.1) {
+    let processed: Vec<Vec<(usize, usize)>> =
+        c.map_point_chunks(vec![(); c.point_chunks()], |(), view| {
+            let mut out = Vec::new();
+            for f in 0..view.frames {
+                for (row, &i) in points.iter().enumerate() {
+                    if view.sample(f, i).1 == 0.0 {
+                        out.push((view.first_frame + f, row));
+                    }
+                }
+            }
+            out
+        });
+    for (f, row) in processed.into_iter().flatten() {
         trial.valid[row][f] = false;
     }
 }

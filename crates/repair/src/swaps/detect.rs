@@ -384,20 +384,22 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
     // Frames where a marker's links break, and the exchange that mends them if any.
     let mut swap_frames: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
     let mut jump_frames: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-    // Frame-major: each frame's markers as labelled.
-    let base: Vec<Vec<Option<(f64, f64)>>> = (0..nf)
+    // Each frame's markers whose links are half broken as labelled (only those: a score
+    // per sample would hold more than the trial).
+    let offs: Vec<Vec<usize>> = (0..nf)
         .into_par_iter()
-        .map(|f| (0..nm).map(|m| cx.scores(m, f, None)).collect())
+        .map(|f| {
+            (0..nm)
+                .filter(|&m| cx.scores(m, f, None).is_some_and(|s| s.1 > 1.0))
+                .collect()
+        })
         .collect();
     // A marker with links that holds another's samples breaks its own links too: partners
     // are markers off at that frame, or markers without links to break.
     let linkless: Vec<usize> = (0..nm).filter(|&m| !cx.has_links(m)).collect();
-    for (f, row) in base.iter().enumerate() {
-        let off: Vec<usize> = (0..nm)
-            .filter(|&m| row[m].is_some_and(|s| s.1 > 1.0))
-            .collect();
+    for (f, off) in offs.iter().enumerate() {
         let mut taken: Vec<usize> = Vec::new();
-        for &a in &off {
+        for &a in off {
             if taken.contains(&a) {
                 continue;
             }
