@@ -344,3 +344,92 @@ fn in_place_with_a_backup_and_the_options_that_need_a_destination() {
         assert!(stdout(&o).is_empty());
     }
 }
+
+/// A lab's folder: `events DIR --in-place --jobs 2` writes every trial below it (each as
+/// `events FILE -o` writes it alone, whatever thread did it), and `gait DIR --json` then
+/// reads the written events of every trial back, in the folder's sorted order.
+#[test]
+fn a_folder_of_trials_is_done_in_parallel_and_each_as_alone() {
+    let Some(more) = testkit::c3d_more() else {
+        return;
+    };
+    let names = [
+        "HansUniVie__MuscleLength__test.c3d",
+        "tsalemink__C3D-parser__FMC_MH0222_BP15.c3d",
+        "tsalemink__C3D-parser__RBWH_bfnd_w1.c3d",
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    let lab = dir.path().join("lab");
+    std::fs::create_dir_all(lab.join("day2")).unwrap();
+    let mut alone = Vec::new();
+    for (i, n) in names.iter().enumerate() {
+        let sub = if i == 2 {
+            lab.join("day2")
+        } else {
+            lab.clone()
+        };
+        std::fs::copy(more.join(n), sub.join(n)).unwrap();
+        let one = dir.path().join(format!("alone{i}.c3d"));
+        let out = c3dfix(&["events", s(&more.join(n)), "--replace", "-o", s(&one)]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        alone.push(std::fs::read(&one).unwrap());
+    }
+    let out = c3dfix(&[
+        "events",
+        s(&lab),
+        "--in-place",
+        "--replace",
+        "--jobs",
+        "2",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: Json = serde_json::from_slice(&out.stdout).unwrap();
+    let files: Vec<&str> = v["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["file"].as_str().unwrap())
+        .collect();
+    // Sorted by path: `HansUniVie…` < `day2/…` < `tsalemink…`.
+    assert_eq!(files.len(), 3, "{files:?}");
+    assert!(files[0].ends_with(names[0]), "{files:?}");
+    assert!(
+        files[1].ends_with(&format!("day2/{}", names[2])),
+        "{files:?}"
+    );
+    assert!(files[2].ends_with(names[1]), "{files:?}");
+    for (i, n) in names.iter().enumerate() {
+        let sub = if i == 2 {
+            lab.join("day2")
+        } else {
+            lab.clone()
+        };
+        assert_eq!(std::fs::read(sub.join(n)).unwrap(), alone[i], "{n}");
+    }
+    let no_leftovers = std::fs::read_dir(&lab)
+        .unwrap()
+        .flatten()
+        .all(|e| !e.file_name().to_string_lossy().contains("c3dfix-tmp"));
+    assert!(no_leftovers);
+    // The gait parameters of the folder, from the events just written.
+    let out = c3dfix(&["gait", s(&lab), "--json", "-j", "2"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: Json = serde_json::from_slice(&out.stdout).unwrap();
+    let docs = v["files"].as_array().unwrap();
+    assert_eq!(docs.len(), 3);
+    for d in docs {
+        let params = d["parameters"].as_array().unwrap();
+        assert!(
+            params.iter().any(|p| p["name"] == "Cadence"),
+            "{}: {d}",
+            d["file"]
+        );
+    }
+    // An empty folder is said, not passed over.
+    let empty = dir.path().join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let out = c3dfix(&["events", s(&empty)]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("no C3D files"), "{}", stderr(&out));
+}

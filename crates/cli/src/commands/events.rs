@@ -10,9 +10,12 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The trials (C3D files).
+    /// The trials: C3D files, or folders whose C3D files are all taken.
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
+    /// Trials done at once (default: one per core).
+    #[arg(long, short = 'j', value_name = "N")]
+    pub jobs: Option<usize>,
     /// Where events come from: `plates` (a foot alone loading a plate), `kinematics` (the
     /// heel, toe and pelvis markers: Zeni 2008 and Desailly 2009 combined; never the file's
     /// own events) or `auto` (plate events where a foot lands on a plate, kinematic ones
@@ -96,8 +99,10 @@ fn as_json(path: &std::path::Path, d: &Detected) -> serde_json::Value {
     })
 }
 
-pub fn run(a: Args) -> Result<i32> {
+pub fn run(mut a: Args) -> Result<i32> {
     let from: EventSource = a.from.parse()?;
+    let named_one_file = a.files.len() == 1 && !a.files[0].is_dir();
+    a.files = crate::commands::each::trials(&a.files)?;
     let opts = EventOptions {
         from,
         markers: MarkerNames::parse(&a.markers)?,
@@ -118,7 +123,7 @@ pub fn run(a: Args) -> Result<i32> {
             Write::Nowhere
         }
     };
-    if a.files.len() == 1 {
+    if named_one_file {
         let d = one(&a.files[0], &opts, &write, &a)?;
         if a.json {
             outln!(
@@ -134,8 +139,9 @@ pub fn run(a: Args) -> Result<i32> {
     // others go on; the exit code says whether any failed.
     let mut failed = 0;
     let mut docs = Vec::new();
-    for f in &a.files {
-        match one(f, &opts, &write, &a) {
+    let results = crate::commands::each::each(&a.files, a.jobs, |f| one(f, &opts, &write, &a))?;
+    for (f, r) in a.files.iter().zip(results) {
+        match r {
             Ok(d) if a.json => docs.push(as_json(f, &d)),
             Ok(d) => print_text(f, &d)?,
             Err(e) => {

@@ -11,9 +11,12 @@ use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The trials (C3D files).
+    /// The trials: C3D files, or folders whose C3D files are all taken.
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
+    /// Trials done at once (default: one per core).
+    #[arg(long, short = 'j', value_name = "N")]
+    pub jobs: Option<usize>,
     /// Print JSON instead of text (also with --write: what was written).
     #[arg(long)]
     pub json: bool,
@@ -119,8 +122,10 @@ fn print_text(path: &Path, r: &GaitReport) -> Result<()> {
     Ok(())
 }
 
-pub fn run(a: Args) -> Result<i32> {
+pub fn run(mut a: Args) -> Result<i32> {
     let markers = MarkerNames::parse(&a.markers)?;
+    let named_one_file = a.files.len() == 1 && !a.files[0].is_dir();
+    a.files = crate::commands::each::trials(&a.files)?;
     let detect = if a.detect {
         Some(EventOptions {
             from: a.from.parse::<EventSource>()?,
@@ -148,9 +153,10 @@ pub fn run(a: Args) -> Result<i32> {
     let mut failed = 0;
     let mut docs = Vec::new();
     let mut csv = String::from("file,context,name,value,unit\n");
-    let several = a.files.len() > 1;
-    for f in &a.files {
-        let r = match one(f, &opts, &a) {
+    let several = !named_one_file;
+    let results = crate::commands::each::each(&a.files, a.jobs, |f| one(f, &opts, &a))?;
+    for (f, r) in a.files.iter().zip(results) {
+        let r = match r {
             Ok(r) => r,
             Err(e) if several => {
                 failed += 1;

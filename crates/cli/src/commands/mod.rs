@@ -5,6 +5,7 @@ pub mod bvh_info;
 pub mod convert;
 pub mod cycles;
 pub mod diff;
+pub mod each;
 pub mod evaluate;
 pub mod events;
 pub mod export;

@@ -15,7 +15,7 @@ pub const MAX_THREADS: usize = 256;
 
 /// Threads for `files` jobs when `--jobs` asked for `jobs` (None: one per core): never more
 /// than there are files, nor than [`MAX_THREADS`]; 0 lets the pool pick one per core.
-fn threads(jobs: Option<usize>, files: usize) -> usize {
+pub(crate) fn threads(jobs: Option<usize>, files: usize) -> usize {
     match jobs {
         None => 0,
         Some(j) => j.min(files.max(1)).min(MAX_THREADS),
