@@ -687,14 +687,16 @@ fn contacts_and_times_are_on_the_files_base() {
 #[test]
 fn opensim_export_writes_both_files_y_up_and_mot_takes_the_plate_options() {
     let Some(file) = type2a() else { return };
-    let dir = tempfile::tempdir().unwrap();
+    let top = tempfile::tempdir().unwrap();
+    // A folder that does not exist yet is made, as `batch --out-dir` makes its folders.
+    let dir = top.path().join("opensim/trial");
     let out = c3dfix(&[
         "export",
         s(&file),
         "--format",
         "opensim",
         "--out-dir",
-        s(dir.path()),
+        s(&dir),
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(
@@ -703,12 +705,12 @@ fn opensim_export_writes_both_files_y_up_and_mot_takes_the_plate_options() {
         stdout(&out)
     );
     let (trc, mot) = (
-        dir.path().join("TYPE-2a.trc"),
-        dir.path().join("TYPE-2a.mot"),
+        dir.as_path().join("TYPE-2a.trc"),
+        dir.as_path().join("TYPE-2a.mot"),
     );
     let (_, columns, rows) = read_mot(&mot);
     assert_eq!(columns[2], "ground_force_1_vy");
-    let plain = dir.path().join("plain.mot");
+    let plain = dir.as_path().join("plain.mot");
     let out = c3dfix(&["export", s(&file), "--format", "mot", "-o", s(&plain)]);
     assert!(out.status.success(), "{}", stderr(&out));
     let (_, _, lab) = read_mot(&plain);
@@ -725,13 +727,13 @@ fn opensim_export_writes_both_files_y_up_and_mot_takes_the_plate_options() {
         "--format",
         "opensim",
         "--out-dir",
-        s(dir.path()),
+        s(dir.as_path()),
     ]);
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("exists"), "{}", stderr(&out));
 
     // The plate options of `forces`: a higher threshold leaves more rows unloaded.
-    let high = dir.path().join("high.mot");
+    let high = dir.as_path().join("high.mot");
     let out = c3dfix(&[
         "export",
         s(&file),

@@ -109,6 +109,10 @@ pub fn opensim(
             replace: opts.force,
         });
     }
+    // The folder is made only once both files are ready, as `batch --out-dir` makes its
+    // folders: a refused export leaves nothing behind.
+    std::fs::create_dir_all(out_dir)
+        .map_err(|e| Error::Output(format!("cannot make the folder {}: {e}", out_dir.display())))?;
     write_all(&outs)?;
     Ok(OpenSimExport {
         trc: trc_path.clone(),
