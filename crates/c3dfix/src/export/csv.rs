@@ -12,6 +12,27 @@ pub(crate) fn field(f: &str) -> std::borrow::Cow<'_, str> {
     }
 }
 
+/// The header of [`parameter_rows`]' table.
+pub const PARAMETERS_HEADER: &str = "file,context,name,value,unit\n";
+
+/// The gait-cycle parameters of one trial as CSV rows (`file,context,name,value,unit`, under
+/// [`PARAMETERS_HEADER`]): a table of several trials is their rows one after another.
+pub fn parameter_rows(file: &str, parameters: &[crate::gait::params::Parameter]) -> String {
+    let mut out = String::new();
+    for p in parameters {
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{}",
+            field(file),
+            field(p.context),
+            field(p.name),
+            p.value,
+            field(p.unit)
+        );
+    }
+    out
+}
+
 /// One row per frame: the file's frame number, its time ([`c3d::C3d::frame_time`]), then
 /// X/Y/Z of each of `points` (indices); a missing sample's cells are empty, as CSV readers
 /// (pandas, spreadsheets) read a missing value.

@@ -13,7 +13,7 @@ mod mot;
 mod opensim;
 mod trc;
 
-pub use csv::{analog_csv, points_csv};
+pub use csv::{analog_csv, parameter_rows, points_csv, PARAMETERS_HEADER};
 pub use json::json;
 pub use mot::mot;
 pub use opensim::{opensim, OpenSimExport, OpenSimOptions};

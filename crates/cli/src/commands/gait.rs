@@ -93,14 +93,6 @@ fn as_json(path: &Path, r: &GaitReport) -> serde_json::Value {
     })
 }
 
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
-}
-
 fn print_text(path: &Path, r: &GaitReport) -> Result<()> {
     outln!(
         "{}: gait-cycle parameters (events: {})",
@@ -152,7 +144,7 @@ pub fn run(mut a: Args) -> Result<i32> {
     }
     let mut failed = 0;
     let mut docs = Vec::new();
-    let mut csv = String::from("file,context,name,value,unit\n");
+    let mut csv = String::from(c3dfix::export::PARAMETERS_HEADER);
     let several = !named_one_file;
     let results = crate::commands::each::each(&a.files, a.jobs, |f| one(f, &opts, &a))?;
     for (f, r) in a.files.iter().zip(results) {
@@ -166,16 +158,10 @@ pub fn run(mut a: Args) -> Result<i32> {
             Err(e) => return Err(e),
         };
         if csv_out.is_some() {
-            for p in &r.parameters {
-                csv.push_str(&format!(
-                    "{},{},{},{},{}\n",
-                    csv_field(&f.display().to_string()),
-                    p.context,
-                    csv_field(p.name),
-                    p.value,
-                    csv_field(p.unit)
-                ));
-            }
+            csv.push_str(&c3dfix::export::parameter_rows(
+                &f.display().to_string(),
+                &r.parameters,
+            ));
             for w in &r.warnings {
                 errln!("c3dfix: warning: {}: {w}", f.display());
             }
