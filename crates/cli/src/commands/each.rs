@@ -4,7 +4,7 @@
 //! depend on which thread finished first. Each file is written atomically (the library's
 //! `save`), so a run that is killed leaves every trial either as it was or complete.
 
-use crate::commands::parallel::threads;
+use crate::commands::parallel::pool;
 use crate::commands::targets::{plan, Destination};
 use anyhow::Result;
 use rayon::prelude::*;
@@ -35,9 +35,5 @@ where
     T: Send,
     W: Fn(&Path) -> Result<T> + Sync,
 {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads(jobs, files.len()))
-        .build()
-        .map_err(|e| anyhow::anyhow!("cannot start worker threads: {e}"))?;
-    Ok(pool.install(|| files.par_iter().map(|f| work(f)).collect()))
+    Ok(pool(jobs, files.len())?.install(|| files.par_iter().map(|f| work(f)).collect()))
 }

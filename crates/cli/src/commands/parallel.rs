@@ -15,11 +15,19 @@ pub const MAX_THREADS: usize = 256;
 
 /// Threads for `files` jobs when `--jobs` asked for `jobs` (None: one per core): never more
 /// than there are files, nor than [`MAX_THREADS`]; 0 lets the pool pick one per core.
-pub(crate) fn threads(jobs: Option<usize>, files: usize) -> usize {
+fn threads(jobs: Option<usize>, files: usize) -> usize {
     match jobs {
         None => 0,
         Some(j) => j.min(files.max(1)).min(MAX_THREADS),
     }
+}
+
+/// A pool of threads for `files` jobs when `--jobs` asked for `jobs` (see [`threads`]).
+pub(crate) fn pool(jobs: Option<usize>, files: usize) -> Result<rayon::ThreadPool> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads(jobs, files))
+        .build()
+        .map_err(|e| anyhow::anyhow!("cannot start worker threads: {e}"))
 }
 
 /// Run `work` on every target with `jobs` threads (None: one per core). With `json`, each
@@ -44,10 +52,7 @@ where
             Err(e) => serde_json::json!({"file": file, "ok": false, "error": e}),
         }
     };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads(jobs, targets.len()))
-        .build()
-        .map_err(|e| anyhow::anyhow!("cannot start worker threads: {e}"))?;
+    let pool = pool(jobs, targets.len())?;
     let bar = (!json && std::io::stderr().is_terminal()).then(|| {
         let b = indicatif::ProgressBar::new(targets.len() as u64);
         b.set_style(
