@@ -125,11 +125,18 @@ pub fn choose_markers(c: &c3d::C3d, names: &MarkerNames, path: &Path) -> Result<
 }
 
 /// The trajectories of the chosen markers in millimetres, NaN where missing (a role of
-/// several markers is their mean where all are present). A heel found by name whose every
-/// sample is missing is replaced by the ankle marker of its side, when there is one (the
-/// choice is updated to say so).
+/// several markers is their mean where all are present; a role of none, a side the marker
+/// set does not mark, is missing throughout). A heel found by name whose every sample is
+/// missing is replaced by the ankle marker of its side, when there is one; a side given as
+/// a foot cluster gets the cluster's rearmost marker as its heel and its foremost as its
+/// toe, along the walking direction ([`gait::markers::cluster_heel_toe`]). The choice is
+/// updated to say so.
 pub fn feet(c: &c3d::C3d, choice: &mut MarkerChoice, path: &Path) -> Result<Feet> {
-    let f = feet_of(c, choice, path)?;
+    let mut f = feet_of(c, choice, path)?;
+    if choice.foot_cluster.iter().any(|&k| k) {
+        resolve_clusters(c, choice, &f, path)?;
+        f = feet_of(c, choice, path)?;
+    }
     let labels = marker_labels(c);
     let mut swapped = false;
     for (k, (heel, side)) in [(&f.left_heel, 'l'), (&f.right_heel, 'r')]
@@ -137,7 +144,12 @@ pub fn feet(c: &c3d::C3d, choice: &mut MarkerChoice, path: &Path) -> Result<Feet
         .enumerate()
     {
         let seen = heel.iter().any(|p| p[0].is_finite());
-        if !seen && !choice.heel_is_ankle[k] {
+        let role = if k == 0 {
+            &choice.left_heel
+        } else {
+            &choice.right_heel
+        };
+        if !seen && !choice.heel_is_ankle[k] && !role.is_empty() {
             if let Some(a) = gait::markers::ankle_for(&labels, side) {
                 let slot = if k == 0 {
                     &mut choice.left_heel
@@ -157,6 +169,72 @@ pub fn feet(c: &c3d::C3d, choice: &mut MarkerChoice, path: &Path) -> Result<Feet
     }
 }
 
+/// Give each side held as a foot cluster its heel and toe (see [`feet`]); `f` has the
+/// pelvis. A cluster whose markers are never seen together while walking keeps no side.
+fn resolve_clusters(c: &c3d::C3d, choice: &mut MarkerChoice, f: &Feet, path: &Path) -> Result<()> {
+    let rate = c.point_rate() as f64;
+    let opts = KinematicOptions::default();
+    for k in 0..2 {
+        if !choice.foot_cluster[k] {
+            continue;
+        }
+        let cluster = if k == 0 {
+            choice.left_heel.clone()
+        } else {
+            choice.right_heel.clone()
+        };
+        let tracks = tracks(c, &cluster, path)?;
+        let refs: Vec<&[[f64; 3]]> = tracks.iter().map(|t| t.as_slice()).collect();
+        let vertical = gait::axes::vertical(&f.pelvis, &refs);
+        let picked = vertical.and_then(|v| {
+            if !(rate.is_finite() && rate > 0.0) {
+                return None;
+            }
+            let dir = gait::kinematic::walking_direction(&f.pelvis, v, rate, &opts);
+            gait::markers::cluster_heel_toe(&refs, &dir)
+        });
+        let (heel, toe) = match picked {
+            Some((h, t)) => (vec![cluster[h]], vec![cluster[t]]),
+            None => (Vec::new(), Vec::new()),
+        };
+        if k == 0 {
+            (choice.left_heel, choice.left_toe) = (heel, toe);
+        } else {
+            (choice.right_heel, choice.right_toe) = (heel, toe);
+        }
+        choice.foot_cluster[k] = false;
+    }
+    Ok(())
+}
+
+/// Each point's trajectory in millimetres, NaN where missing.
+fn tracks(c: &c3d::C3d, points: &[usize], path: &Path) -> Result<Vec<Vec<[f64; 3]>>> {
+    let mut sorted = points.to_vec();
+    sorted.sort_unstable();
+    sorted.dedup();
+    let trial = crate::trial::to_trial(c, &sorted, false).map_err(|e| trial_error(path, e))?;
+    let mm = c3d::mm_per_unit(&c.point_units());
+    let frames = c.frames();
+    Ok(points
+        .iter()
+        .map(|p| {
+            let Ok(row) = sorted.binary_search(p) else {
+                return vec![[f64::NAN; 3]; frames];
+            };
+            (0..frames)
+                .map(|f| {
+                    let v = trial.xyz[row][f];
+                    if trial.valid[row][f] && v.iter().all(|x| x.is_finite()) {
+                        [v[0] * mm, v[1] * mm, v[2] * mm]
+                    } else {
+                        [f64::NAN; 3]
+                    }
+                })
+                .collect()
+        })
+        .collect())
+}
+
 fn feet_of(c: &c3d::C3d, choice: &MarkerChoice, path: &Path) -> Result<Feet> {
     let roles = [
         &choice.left_heel,
@@ -168,23 +246,22 @@ fn feet_of(c: &c3d::C3d, choice: &MarkerChoice, path: &Path) -> Result<Feet> {
     let mut points: Vec<usize> = roles.iter().flat_map(|r| r.iter().copied()).collect();
     points.sort_unstable();
     points.dedup();
-    let trial = crate::trial::to_trial(c, &points, false).map_err(|e| trial_error(path, e))?;
-    let mm = c3d::mm_per_unit(&c.point_units());
+    let all = tracks(c, &points, path)?;
     let frames = c.frames();
     let mean = |role: &[usize]| -> Vec<[f64; 3]> {
         (0..frames)
             .map(|f| {
+                if role.is_empty() {
+                    return [f64::NAN; 3];
+                }
                 let mut s = [0.0; 3];
                 for &p in role {
                     let Ok(row) = points.binary_search(&p) else {
                         return [f64::NAN; 3];
                     };
-                    let v = trial.xyz[row][f];
-                    if !trial.valid[row][f] || !v.iter().all(|x| x.is_finite()) {
-                        return [f64::NAN; 3];
-                    }
+                    let v = all[row][f];
                     for k in 0..3 {
-                        s[k] += v[k] * mm / role.len() as f64;
+                        s[k] += v[k] / role.len() as f64;
                     }
                 }
                 s
@@ -303,6 +380,13 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
     }
     let rate = c.point_rate() as f64;
     let mut warnings = Vec::new();
+    for (side, heel) in [("left", &choice.left_heel), ("right", &choice.right_heel)] {
+        if heel.is_empty() {
+            warnings.push(format!(
+                "no {side} heel and toe markers: the {side} foot gets no events from the markers, nor from the plates"
+            ));
+        }
+    }
     let events = match opts.from {
         EventSource::Kinematics => gait::kinematic_events(&feet, rate, &opts.kinematic)
             .map_err(|e| trial_error(path, e))?,

@@ -171,3 +171,79 @@ fn the_first_steps_from_standing_get_their_events() {
     let d = distances(&lab, &found.events);
     assert!(d.iter().all(|d| *d < 0.040), "{d:?}");
 }
+
+#[test]
+fn foot_clusters_give_heel_and_toe_by_position_and_their_strikes_meet_the_plates() {
+    use c3dfix::events::{detect_events, EventOptions, EventSource};
+    let Some(samples) = testkit::c3d_samples() else {
+        return;
+    };
+    // sample_02 (C3D.org's pc_real): foot triads RFT1-3 / LFT1-3 and a pelvis cluster
+    // RPV1-3, no landmark named. The rearmost triad marker is FT3, the foremost FT1.
+    let path = samples.join("sample_02/pc_real.c3d");
+    let c = c3dfix::open(&path).unwrap();
+    let opts = EventOptions {
+        from: EventSource::Kinematics,
+        ..EventOptions::default()
+    };
+    let d = detect_events(&c, &opts, &path).unwrap();
+    let role = |r: &str| d.markers.iter().find(|m| m.0 == r).map(|m| m.1.clone());
+    assert_eq!(role("lheel"), Some(vec!["LFT3".to_string()]));
+    assert_eq!(role("rtoe"), Some(vec!["RFT1".to_string()]));
+    assert_eq!(role("pelvis").map(|p| p.len()), Some(3));
+    // Its plates: right strike at 0.361 s, left at 0.828 s; the markers within 20 ms.
+    let plates = detect_events(
+        &c,
+        &EventOptions {
+            from: EventSource::Plates,
+            ..EventOptions::default()
+        },
+        &path,
+    )
+    .unwrap();
+    let strikes: Vec<(Side, Kind, f64)> = plates
+        .events
+        .iter()
+        .filter(|e| e.label == "Foot Strike")
+        .map(|e| {
+            let side = if e.context == "Left" {
+                Side::Left
+            } else {
+                Side::Right
+            };
+            (side, Kind::FootStrike, e.time)
+        })
+        .collect();
+    assert_eq!(strikes.len(), 2, "{strikes:?}");
+    assert!((strikes[0].2 - 0.361).abs() < 0.002, "{strikes:?}");
+    let dist = distances(&strikes, &d.events);
+    assert!(dist.iter().all(|x| *x < 0.020), "{dist:?}");
+}
+
+#[test]
+fn a_set_marking_one_leg_gives_that_legs_events_and_says_so() {
+    use c3dfix::events::{detect_events, EventOptions, EventSource};
+    let Some(samples) = testkit::c3d_samples() else {
+        return;
+    };
+    // sample_21 marks the right leg only (RHEE, RTOE; LASI, SACR, RASI).
+    let path = samples.join("sample_21/sample21.c3d");
+    let c = c3dfix::open(&path).unwrap();
+    let opts = EventOptions {
+        from: EventSource::Kinematics,
+        ..EventOptions::default()
+    };
+    let d = detect_events(&c, &opts, &path).unwrap();
+    assert!(
+        d.events.iter().all(|e| e.context == "Right"),
+        "{:?}",
+        d.events
+    );
+    assert!(
+        d.warnings
+            .iter()
+            .any(|w| w.contains("no left heel and toe")),
+        "{:?}",
+        d.warnings
+    );
+}

@@ -37,11 +37,22 @@ const TOE: &[&str] = &[
 ];
 /// Markers standing alone for the pelvis (sacrum, mid-PSIS).
 const SACRUM: &[&str] = &[
-    "sacr", "sacrum", "sac", "vsac", "mpsi", "sacral", "s1", "ppsi",
+    "sacr", "sacrum", "sac", "vsac", "mpsi", "sacral", "s1", "ppsi", "pelv", "pelvis",
 ];
-/// Paired pelvis markers: PSIS first (their mean is the sacrum), then ASIS.
-const PSIS: &[&str] = &["psi", "psis", "ips", "pis"];
-const ASIS: &[&str] = &["asi", "asis", "ias", "ais"];
+/// Paired pelvis markers: PSIS first (their mean is the sacrum; CMU's back waist markers
+/// `LBWT`/`RBWT` sit on them), then ASIS (CMU's front waist `LFWT`/`RFWT`), then the greater
+/// trochanters (`LTRO`, `L_FTC`), which travel with the pelvis over a stride and stand for
+/// it in sets that mark no pelvis landmark.
+const PSIS: &[&str] = &["psi", "psis", "ips", "pis", "bwt"];
+const ASIS: &[&str] = &["asi", "asis", "ias", "ais", "fwt"];
+const TROCHANTER: &[&str] = &["tro", "troc", "gtr", "ftc"];
+/// Stems of numbered foot cluster markers (`LFT1`…`LFT3`, `LFOOT1`): markers fixed to the
+/// shoe or foot with no landmark named, whose heel and toe are told by their positions
+/// ([`cluster_heel_toe`]).
+const FOOT_CLUSTER: &[&str] = &["ft", "foot", "foo"];
+/// Stems of numbered pelvis cluster markers (`PV1`…`PV4`, `RPV1`…`RPV3`): their mean
+/// travels with the pelvis.
+const PELVIS_CLUSTER: &[&str] = &["pv", "pel", "pelv", "pelvis"];
 
 /// The label as compared: no subject prefix, lower case, letters and digits only.
 pub fn normalise(label: &str) -> String {
@@ -62,6 +73,9 @@ pub struct MarkerChoice {
     pub pelvis: Vec<usize>,
     /// Left and right: no heel marker was found and the ankle stands in for it.
     pub heel_is_ankle: [bool; 2],
+    /// Left and right: the side's heel and toe lists both hold its foot cluster markers
+    /// (no heel or toe label known), to be told apart by [`cluster_heel_toe`].
+    pub foot_cluster: [bool; 2],
 }
 
 /// Names given by a person for some roles (each a list whose mean is used).
@@ -157,8 +171,64 @@ pub fn ankle_for(labels: &[String], side: char) -> Option<usize> {
     find_sided(&norm, side, ANKLE)
 }
 
+/// Whether `part` is one of `stems` followed by digits (or by nothing): `ft1`, `pv4`.
+fn numbered(part: &str, stems: &[&str]) -> bool {
+    let stem = part.trim_end_matches(|c: char| c.is_ascii_digit());
+    stems.contains(&stem)
+}
+
+/// The foot cluster markers of `side` (file order).
+fn foot_cluster(norm: &[String], side: char) -> Vec<usize> {
+    norm.iter()
+        .enumerate()
+        .filter(|(_, n)| {
+            split_side(n).is_some_and(|(s, rest)| s == side && numbered(rest, FOOT_CLUSTER))
+        })
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// The pelvis cluster markers, sided or not (`PV1`, `RPV2`), if at least two.
+fn pelvis_cluster(norm: &[String]) -> Option<Vec<usize>> {
+    let v: Vec<usize> = norm
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| {
+            let has_digit = n.chars().any(|c| c.is_ascii_digit());
+            has_digit
+                && (numbered(n, PELVIS_CLUSTER)
+                    || split_side(n).is_some_and(|(_, rest)| numbered(rest, PELVIS_CLUSTER)))
+        })
+        .map(|(i, _)| i)
+        .collect();
+    (v.len() >= 2).then_some(v)
+}
+
+/// One side's heel and toe as found (either may be missing).
+struct SideFoot {
+    heel: Result<Vec<usize>>,
+    toe: Result<Vec<usize>>,
+    ankle: bool,
+    cluster: bool,
+    /// A name was given by a person for this side's heel or toe.
+    named: bool,
+}
+
+impl SideFoot {
+    fn complete(&self) -> bool {
+        self.heel.is_ok() && self.toe.is_ok()
+    }
+}
+
 /// Choose the markers of each role among `labels` (the point labels, in file order),
 /// taking `names` first where given.
+///
+/// A side whose heel or toe is found by no name (a set that marks one leg only) is left
+/// empty, and the detectors give that side no events, as long as the other side has both
+/// and no name was given for it; with neither side complete the error names the first
+/// role missing. A side with no heel or toe names but numbered foot cluster markers gets
+/// the whole cluster in both roles, with [`MarkerChoice::foot_cluster`] set: the caller
+/// tells heel from toe by their positions ([`cluster_heel_toe`]).
 pub fn find_markers(labels: &[String], names: &MarkerNames) -> Result<MarkerChoice> {
     let norm: Vec<String> = labels.iter().map(|l| normalise(l)).collect();
     let missing = |what: &str, looked: String| Error::NoMarker {
@@ -174,22 +244,48 @@ pub fn find_markers(labels: &[String], names: &MarkerNames) -> Result<MarkerChoi
             .find_map(|p| find_sided(&norm, side, p))
             .map(|i| vec![i])
             .ok_or_else(|| {
-                let looked: Vec<String> = parts
+                let mut looked: Vec<String> = parts
                     .iter()
                     .flat_map(|p| p.iter().take(4))
                     .map(|p| format!("{}{}", side.to_ascii_uppercase(), p.to_ascii_uppercase()))
                     .collect();
+                looked.push(format!("{}FT1…", side.to_ascii_uppercase()));
                 missing(role, looked.join(", "))
             })
     };
-    let left_heel = foot(&names.left_heel, "lheel", 'l', &[HEEL, ANKLE])?;
-    let right_heel = foot(&names.right_heel, "rheel", 'r', &[HEEL, ANKLE])?;
-    let ankle = |given: &Option<Vec<String>>, side: char| {
-        given.is_none() && find_sided(&norm, side, HEEL).is_none()
+    let side_foot = |side: char, heel: &Option<Vec<String>>, toe: &Option<Vec<String>>| {
+        let prefix = side.to_string();
+        let mut f = SideFoot {
+            heel: foot(heel, &format!("{prefix}heel"), side, &[HEEL, ANKLE]),
+            toe: foot(toe, &format!("{prefix}toe"), side, &[TOE]),
+            ankle: heel.is_none() && find_sided(&norm, side, HEEL).is_none(),
+            cluster: false,
+            named: heel.is_some() || toe.is_some(),
+        };
+        if !f.named && !f.complete() {
+            let cluster = foot_cluster(&norm, side);
+            if !cluster.is_empty() {
+                f = SideFoot {
+                    heel: Ok(cluster.clone()),
+                    toe: Ok(cluster),
+                    ankle: false,
+                    cluster: true,
+                    named: false,
+                };
+            }
+        }
+        f
     };
-    let heel_is_ankle = [ankle(&names.left_heel, 'l'), ankle(&names.right_heel, 'r')];
-    let left_toe = foot(&names.left_toe, "ltoe", 'l', &[TOE])?;
-    let right_toe = foot(&names.right_toe, "rtoe", 'r', &[TOE])?;
+    let left = side_foot('l', &names.left_heel, &names.left_toe);
+    let right = side_foot('r', &names.right_heel, &names.right_toe);
+    if !left.complete() && (left.named || !right.complete()) {
+        left.heel.clone()?;
+        left.toe.clone()?;
+    }
+    if !right.complete() && (right.named || !left.complete()) {
+        right.heel.clone()?;
+        right.toe.clone()?;
+    }
     let pelvis = match &names.pelvis {
         Some(g) => by_names(labels, "pelvis", g)?,
         None => {
@@ -205,17 +301,88 @@ pub fn find_markers(labels: &[String], names: &MarkerNames) -> Result<MarkerChoi
                 .map(|i| vec![i])
                 .or_else(|| pair(PSIS))
                 .or_else(|| pair(ASIS))
-                .ok_or_else(|| missing("pelvis", "SACR, LPSI+RPSI, LASI+RASI".into()))?
+                .or_else(|| pelvis_cluster(&norm))
+                .or_else(|| pair(TROCHANTER))
+                .ok_or_else(|| {
+                    missing(
+                        "pelvis",
+                        "SACR, LPSI+RPSI, LASI+RASI, PV1+PV2…, LTRO+RTRO".into(),
+                    )
+                })?
         }
     };
+    let take = |f: &SideFoot| {
+        if f.complete() {
+            (
+                f.heel.clone().unwrap_or_default(),
+                f.toe.clone().unwrap_or_default(),
+            )
+        } else {
+            (Vec::new(), Vec::new())
+        }
+    };
+    let ((left_heel, left_toe), (right_heel, right_toe)) = (take(&left), take(&right));
     Ok(MarkerChoice {
+        heel_is_ankle: [
+            left.complete() && left.ankle && !left.cluster,
+            right.complete() && right.ankle && !right.cluster,
+        ],
+        foot_cluster: [
+            left.complete() && left.cluster,
+            right.complete() && right.cluster,
+        ],
         left_heel,
         right_heel,
         left_toe,
         right_toe,
         pelvis,
-        heel_is_ankle,
     })
+}
+
+/// Which of a foot cluster's markers are its heel and its toe (indices into `markers`):
+/// the one farthest back along the walking direction, relative to the cluster's centre,
+/// and the one farthest forward (the median over the frames where every marker, the
+/// pelvis and the direction are known). `direction` is the walking direction per frame
+/// (unit, horizontal; NaN where unknown). `None` without such a frame.
+pub fn cluster_heel_toe(markers: &[&[[f64; 3]]], direction: &[[f64; 3]]) -> Option<(usize, usize)> {
+    let n = markers.len();
+    if n == 0 {
+        return None;
+    }
+    let mut along: Vec<Vec<f64>> = vec![Vec::new(); n];
+    for (f, d) in direction.iter().enumerate() {
+        let ps: Option<Vec<[f64; 3]>> = markers
+            .iter()
+            .map(|m| {
+                m.get(f)
+                    .copied()
+                    .filter(|p| p.iter().all(|v| v.is_finite()))
+            })
+            .collect();
+        let Some(ps) = ps else { continue };
+        if !d.iter().all(|v| v.is_finite()) {
+            continue;
+        }
+        let mut c = [0.0; 3];
+        for p in &ps {
+            for k in 0..3 {
+                c[k] += p[k] / n as f64;
+            }
+        }
+        for (i, p) in ps.iter().enumerate() {
+            along[i].push((0..3).map(|k| (p[k] - c[k]) * d[k]).sum());
+        }
+    }
+    let med: Vec<f64> = along
+        .iter()
+        .map(|v| crate::signal::quantile(v, 0.5).unwrap_or(f64::NAN))
+        .collect();
+    if med.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let heel = (0..n).min_by(|&a, &b| med[a].total_cmp(&med[b]))?;
+    let toe = (0..n).max_by(|&a, &b| med[a].total_cmp(&med[b]))?;
+    Some((heel, toe))
 }
 
 #[cfg(test)]
@@ -279,5 +446,76 @@ mod tests {
             find_markers(&l, &n),
             Err(Error::UnknownMarker { .. })
         ));
+    }
+
+    #[test]
+    fn clusters_waists_trochanters_and_one_sided_sets() {
+        // C3D.org's foot triads and pelvis cluster (sample_01's Eb015): the whole cluster
+        // in both roles, to be told apart by position.
+        let l = labels(&[
+            "RFT1", "RFT2", "RFT3", "LFT1", "LFT2", "LFT3", "RSK1", "PV1", "PV2", "PV3", "pv4",
+        ]);
+        let m = find_markers(&l, &MarkerNames::default()).unwrap();
+        assert_eq!(m.foot_cluster, [true, true]);
+        assert_eq!(
+            (m.left_heel.clone(), m.right_toe.clone()),
+            (vec![3, 4, 5], vec![0, 1, 2])
+        );
+        assert_eq!(m.pelvis, vec![7, 8, 9, 10]);
+        assert_eq!(m.heel_is_ankle, [false, false]);
+        // CMU's waist markers; a named heel and toe win over a cluster.
+        let l = labels(&[
+            "Male:LBWT",
+            "Male:RBWT",
+            "Male:LHEE",
+            "Male:LTOE",
+            "Male:RHEE",
+            "Male:RTOE",
+        ]);
+        let m = find_markers(&l, &MarkerNames::default()).unwrap();
+        assert_eq!(
+            (m.pelvis.clone(), m.foot_cluster),
+            (vec![0, 1], [false, false])
+        );
+        // Trochanters when no pelvis landmark is marked (sample_27's kyowadengyo).
+        let l = labels(&["LTRO", "RTRO", "LANK", "RANK", "LMT5", "RMT5"]);
+        let m = find_markers(&l, &MarkerNames::default()).unwrap();
+        assert_eq!(
+            (m.pelvis.clone(), m.left_toe.clone()),
+            (vec![0, 1], vec![4])
+        );
+        // One leg marked (sample_21): the other side is empty, not an error.
+        let l = labels(&["LASI", "SACR", "RASI", "RANK", "RHEE", "RTOE"]);
+        let m = find_markers(&l, &MarkerNames::default()).unwrap();
+        assert_eq!(
+            (m.right_heel.clone(), m.right_toe.clone()),
+            (vec![4], vec![5])
+        );
+        assert!(m.left_heel.is_empty() && m.left_toe.is_empty());
+        // ... unless a name was given for it.
+        let n = MarkerNames::parse(&["lheel=SACR".into()]).unwrap();
+        assert!(find_markers(&l, &n).is_err());
+    }
+
+    #[test]
+    fn a_clusters_heel_is_its_rearmost_marker_and_its_toe_its_foremost() {
+        // Walking along +y: marker 0 in front, 1 on top, 2 behind (Eb015's LFT1-3).
+        let frames = 50;
+        let at = |x: f64, y: f64, z: f64| -> Vec<[f64; 3]> {
+            (0..frames).map(|f| [x, y + 10.0 * f as f64, z]).collect()
+        };
+        let (a, b, c) = (
+            at(250.0, 230.0, 37.0),
+            at(212.0, 220.0, 89.0),
+            at(243.0, 160.0, 38.0),
+        );
+        let dir = vec![[0.0, 1.0, 0.0]; frames];
+        let got = cluster_heel_toe(&[&a, &b, &c], &dir);
+        assert_eq!(got, Some((2, 0)));
+        // Walking the other way swaps them; no direction, no answer.
+        let back = vec![[0.0, -1.0, 0.0]; frames];
+        assert_eq!(cluster_heel_toe(&[&a, &b, &c], &back), Some((0, 2)));
+        let none = vec![[f64::NAN; 3]; frames];
+        assert_eq!(cluster_heel_toe(&[&a, &b, &c], &none), None);
     }
 }
