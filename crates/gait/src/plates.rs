@@ -71,9 +71,8 @@ pub fn plate_events(
     analog_rate: f64,
     opts: &PlateOptions,
 ) -> Vec<Event> {
-    let mut out = Vec::new();
     if feet.check().is_err() || !(analog_rate.is_finite() && analog_rate > 0.0) {
-        return out;
+        return Vec::new();
     }
     let Some(vertical) = axes::vertical(
         &feet.pelvis,
@@ -84,9 +83,12 @@ pub fn plate_events(
             &feet.right_toe,
         ],
     ) else {
-        return out;
+        return Vec::new();
     };
     let frames = feet.frames();
+    // Each footfall kept: side, plate, contact start and end (frames), whether the contact
+    // began with the trial or ends with it.
+    let mut falls: Vec<Footfall> = Vec::new();
     for plate in plates {
         let spf = plate.samples_per_frame.max(1);
         // Load only: a pull (negative push) is no load; NaN neither.
@@ -107,29 +109,69 @@ pub fn plate_events(
                 } else {
                     0.5
                 };
-                lo as f64 + t
+                (lo as f64 + t) / spf as f64
             };
-            let mut emit = |kind, sample: f64| {
-                let index = sample / spf as f64;
-                if index <= (frames.saturating_sub(1)) as f64 {
-                    out.push(Event {
-                        side,
-                        kind,
-                        index,
-                        source: Source::Plate,
-                        plate: Some(plate.index),
-                    });
-                }
-            };
-            if a > 0 {
-                emit(Kind::FootStrike, crossing(a - 1, a));
-            }
-            if b + 1 < push.len() {
-                emit(Kind::FootOff, crossing(b, b + 1));
+            falls.push(Footfall {
+                side,
+                strike: (a > 0).then(|| (crossing(a - 1, a), plate.index)),
+                off: (b + 1 < push.len()).then(|| (crossing(b, b + 1), plate.index)),
+                span: [a as f64 / spf as f64, (b + 1) as f64 / spf as f64],
+            });
+        }
+    }
+    let mut out = Vec::new();
+    for f in merge_overlapping(falls) {
+        for (kind, at) in [(Kind::FootStrike, f.strike), (Kind::FootOff, f.off)] {
+            let Some((index, plate)) = at else { continue };
+            if index <= (frames.saturating_sub(1)) as f64 {
+                out.push(Event {
+                    side: f.side,
+                    kind,
+                    index,
+                    source: Source::Plate,
+                    plate: Some(plate),
+                });
             }
         }
     }
     crate::sort_events(&mut out);
+    out
+}
+
+/// One foot's contact with one plate, or with several plates at once once merged: the
+/// strike and off (frame index and 1-based plate; none where the contact began or ends
+/// with the recording) and the loaded span in frames.
+#[derive(Debug, Clone, Copy)]
+struct Footfall {
+    side: Side,
+    strike: Option<(f64, usize)>,
+    off: Option<(f64, usize)>,
+    span: [f64; 2],
+}
+
+/// One footfall per stance: a foot that lands across two plates (its heel on one, its
+/// forefoot on the next) loads both at once, and each plate alone would give a strike and
+/// an off, the later strike and the earlier off being no gait event (c3d-samples'
+/// kyowadengyo: right strikes at 1.834 and 1.858 s, offs at 2.060 and 2.454 s). Contacts
+/// of the same foot whose loaded spans overlap are one footfall: the strike of the
+/// earliest, the off of the latest.
+fn merge_overlapping(mut falls: Vec<Footfall>) -> Vec<Footfall> {
+    falls.sort_by(|a, b| a.span[0].total_cmp(&b.span[0]));
+    let mut out: Vec<Footfall> = Vec::new();
+    for f in falls {
+        if let Some(m) = out
+            .iter_mut()
+            .rev()
+            .find(|m| m.side == f.side && f.span[0] < m.span[1])
+        {
+            if f.span[1] > m.span[1] {
+                m.span[1] = f.span[1];
+                m.off = f.off;
+            }
+            continue;
+        }
+        out.push(f);
+    }
     out
 }
 
@@ -232,5 +274,28 @@ mod tests {
         assert!(ev[0].index > 2.4 && ev[0].index < 2.6, "{ev:?}");
         assert_eq!(ev[1].kind, Kind::FootOff);
         assert!(ev[1].index > 7.3 && ev[1].index < 7.5, "{ev:?}");
+    }
+
+    #[test]
+    fn a_foot_across_two_plates_is_one_footfall() {
+        let f = |plate, s: f64, o: f64, span: [f64; 2]| Footfall {
+            side: Side::Right,
+            strike: Some((s, plate)),
+            off: Some((o, plate)),
+            span,
+        };
+        // kyowadengyo's right foot: heel on plate 2 at 1.834 s, forefoot on plate 3 from
+        // 1.858 s; off plate 2 at 2.060 s, off plate 3 at 2.454 s. Then a later step.
+        let merged = merge_overlapping(vec![
+            f(3, 111.5, 147.2, [111.5, 147.2]),
+            f(2, 110.0, 123.6, [110.0, 123.6]),
+            f(1, 160.0, 190.0, [160.0, 190.0]),
+        ]);
+        assert_eq!(merged.len(), 2);
+        assert_eq!(
+            (merged[0].strike, merged[0].off),
+            (Some((110.0, 2)), Some((147.2, 3)))
+        );
+        assert_eq!(merged[1].strike, Some((160.0, 1)));
     }
 }
