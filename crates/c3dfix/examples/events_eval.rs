@@ -256,6 +256,12 @@ fn main() {
     if let Some(v) = arg(&args, "--oconnor-hz") {
         opts.kinematic.oconnor_lowpass_hz = v;
     }
+    if let Some(v) = arg(&args, "--heel-ratio") {
+        opts.kinematic.velocity_heel_ratio = v;
+    }
+    if let Some(v) = arg(&args, "--toe-ratio") {
+        opts.kinematic.velocity_toe_ratio = v;
+    }
     if let Some(v) = arg(&args, "--desailly-ratio") {
         opts.kinematic.desailly_cutoff_ratio = v;
     }
@@ -296,7 +302,7 @@ fn main() {
             use std::io::Write as _;
             let _ = writeln!(
                 f,
-                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05"
+                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05,velocity"
             );
             f
         });
@@ -461,6 +467,7 @@ fn main() {
                     variant(gait::Method::OConnor, 0.5),
                     variant(gait::Method::Desailly, 0.3),
                     variant(gait::Method::Desailly, 0.5),
+                    variant(gait::Method::Velocity, 0.3),
                 ];
                 let group = if *corpus == "c3d-samples" {
                     "tuning"

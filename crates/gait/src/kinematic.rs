@@ -36,6 +36,10 @@ pub enum Method {
     /// High-pass filtered forward heel and toe positions (Desailly 2009,
     /// [`crate::desailly`]).
     Desailly,
+    /// Zeni's events refined to where the heel or toe stops (strike) and the toe starts
+    /// (off) moving, by speed thresholds scaled to the walking speed (Bonci et al. 2022,
+    /// [`crate::velocity`]).
+    Velocity,
 }
 
 impl std::str::FromStr for Method {
@@ -46,8 +50,9 @@ impl std::str::FromStr for Method {
             "zeni-landing" | "zenilanding" => Ok(Method::ZeniLanding),
             "oconnor" | "o'connor" => Ok(Method::OConnor),
             "desailly" => Ok(Method::Desailly),
+            "velocity" => Ok(Method::Velocity),
             _ => Err(Error::Input(format!(
-                "method {s}: expected zeni, zeni-landing, oconnor or desailly"
+                "method {s}: expected zeni, zeni-landing, oconnor, desailly or velocity"
             ))),
         }
     }
@@ -104,6 +109,13 @@ pub struct KinematicOptions {
     /// nothing of the landing): Zeni's instant plus this (s); the malleolus peaks forward
     /// about 20 ms before the landing on the tuning labs.
     pub ankle_strike_offset_s: f64,
+    /// [`Method::Velocity`]: the heel has landed when its 3-D speed falls below this
+    /// fraction of the walking speed (Bonci et al. 2022: 0.5).
+    pub velocity_heel_ratio: f64,
+    /// [`Method::Velocity`]: the toe has landed when its speed falls below, and has left
+    /// the floor when it rises through, this fraction of the walking speed (Bonci et al.
+    /// 2022: 0.8).
+    pub velocity_toe_ratio: f64,
 }
 
 impl Default for KinematicOptions {
@@ -127,6 +139,8 @@ impl Default for KinematicOptions {
             smooth_s: 0.0,
             touch_mm: 10.0,
             ankle_strike_offset_s: 0.02,
+            velocity_heel_ratio: 0.5,
+            velocity_toe_ratio: 0.8,
         }
     }
 }
@@ -348,6 +362,7 @@ struct Found {
     landing: Option<Vec<f64>>,
     oconnor: Option<(Vec<f64>, Vec<f64>)>,
     desailly: Option<(Vec<f64>, Vec<f64>)>,
+    velocity: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 impl Found {
@@ -395,6 +410,9 @@ impl Found {
                 self.oconnor
                     .get_or_insert_with(|| crate::oconnor::events(feet, side, prep, opts)),
             ),
+            Method::Velocity => pick(self.velocity.get_or_insert_with(|| {
+                crate::velocity::events(feet, side, prep, &zeni.0, &zeni.1, opts)
+            })),
             Method::Desailly => {
                 let stride_hz = stride_frequency(&zeni.0, prep.rate);
                 pick(self.desailly.get_or_insert_with(|| {
@@ -662,6 +680,28 @@ mod tests {
         assert!(o.len() >= 3, "{o:?}");
         for got in &o {
             assert!((got - 0.7 - (got - 0.7).round()).abs() < 0.02, "{o:?}");
+        }
+    }
+
+    #[test]
+    fn velocity_strikes_where_the_foot_stops_and_offs_where_the_toe_starts() {
+        // The stepping walk: each foot stands still from its strike (t = k + phase) to its
+        // off 0.6 s later. Its swing is short (0.4 s at 3 m/s on average, over a 1.2 m/s
+        // walk), so the thresholds (0.5 and 0.8 × the walking speed) are crossed while the
+        // foot still slows down: within 60 ms before the strike and after the off, never on
+        // the wrong side of either.
+        let ev = kinematic_events(&stepping(500), 100.0, &only(Method::Velocity)).unwrap();
+        let s = times(&ev, Side::Left, Kind::FootStrike);
+        assert!(s.len() >= 3, "{s:?}");
+        for got in &s {
+            let d = got - got.round();
+            assert!((-0.06..=0.0).contains(&d), "{s:?}");
+        }
+        let o = times(&ev, Side::Left, Kind::FootOff);
+        assert!(o.len() >= 3, "{o:?}");
+        for got in &o {
+            let d = got - 0.6 - (got - 0.6).round();
+            assert!((0.0..=0.06).contains(&d), "{o:?}");
         }
     }
 

@@ -27,6 +27,7 @@ pub mod oconnor;
 pub mod params;
 pub mod plates;
 mod signal;
+pub mod velocity;
 
 pub use calibrate::calibrate;
 pub use error::{Error, Result};
