@@ -256,6 +256,9 @@ fn main() {
     if let Some(v) = arg(&args, "--oconnor-hz") {
         opts.kinematic.oconnor_lowpass_hz = v;
     }
+    if let Some(v) = arg(&args, "--lift") {
+        opts.kinematic.lift_mm = v;
+    }
     if let Some(v) = arg(&args, "--heel-ratio") {
         opts.kinematic.velocity_heel_ratio = v;
     }
@@ -302,7 +305,7 @@ fn main() {
             use std::io::Write as _;
             let _ = writeln!(
                 f,
-                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05,velocity"
+                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05,velocity,zeni_lift"
             );
             f
         });
@@ -468,6 +471,7 @@ fn main() {
                     variant(gait::Method::Desailly, 0.3),
                     variant(gait::Method::Desailly, 0.5),
                     variant(gait::Method::Velocity, 0.3),
+                    variant(gait::Method::ZeniLift, 0.3),
                 ];
                 let group = if *corpus == "c3d-samples" {
                     "tuning"

@@ -36,6 +36,10 @@ pub enum Method {
     /// High-pass filtered forward heel and toe positions (Desailly 2009,
     /// [`crate::desailly`]).
     Desailly,
+    /// Zeni's offs moved to where the toe starts to rise from its stance level
+    /// ([`refine_off`], [`KinematicOptions::lift_mm`]); for strikes, Zeni's landing
+    /// ([`Method::ZeniLanding`]).
+    ZeniLift,
     /// Zeni's events refined to where the heel or toe stops (strike) and the toe starts
     /// (off) moving, by speed thresholds scaled to the walking speed (Bonci et al. 2022,
     /// [`crate::velocity`]).
@@ -51,8 +55,9 @@ impl std::str::FromStr for Method {
             "oconnor" | "o'connor" => Ok(Method::OConnor),
             "desailly" => Ok(Method::Desailly),
             "velocity" => Ok(Method::Velocity),
+            "zeni-lift" | "zenilift" => Ok(Method::ZeniLift),
             _ => Err(Error::Input(format!(
-                "method {s}: expected zeni, zeni-landing, oconnor, desailly or velocity"
+                "method {s}: expected zeni, zeni-landing, zeni-lift, oconnor, desailly or velocity"
             ))),
         }
     }
@@ -109,6 +114,9 @@ pub struct KinematicOptions {
     /// nothing of the landing): Zeni's instant plus this (s); the malleolus peaks forward
     /// about 20 ms before the landing on the tuning labs.
     pub ankle_strike_offset_s: f64,
+    /// [`Method::ZeniLift`]: how far (mm) above its stance level the toe must rise for the
+    /// foot to be off ([`refine_off`]).
+    pub lift_mm: f64,
     /// [`Method::Velocity`]: the heel has landed when its 3-D speed falls below this
     /// fraction of the walking speed (Bonci et al. 2022: 0.5).
     pub velocity_heel_ratio: f64,
@@ -139,6 +147,7 @@ impl Default for KinematicOptions {
             smooth_s: 0.0,
             touch_mm: 10.0,
             ankle_strike_offset_s: 0.02,
+            lift_mm: 10.0,
             velocity_heel_ratio: 0.5,
             velocity_toe_ratio: 0.8,
         }
@@ -363,6 +372,7 @@ struct Found {
     oconnor: Option<(Vec<f64>, Vec<f64>)>,
     desailly: Option<(Vec<f64>, Vec<f64>)>,
     velocity: Option<(Vec<f64>, Vec<f64>)>,
+    lift: Option<Vec<f64>>,
 }
 
 impl Found {
@@ -383,8 +393,17 @@ impl Found {
             .clone();
         match method {
             Method::Zeni => pick(&zeni),
+            Method::ZeniLift if !strike => self
+                .lift
+                .get_or_insert_with(|| {
+                    zeni.1
+                        .iter()
+                        .map(|&j| refine_off(feet, side, prep.vertical, j, prep.rate, opts.lift_mm))
+                        .collect()
+                })
+                .clone(),
             Method::ZeniLanding if !strike => zeni.1,
-            Method::ZeniLanding => self
+            Method::ZeniLanding | Method::ZeniLift => self
                 .landing
                 .get_or_insert_with(|| {
                     zeni.0
@@ -504,6 +523,36 @@ pub fn refine_strike(feet: &Feet, side: Side, v: Vertical, i0: f64, rate: f64, t
         (None, Some(t)) => t,
         (None, None) => i0,
     }
+}
+
+/// Foot off refined from Zeni's toe extremum at `j0`: where the toe last rises through
+/// `lift` mm above its stance level (its lowest height in the 0.5 s before `j0`), searched
+/// from 0.15 s after `j0` back to 0.3 s before it. The toe's backward extreme relative to
+/// the pelvis depends on where the marker sits on the forefoot; the toe leaving its stance
+/// height is the lift-off itself. Falls back to `j0` when no such rise is seen with known
+/// samples on both sides.
+pub fn refine_off(feet: &Feet, side: Side, v: Vertical, j0: f64, rate: f64, lift: f64) -> f64 {
+    let (_, toe) = heights(feet, side, v);
+    let n = toe.len();
+    if n < 2 {
+        return j0;
+    }
+    let base = lowest(&toe, j0 - 0.5 * rate, j0 + 1.0);
+    if !base.is_finite() {
+        return j0;
+    }
+    let thr = base + lift;
+    let hi = ((j0 + 0.15 * rate) as usize).min(n - 2);
+    let lo = (j0 - 0.3 * rate).max(0.0) as usize;
+    (lo..=hi)
+        .rev()
+        .find(|&k| {
+            toe[k].is_finite() && toe[k + 1].is_finite() && toe[k] <= thr && toe[k + 1] > thr
+        })
+        .map_or(j0, |k| {
+            let (a, b) = (toe[k], toe[k + 1]);
+            k as f64 + ((thr - a) / (b - a)).clamp(0.0, 1.0)
+        })
 }
 
 #[cfg(test)]
@@ -702,6 +751,19 @@ mod tests {
         for got in &o {
             let d = got - 0.6 - (got - 0.6).round();
             assert!((0.0..=0.06).contains(&d), "{o:?}");
+        }
+    }
+
+    #[test]
+    fn zeni_lift_offs_where_the_toe_rises_from_its_stance_level() {
+        // The stepping walk's toe leaves the floor at t = k + 0.6 (left) and rises as
+        // 80 sin²(π u / 0.4) mm: 10 mm after 46 ms.
+        let ev = kinematic_events(&stepping(500), 100.0, &only(Method::ZeniLift)).unwrap();
+        let o = times(&ev, Side::Left, Kind::FootOff);
+        assert!(o.len() >= 3, "{o:?}");
+        for got in &o {
+            let d = got - 0.6 - (got - 0.6).round();
+            assert!((d - 0.046).abs() < 0.01, "{o:?}");
         }
     }
 
