@@ -467,8 +467,14 @@ pub fn zeni(
         .into_iter()
         .map(|v| -v)
         .collect();
+    // The prominence is measured over at least a third of the stride either side: a slow
+    // pathological walk (c3d-samples' Eb015: 0.2 m/s, 2.3 s stances) moves the heel back
+    // by too little within the default half second for its forward extreme to stand out.
+    let rate = prep.rate;
+    let stride = signal::period(&heel, (0.6 * rate) as usize, (4.0 * rate) as usize);
+    let reach = stride.map_or(prep.reach, |t| prep.reach.max(t / 3));
     let extremes = |x: &[f64]| match (signal::quantile(x, 0.05), signal::quantile(x, 0.95)) {
-        (Some(a), Some(b)) => signal::maxima(x, prep.half, prep.reach, (0.25 * (b - a)).max(40.0)),
+        (Some(a), Some(b)) => signal::maxima(x, prep.half, reach, (0.25 * (b - a)).max(40.0)),
         _ => Vec::new(),
     };
     (extremes(&heel), extremes(&toe))

@@ -111,6 +111,51 @@ pub fn maxima(x: &[f64], half: usize, reach: usize, prominence: f64) -> Vec<f64>
     out
 }
 
+/// The period (samples) of a roughly periodic `x`: the first peak of its autocorrelation
+/// (mean removed, over the pairs of finite samples) among lags `min..=max`, taken where the
+/// correlation reaches at least half the best in that range and 0.3. `None` for a signal
+/// without such a repeat.
+pub fn period(x: &[f64], min: usize, max: usize) -> Option<usize> {
+    let finite: Vec<f64> = x.iter().copied().filter(|v| v.is_finite()).collect();
+    if finite.len() < 2 || min == 0 || min > max {
+        return None;
+    }
+    let mean = finite.iter().sum::<f64>() / finite.len() as f64;
+    let d: Vec<f64> = x.iter().map(|v| v - mean).collect();
+    let corr = |lag: usize| -> f64 {
+        let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
+        for i in 0..d.len().saturating_sub(lag) {
+            let (a, b) = (d[i], d[i + lag]);
+            if a.is_finite() && b.is_finite() {
+                sxy += a * b;
+                sxx += a * a;
+                syy += b * b;
+            }
+        }
+        if sxx > 0.0 && syy > 0.0 {
+            sxy / (sxx * syy).sqrt()
+        } else {
+            f64::NAN
+        }
+    };
+    let max = max.min(d.len().saturating_sub(2));
+    if min + 1 > max {
+        return None;
+    }
+    let r: Vec<f64> = (min - 1..=max + 1).map(corr).collect();
+    let best = r
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(f64::NAN, f64::max);
+    if best.is_nan() || best < 0.3 {
+        return None;
+    }
+    (1..r.len() - 1)
+        .find(|&k| r[k].is_finite() && r[k] >= 0.5 * best && r[k] >= r[k - 1] && r[k] >= r[k + 1])
+        .map(|k| k + min - 1)
+}
+
 /// Finite runs of `x`: `(start, end)` ranges of consecutive finite samples.
 pub fn finite_runs(x: &[f64]) -> Vec<(usize, usize)> {
     let mut out = Vec::new();
@@ -295,5 +340,20 @@ mod tests {
         assert_eq!(d[1], 10.0);
         assert!(d[2].is_nan());
         assert_eq!(d[3], 20.0);
+    }
+
+    #[test]
+    fn the_period_is_the_first_repeat() {
+        // A 2.7 s stride at 50 Hz (Eb015's pace) with a gap: 135 samples.
+        let mut x: Vec<f64> = (0..450)
+            .map(|i| (2.0 * std::f64::consts::PI * i as f64 / 135.0).sin() * 250.0)
+            .collect();
+        for v in x.iter_mut().skip(200).take(20) {
+            *v = f64::NAN;
+        }
+        let p = super::period(&x, 30, 200).unwrap();
+        assert!((134..=136).contains(&p), "{p}");
+        // Noise-free constant: no repeat to find.
+        assert_eq!(super::period(&[1.0; 100], 10, 50), None);
     }
 }
