@@ -27,6 +27,8 @@ const HEEL: &[&str] = &[
     "heelfoot",
     "heelcenter",
     "hl",
+    "tln",
+    "talon",
 ];
 const ANKLE: &[&str] = &["ank", "lmal", "fal", "ankle", "lma", "mal", "mall", "mm"];
 /// Toe names, best first: the second metatarsal head (Plug-in Gait's TOE) before the first
@@ -43,9 +45,14 @@ const SACRUM: &[&str] = &[
 /// `LBWT`/`RBWT` sit on them), then ASIS (CMU's front waist `LFWT`/`RFWT`), then the greater
 /// trochanters (`LTRO`, `L_FTC`), which travel with the pelvis over a stride and stand for
 /// it in sets that mark no pelvis landmark.
-const PSIS: &[&str] = &["psi", "psis", "ips", "pis", "bwt"];
-const ASIS: &[&str] = &["asi", "asis", "ias", "ais", "fwt"];
-const TROCHANTER: &[&str] = &["tro", "troc", "gtr", "ftc"];
+const PSIS: &[&str] = &["psi", "psis", "ips", "pis", "bwt", "eips"];
+const ASIS: &[&str] = &["asi", "asis", "ias", "ais", "fwt", "eias"];
+const TROCHANTER: &[&str] = &["tro", "troc", "gtr", "ftc", "gt"];
+/// French names that carry their side as a last letter, `G` (gauche) or `D` (droite), with
+/// no separator (`TLNG`, talon gauche; `MT1D`; `GTG`, grand trochanter gauche; `EIASD`).
+const FRENCH_SUFFIXED: &[&str] = &[
+    "tln", "talon", "mt1", "mt2", "mt5", "orteil", "gt", "eias", "eips",
+];
 /// Stems of numbered foot cluster markers (`LFT1`…`LFT3`, `LFOOT1`): markers fixed to the
 /// shoe or foot with no landmark named, whose heel and toe are told by their positions
 /// ([`cluster_heel_toe`]).
@@ -53,6 +60,33 @@ const FOOT_CLUSTER: &[&str] = &["ft", "foot", "foo"];
 /// Stems of numbered pelvis cluster markers (`PV1`…`PV4`, `RPV1`…`RPV3`): their mean
 /// travels with the pelvis.
 const PELVIS_CLUSTER: &[&str] = &["pv", "pel", "pelv", "pelvis"];
+
+/// The label as searched: [`normalise`]d, with a side given after the name moved before it
+/// (`HEEL_L`, `Toe.Right` → `lheel`, `rtoe`: a separator, then `l`, `r`, `left` or `right`;
+/// French `TLNG`, `MT1D` → `ltln`, `rmt1`, for the names in `FRENCH_SUFFIXED` only, since a
+/// final `g` or `d` is otherwise part of a name).
+pub fn canonical(label: &str) -> String {
+    let bare = label.rsplit(':').next().unwrap_or(label).trim();
+    if let Some((head, tail)) = bare.rsplit_once(['_', '.', '-', ' ']) {
+        let side = match tail.to_ascii_lowercase().as_str() {
+            "l" | "left" => Some('l'),
+            "r" | "right" => Some('r'),
+            _ => None,
+        };
+        let head = normalise(head);
+        if let (Some(side), false) = (side, head.is_empty()) {
+            return format!("{side}{head}");
+        }
+    }
+    let n = normalise(bare);
+    if let Some(stem) = n.strip_suffix('g').filter(|s| FRENCH_SUFFIXED.contains(s)) {
+        return format!("l{stem}");
+    }
+    if let Some(stem) = n.strip_suffix('d').filter(|s| FRENCH_SUFFIXED.contains(s)) {
+        return format!("r{stem}");
+    }
+    n
+}
 
 /// The label as compared: no subject prefix, lower case, letters and digits only.
 pub fn normalise(label: &str) -> String {
@@ -167,7 +201,7 @@ fn by_names(labels: &[String], role: &str, names: &[String]) -> Result<Vec<usize
 /// The ankle marker of `side` (`'l'` or `'r'`) among `labels`, to stand in for a heel
 /// marker that is named but never seen.
 pub fn ankle_for(labels: &[String], side: char) -> Option<usize> {
-    let norm: Vec<String> = labels.iter().map(|l| normalise(l)).collect();
+    let norm: Vec<String> = labels.iter().map(|l| canonical(l)).collect();
     find_sided(&norm, side, ANKLE)
 }
 
@@ -230,7 +264,7 @@ impl SideFoot {
 /// the whole cluster in both roles, with [`MarkerChoice::foot_cluster`] set: the caller
 /// tells heel from toe by their positions ([`cluster_heel_toe`]).
 pub fn find_markers(labels: &[String], names: &MarkerNames) -> Result<MarkerChoice> {
-    let norm: Vec<String> = labels.iter().map(|l| normalise(l)).collect();
+    let norm: Vec<String> = labels.iter().map(|l| canonical(l)).collect();
     let missing = |what: &str, looked: String| Error::NoMarker {
         what: what.to_string(),
         looked_for: looked,
@@ -517,5 +551,28 @@ mod tests {
         assert_eq!(cluster_heel_toe(&[&a, &b, &c], &back), Some((0, 2)));
         let none = vec![[f64::NAN; 3]; frames];
         assert_eq!(cluster_heel_toe(&[&a, &b, &c], &none), None);
+    }
+
+    #[test]
+    fn sides_written_after_the_name() {
+        // A French set (c3d-samples' marche281): talon, 1st metatarsal, great trochanter,
+        // gauche / droite.
+        let l = labels(&["MT1G", "MT5G", "TLNG", "GTG", "MT1D", "TLND", "GTD", "CDG"]);
+        let m = find_markers(&l, &MarkerNames::default()).unwrap();
+        assert_eq!(
+            (m.left_heel.clone(), m.left_toe.clone()),
+            (vec![2], vec![0])
+        );
+        assert_eq!(
+            (m.right_heel.clone(), m.right_toe.clone()),
+            (vec![5], vec![4])
+        );
+        assert_eq!(m.pelvis, vec![3, 6]);
+        // Separated suffixes; a final g or d elsewhere is part of the name.
+        assert_eq!(canonical("Sub:HEEL_L"), "lheel");
+        assert_eq!(canonical("Toe.Right"), "rtoe");
+        assert_eq!(canonical("SACR"), "sacr");
+        assert_eq!(canonical("HEAD"), "head");
+        assert_eq!(canonical("L_HEEL"), "lheel");
     }
 }
