@@ -471,7 +471,12 @@ pub fn zeni(
     // pathological walk (c3d-samples' Eb015: 0.2 m/s, 2.3 s stances) moves the heel back
     // by too little within the default half second for its forward extreme to stand out.
     let rate = prep.rate;
-    let stride = signal::period(&heel, (0.6 * rate) as usize, (4.0 * rate) as usize);
+    // At most 8 of the longest strides looked for (about 30 s), from the trial's middle:
+    // the autocorrelation costs frames × lags, and a long trial repeats its stride anyway.
+    let (lo, hi) = ((0.6 * rate) as usize, (4.0 * rate) as usize);
+    let keep = (8 * hi).min(heel.len());
+    let start = (heel.len() - keep) / 2;
+    let stride = signal::period(&heel[start..start + keep], lo, hi);
     let reach = stride.map_or(prep.reach, |t| prep.reach.max(t / 3));
     let extremes = |x: &[f64]| match (signal::quantile(x, 0.05), signal::quantile(x, 0.95)) {
         (Some(a), Some(b)) => signal::maxima(x, prep.half, reach, (0.25 * (b - a)).max(40.0)),
