@@ -10,6 +10,12 @@
 //! Hayes' VSAC and L.TO, and other exports found in gait files (LHEEL, LP1MT, "l heel",
 //! "l met", "l mall").
 //!
+//! Beyond single names: a side may follow the name (`HEEL_L`, French `TLNG`: [`canonical`]);
+//! numbered foot cluster markers (`LFT1`…) stand for a side without heel or toe names, told
+//! apart by position ([`cluster_heel_toe`]); a pelvis may be a numbered cluster (`PV1`…),
+//! CMU's waist markers or the trochanters; and a set that marks one leg only gives that
+//! side ([`find_markers`]).
+//!
 //! Where a set has no heel marker (some Plug-in Gait models keep only LANK and LTOE), the
 //! lateral malleolus stands in for it: it lies a few centimetres above and in front of the
 //! heel and reaches its forward extreme at the same instant, which is all Zeni's method asks.
