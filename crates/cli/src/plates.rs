@@ -56,11 +56,3 @@ impl PlateArgs {
         *self != PlateArgs::default()
     }
 }
-
-/// The analog sample shown for each point frame: the first of the frame's samples, as the
-/// file interleaves them (ANALOG:RATE = samples per frame × POINT:RATE), or `None` past the
-/// analog data's end.
-pub fn frame_sample(fp: &ForcePlatforms, frame: usize, samples: usize) -> Option<usize> {
-    let i = frame * fp.samples_per_frame.max(1);
-    (i < samples).then_some(i)
-}

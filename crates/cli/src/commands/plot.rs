@@ -3,8 +3,8 @@
 
 use crate::commands::info::read_c3d;
 use crate::output::write_atomic;
-use crate::plot::{render, Format, Plot};
 use anyhow::Result;
+use show::plot::{render, Format, Plot};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -57,7 +57,7 @@ pub fn run(a: Args) -> Result<i32> {
         }
         let events = event_marks(&c, &a)?;
         let bytes =
-            crate::plot::render_forces(&fp, &crate::output::file_name(&a.file), &events, format)?;
+            show::plot::render_forces(&fp, &crate::output::file_name(&a.file), &events, format)?;
         write_atomic(&a.output, &bytes, a.force)?;
         return Ok(0);
     }
@@ -66,6 +66,9 @@ pub fn run(a: Args) -> Result<i32> {
         crate::output::file_name(&a.file),
         a.against.as_deref().map(crate::output::file_name),
     );
+    if a.marker.is_empty() {
+        anyhow::bail!("no marker given (--marker NAME[,NAME…])");
+    }
     let mut plot = Plot::gather(
         (&c, &fname),
         orig.as_ref().zip(oname.as_deref()),
@@ -80,14 +83,14 @@ pub fn run(a: Args) -> Result<i32> {
 
 /// The events drawn: the file's own, and the detector's with `--detect-events`; none where
 /// the file states no rate (the axis is then in frames or samples).
-fn event_marks(c: &c3d::C3d, a: &Args) -> Result<Vec<crate::event_marks::Mark>> {
+fn event_marks(c: &c3d::C3d, a: &Args) -> Result<Vec<show::marks::Mark>> {
     let rate = c.point_rate();
     if rate.is_nan() || rate <= 0.0 {
         return Ok(Vec::new());
     }
-    let mut events = crate::event_marks::from_file(c);
+    let mut events = show::marks::from_file(c);
     if a.detect_events {
-        events.extend(crate::event_marks::detected(c, &a.file)?);
+        events.extend(show::marks::detected(c, &a.file)?);
     }
     Ok(events)
 }

@@ -3,9 +3,9 @@
 use crate::commands::info::read_c3d;
 use crate::output::file_name as name;
 use crate::output::write_atomic;
-use crate::plot::marker_index;
-use crate::view::{page, skeleton, sticks};
 use anyhow::{bail, Context, Result};
+use show::plot::marker_index;
+use show::view::{page, skeleton, sticks};
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
@@ -84,9 +84,9 @@ pub fn run(a: Args) -> Result<i32> {
         }
         Some(fp)
     };
-    let mut events = crate::event_marks::from_file(&c);
+    let mut events = show::marks::from_file(&c);
     if a.detect_events {
-        events.extend(crate::event_marks::detected(&c, &a.file)?);
+        events.extend(show::marks::detected(&c, &a.file)?);
     }
     let html = page(
         (&c, &fname),

@@ -1,8 +1,7 @@
-//! `c3dfix plot`: marker coordinates (and optionally an analog channel) against time, drawn
+//! The plots (`c3dfix plot`): marker coordinates (and optionally an analog channel) against time, drawn
 //! as SVG or PNG with `plotters`.
 //!
-//! This is presentation, so it lives in the CLI crate rather than beside the algorithms. What
-//! is drawn is gathered first (plain arrays; testable without drawing) by `gather`, then
+//! This is presentation, so it lives here rather than beside the algorithms. What is drawn is gathered first (plain arrays; testable without drawing) by `gather`, then
 //! `draw` turns it into bytes. The keyframe error curves of `c3dfix keyframes --plot` follow
 //! the same split.
 

@@ -1,4 +1,4 @@
-//! `c3dfix view`: one self-contained HTML page that plays a trial in 3D — data, code and
+//! The viewer (`c3dfix view`): one self-contained HTML page that plays a trial in 3D — data, code and
 //! styles inlined, nothing fetched, so it can be mailed or opened offline.
 //!
 //! The page's code is plain canvas 2D with its own small projection (`viewer.js`): no library
@@ -8,7 +8,7 @@ pub mod pack;
 pub mod skeleton;
 pub mod sticks;
 
-use anyhow::{bail, Result};
+use crate::{Error, Result};
 use c3d::{C3d, Points};
 use serde::Serialize;
 
@@ -100,7 +100,7 @@ pub struct Style {
     /// Whether a residual of 0 marks a computed sample in this file (see [`fills_marked`]).
     pub fills_marked: bool,
     /// Events to mark on the time bar (times on the file's base).
-    pub events: Vec<crate::event_marks::Mark>,
+    pub events: Vec<crate::marks::Mark>,
 }
 
 /// Whether the file's residuals tell filled samples from measured ones: a residual of 0
@@ -177,7 +177,7 @@ pub fn up_axis(p: &Points) -> usize {
 /// (`n` − 1) / rate, the first stored frame is `first_frame`, so an event at `t` s falls at
 /// index `t` × rate − (`first_frame` − 1). None without a rate.
 fn bar_events(
-    events: &[crate::event_marks::Mark],
+    events: &[crate::marks::Mark],
     rate: f32,
     first_frame: usize,
     frames: usize,
@@ -222,12 +222,12 @@ pub fn page(
     original: Option<(&C3d, &str)>,
     sticks: Vec<(usize, usize)>,
     plates: Option<&c3dfix::ForcePlatforms>,
-    events: Vec<crate::event_marks::Mark>,
+    events: Vec<crate::marks::Mark>,
 ) -> Result<String> {
     let (c, name) = file;
     let (points, labels, new_index) = markers_only(c);
     if points.count() == 0 && c.point_count() > 0 {
-        bail!("{name} has only model outputs (angles, moments, …), no markers to show");
+        return Err(Error::OnlyModelOutputs { file: name.into() });
     }
     let sticks = sticks
         .into_iter()
@@ -236,11 +236,16 @@ pub fn page(
     let orig = match original {
         Some((o, oname)) => {
             if o.points().count() == 0 {
-                bail!("{oname} has no 3D points to compare with");
+                return Err(Error::NothingToCompare {
+                    original: oname.into(),
+                });
             }
             let order: Vec<Option<usize>> = labels.iter().map(|l| o.point_index(l)).collect();
             if order.iter().all(Option::is_none) {
-                bail!("{oname} shares no marker label with {name}");
+                return Err(Error::NoSharedLabel {
+                    file: name.into(),
+                    original: oname.into(),
+                });
             }
             Some((Trial::c3d(o, oname), order))
         }
@@ -279,7 +284,7 @@ pub fn render(
     let p = file.points;
     let name = file.name;
     if p.count() == 0 {
-        bail!("{name} has no 3D points to show");
+        return Err(Error::NothingToShow { file: name.into() });
     }
     let all: Vec<Option<usize>> = (0..p.count()).map(Some).collect();
     let packed = pack::pack(p, &all, p.frames(), style.fills_marked);
