@@ -32,6 +32,7 @@ pub mod export;
 pub mod files;
 pub mod gait_params;
 mod gaps;
+pub mod info;
 pub mod markers;
 mod options;
 pub mod platforms;
