@@ -87,6 +87,9 @@ pub enum Error {
     /// Encoding a PNG picture failed.
     #[error(transparent)]
     Png(#[from] png::EncodingError),
+    /// The library refused the trial (its force plates, detecting its events).
+    #[error(transparent)]
+    Library(#[from] c3dfix::Error),
     /// Putting the page's metadata into JSON failed.
     #[error(transparent)]
     Json(#[from] serde_json::Error),

@@ -4,6 +4,7 @@
 //! The page's code is plain canvas 2D with its own small projection (`viewer.js`): no library
 //! to vendor, and a 100-marker × 10 000-frame trial still plays smoothly.
 
+mod file_page;
 pub mod pack;
 pub mod skeleton;
 pub mod sticks;
@@ -11,6 +12,8 @@ pub mod sticks;
 use crate::{Error, Result};
 use c3d::{C3d, Points};
 use serde::Serialize;
+
+pub use file_page::file_page;
 
 const TEMPLATE: &str = include_str!("viewer.html");
 const SCRIPT: &str = include_str!("viewer.js");
