@@ -14,6 +14,7 @@ mod cycles;
 mod export;
 mod files;
 mod gait;
+mod info_view;
 mod options;
 mod pickling;
 mod platforms;
@@ -545,6 +546,8 @@ fn _c3dfix(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(gait::gait_parameters, m)?)?;
     m.add_function(wrap_pyfunction!(cycles::detect_events, m)?)?;
     m.add_function(wrap_pyfunction!(cycles::cycles, m)?)?;
+    m.add_function(wrap_pyfunction!(info_view::info, m)?)?;
+    m.add_function(wrap_pyfunction!(info_view::view, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

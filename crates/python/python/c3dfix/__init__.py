@@ -27,11 +27,13 @@ from ._c3dfix import (
     export_trc,
     gait_parameters,
     gaps,
+    info,
     lab_up,
     read,
     repair,
     repair_file,
     swaps,
+    view,
 )
 
 __all__ = [
@@ -46,10 +48,12 @@ __all__ = [
     "export_trc",
     "gait_parameters",
     "gaps",
+    "info",
     "lab_up",
     "read",
     "repair",
     "repair_file",
     "swaps",
+    "view",
     "__version__",
 ]
