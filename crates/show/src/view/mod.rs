@@ -98,7 +98,8 @@ pub struct Style {
     pub shadow: bool,
     /// Force plates with their ground reaction per frame.
     pub plates: Option<pack::PlateFrames>,
-    /// The lab's up ([`c3dfix::axes::up`]); `None`: the axis of largest spread, [`up_axis`].
+    /// The lab's up ([`c3dfix::axes::up`] for a C3D file, [`c3dfix::axes::points_up`] for a
+    /// skeleton); `None` (no frame with two valid points): +z.
     pub up: Option<c3dfix::Direction>,
     /// Whether a residual of 0 marks a computed sample in this file (see [`fills_marked`]).
     pub fills_marked: bool,
@@ -135,45 +136,6 @@ fn markers_only(c: &C3d) -> (Points, Vec<String>, Vec<Option<usize>>) {
     let all = c.point_labels();
     let labels = keep.iter().map(|&i| all[i].clone()).collect();
     (p, labels, new_index)
-}
-
-/// The axis along which markers spread most within a frame: a standing body is taller than it
-/// is wide, so this is the vertical one whichever convention the lab used. Z when unsure.
-pub fn up_axis(p: &Points) -> usize {
-    let step = (p.frames() / 64).max(1);
-    let mut spread = [Vec::new(), Vec::new(), Vec::new()];
-    for f in (0..p.frames()).step_by(step) {
-        let mut lo = [f32::INFINITY; 3];
-        let mut hi = [f32::NEG_INFINITY; 3];
-        let mut n = 0;
-        for i in 0..p.count() {
-            if p.is_valid(f, i) {
-                let v = p.xyz[p.index(f, i)];
-                for a in 0..3 {
-                    lo[a] = lo[a].min(v[a]);
-                    hi[a] = hi[a].max(v[a]);
-                }
-                n += 1;
-            }
-        }
-        if n >= 2 {
-            for a in 0..3 {
-                spread[a].push(hi[a] - lo[a]);
-            }
-        }
-    }
-    let median = |v: &mut Vec<f32>| {
-        v.sort_by(f32::total_cmp);
-        v.get(v.len() / 2).copied().unwrap_or(0.0)
-    };
-    let m: Vec<f32> = spread.iter_mut().map(median).collect();
-    if m[2] >= m[0] && m[2] >= m[1] {
-        2
-    } else if m[1] >= m[0] {
-        1
-    } else {
-        0
-    }
 }
 
 /// The events within the stored frames, placed on them: frame `n` of the capture is at
@@ -294,8 +256,10 @@ pub fn render(
     let orig = original
         .as_ref()
         .map(|(o, order)| pack::pack(o.points, order, p.frames(), false));
+    // Without an up (no frame holds two valid points, so no spread to compare), +z: what the
+    // viewer's own spread rule gave such a trial before the library's rule replaced it.
     let up = style.up.unwrap_or(c3dfix::Direction {
-        axis: up_axis(p),
+        axis: 2,
         positive: true,
     });
     let oname = original.as_ref().map(|(o, _)| o.name);

@@ -79,7 +79,9 @@ pub fn page(file: (&bvh::Bvh, &str), against: Option<(&bvh::Bvh, &str)>) -> Resu
         traced: pos.end_sites.clone(),
         shadow: true,
         plates: None,
-        up: None,
+        // The lab's rule for markers, over the joints; BVH files state no unit, so the
+        // floor's band (in mm) reads the numbers as they are.
+        up: c3dfix::axes::points_up(&points, c3d::mm_per_unit(UNITS) as f32),
         fills_marked: false,
         events: Vec::new(),
     };
