@@ -41,6 +41,7 @@ pub mod rerun;
 pub mod save;
 pub mod swap_stage;
 mod swaps;
+pub mod targets;
 pub mod trial;
 pub mod units;
 
