@@ -19,7 +19,7 @@ impl TrialArg<'_> {
     /// The trial and the path it is named by (`<c3d>` for a trial made from bytes alone).
     /// A path is read as `c3dfix info` and `c3dfix view` read it (mapped, for the length
     /// of the call).
-    fn open(&self, py: Python<'_>) -> PyResult<(Cow<'_, c3d::C3d>, PathBuf)> {
+    pub fn open(&self, py: Python<'_>) -> PyResult<(Cow<'_, c3d::C3d>, PathBuf)> {
         match self {
             TrialArg::Read(c) => Ok((Cow::Borrowed(&c.inner), c.name())),
             TrialArg::Path(p) => {
@@ -31,7 +31,7 @@ impl TrialArg<'_> {
 }
 
 /// A path's file name, as the command titles its pictures (the whole path when it has none).
-fn file_name(p: &Path) -> String {
+pub fn file_name(p: &Path) -> String {
     p.file_name()
         .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
 }
@@ -103,10 +103,7 @@ pub fn view(
             detect_events,
             &mut |w| warnings.push(w),
         )
-        .map_err(|e| match e {
-            show::Error::Library(e) => lib_err(e),
-            e => err(e),
-        })?;
+        .map_err(crate::plots::show_err)?;
         c3dfix::save::write_atomic(&path, html.as_bytes(), force).map_err(lib_err)
     })?;
     Ok(warnings)

@@ -122,3 +122,68 @@ def test_view_refuses_what_the_command_refuses(tmp_path):
     with pytest.raises(c3dfix.C3dError, match="has no marker \"NOPE\"; available: "):
         c3dfix.view(f, tmp_path / "x.html", sticks=[("LASI", "NOPE")])
     assert not (tmp_path / "x.html").exists()
+
+
+def test_plot_draws_the_commands_bytes(tmp_path):
+    f = more("tsalemink__C3D-parser__FMC_MH0222_BP15.c3d")
+    repaired = tmp_path / "repaired.c3d"
+    assert run("repair", f, "-o", repaired).returncode == 0
+    for ext in ("svg", "png"):
+        cmd = tmp_path / f"cli.{ext}"
+        r = run(
+            "plot", repaired, "--marker", "LASI,RKNE", "--against", f,
+            "--analog", "1", "--detect-events", "-o", cmd,
+        )
+        assert r.returncode == 0, r.stderr
+        out = tmp_path / f"py.{ext}"
+        c3dfix.plot(
+            repaired, out, ["LASI", "RKNE"], against=c3dfix.read(f), analog="1",
+            detect_events=True,
+        )
+        assert out.read_bytes() == cmd.read_bytes(), ext
+    with pytest.raises(c3dfix.C3dError, match="must end in .svg or .png"):
+        c3dfix.plot(f, tmp_path / "x.pdf", ["LASI"])
+    with pytest.raises(c3dfix.C3dError, match="at most 6"):
+        c3dfix.plot(f, tmp_path / "x.svg", ["LASI"] * 7)
+
+
+def test_plot_forces_draws_the_commands_bytes_and_returns_the_warnings(tmp_path):
+    f = more("HansUniVie__MuscleLength__test.c3d")
+    cmd = tmp_path / "cli.png"
+    r = run("plot", f, "--forces", "--threshold", "20", "-o", cmd)
+    assert r.returncode == 0, r.stderr
+    out = tmp_path / "py.png"
+    warnings = c3dfix.plot_forces(f, out, threshold=20.0)
+    assert out.read_bytes() == cmd.read_bytes()
+    assert [f"c3dfix: warning: {f}: {w}" for w in warnings] == r.stderr.splitlines()
+    assert len(warnings) == 8
+
+
+def test_the_stubs_say_the_signatures():
+    """info, view, plot and plot_forces: the stub's keywords and defaults are the extension's."""
+    import ast
+    import inspect
+    from pathlib import Path
+
+    stub = ast.parse((Path(c3dfix.__file__).parent / "__init__.pyi").read_text())
+    names = ("info", "view", "plot", "plot_forces")
+    found = {}
+    for node in stub.body:
+        if isinstance(node, ast.FunctionDef) and node.name in names:
+            a = node.args
+            defaults = [None] * (len(a.args) - len(a.defaults)) + [
+                ast.literal_eval(d) for d in a.defaults
+            ]
+            found[node.name] = [(p.arg, d) for p, d in zip(a.args, defaults)]
+    for name in names:
+        params = inspect.signature(getattr(c3dfix, name)).parameters.values()
+        runtime = [
+            (p.name, None if p.default is inspect.Parameter.empty else p.default)
+            for p in params
+        ]
+        # A default the extension computes (plot_forces' threshold, the library's
+        # DEFAULT_THRESHOLD_N) shows as `...`: its name is compared, its value is the stub's.
+        stubbed = [
+            (k, d if r is not Ellipsis else Ellipsis) for (k, d), (_, r) in zip(found[name], runtime)
+        ]
+        assert stubbed == runtime, name

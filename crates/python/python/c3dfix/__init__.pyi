@@ -247,3 +247,29 @@ def view(
     writes, byte for byte), atomically; against: the original drawn beside it; sticks:
     [marker, marker] label pairs (default: Plug-in Gait segments). Returns the force
     plates' warnings."""
+
+def plot(
+    c3d: Union[C3d, _Path],
+    path: _Path,
+    markers: Sequence[str],
+    against: Optional[Union[C3d, _Path]] = None,
+    analog: Optional[str] = None,
+    detect_events: bool = False,
+    force: bool = False,
+) -> None:
+    """Draw the markers' x, y, z against time as SVG or PNG by the extension (what `c3dfix
+    plot --marker` draws, byte for byte), atomically; against: the original, its gaps shaded
+    and the repairs marked; analog: a channel (label or 1-based number) drawn below."""
+
+def plot_forces(
+    c3d: Union[C3d, _Path],
+    path: _Path,
+    threshold: float = 10.0,
+    zero_baseline: bool = True,
+    lowpass: Optional[str] = None,
+    detect_events: bool = False,
+    force: bool = False,
+) -> List[str]:
+    """Draw the force plates as SVG or PNG by the extension (what `c3dfix plot --forces`
+    draws, byte for byte), atomically; the plate options as for C3d.force_platforms.
+    Returns the plates' warnings."""

@@ -7,9 +7,11 @@
 
 pub mod decimate;
 mod draw;
+mod file_plot;
 mod forces;
 mod gather;
 
 pub use draw::{render, render_keyframe_curves, Format};
+pub use file_plot::{drawn_events, forces_picture, markers_picture};
 pub use forces::render_forces;
 pub use gather::{marker_index, KeyframeCurves, Plot};
