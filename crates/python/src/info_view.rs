@@ -30,6 +30,13 @@ impl TrialArg<'_> {
     }
 }
 
+/// Refuse an output that is one of the trials read (even with force=True: a page or a
+/// picture written over a C3D file would lose it), as the command refuses it.
+pub fn refuse_inputs(output: &Path, input: &Path, original: Option<&Path>) -> PyResult<()> {
+    let inputs: Vec<&Path> = std::iter::once(input).chain(original).collect();
+    c3dfix::save::refuse_input(output, &inputs, "output").map_err(lib_err)
+}
+
 /// A path's file name, as the command titles its pictures (the whole path when it has none).
 pub fn file_name(p: &Path) -> String {
     p.file_name()
@@ -78,6 +85,7 @@ pub fn view(
 ) -> PyResult<Vec<String>> {
     let (c, cpath) = c3d.open(py)?;
     let original = against.as_ref().map(|a| a.open(py)).transpose()?;
+    refuse_inputs(&path, &cpath, original.as_ref().map(|(_, p)| p.as_path()))?;
     let (c, name): (&c3d::C3d, String) = (&c, file_name(&cpath));
     let original = original.as_ref().map(|(o, p)| (&**o, file_name(p)));
     let pairs = sticks

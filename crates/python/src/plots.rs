@@ -5,7 +5,7 @@
 use pyo3::prelude::*;
 use std::path::PathBuf;
 
-use crate::info_view::{file_name, TrialArg};
+use crate::info_view::{file_name, refuse_inputs, TrialArg};
 use crate::{err, lib_err};
 
 /// A picture library error as `C3dError`, the library's kinds in this package's words.
@@ -40,6 +40,7 @@ pub fn plot(
     let format = show::plot::Format::from_path(&path).map_err(show_err)?;
     let (c, cpath) = c3d.open(py)?;
     let original = against.as_ref().map(|a| a.open(py)).transpose()?;
+    refuse_inputs(&path, &cpath, original.as_ref().map(|(_, p)| p.as_path()))?;
     let (c, name): (&c3d::C3d, String) = (&c, file_name(&cpath));
     let original = original.as_ref().map(|(o, p)| (&**o, file_name(p)));
     py.allow_threads(|| {
@@ -84,6 +85,7 @@ pub fn plot_forces(
         lowpass: lowpass.map(str::parse).transpose().map_err(err)?,
     };
     let (c, cpath) = c3d.open(py)?;
+    refuse_inputs(&path, &cpath, None)?;
     let (c, name): (&c3d::C3d, String) = (&c, file_name(&cpath));
     let mut warnings = Vec::new();
     py.allow_threads(|| {

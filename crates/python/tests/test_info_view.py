@@ -187,3 +187,21 @@ def test_the_stubs_say_the_signatures():
             (k, d if r is not Ellipsis else Ellipsis) for (k, d), (_, r) in zip(found[name], runtime)
         ]
         assert stubbed == runtime, name
+
+
+def test_a_picture_is_never_written_over_its_trial(tmp_path):
+    src = more("tsalemink__C3D-parser__FMC_MH0222_BP15.c3d")
+    f = tmp_path / "trial.c3d"
+    # A trial under a picture's name: the extension alone would not stop the plots.
+    g = tmp_path / "trial.svg"
+    for p in (f, g):
+        p.write_bytes(src.read_bytes())
+    for write in (
+        lambda: c3dfix.view(f, f, force=True),
+        lambda: c3dfix.view(src, f, against=f, force=True),
+        lambda: c3dfix.plot(c3dfix.read(g), g, ["LASI"], force=True),
+        lambda: c3dfix.plot_forces(g, g, force=True),
+    ):
+        with pytest.raises(c3dfix.C3dError, match="is the input file .*refusing to overwrite"):
+            write()
+    assert f.read_bytes() == src.read_bytes() and g.read_bytes() == src.read_bytes()
