@@ -72,6 +72,8 @@ pub fn info(py: Python<'_>, c3d: TrialArg<'_>) -> PyResult<PyObject> {
 /// beside it. sticks: the stick figure as [marker, marker] label pairs (default: the Plug-in
 /// Gait segments found among the labels). detect_events also marks the events the detector
 /// finds. Returns the force plates' warnings (what the command prints on standard error).
+/// A path ending in .bvh is a skeleton: its bones come from the hierarchy, against is
+/// another BVH file of the same skeleton, and there are no sticks, events or warnings.
 #[pyfunction]
 #[pyo3(signature = (c3d, path, against=None, sticks=None, detect_events=false, force=false))]
 pub fn view(
@@ -83,6 +85,22 @@ pub fn view(
     detect_events: bool,
     force: bool,
 ) -> PyResult<Vec<String>> {
+    if let TrialArg::Path(p) = &c3d {
+        if is_bvh(p) {
+            if sticks.is_some() || detect_events {
+                return Err(err(
+                    "sticks and detect_events are for C3D trials: a BVH file's bones come from its hierarchy",
+                ));
+            }
+            let original = match against {
+                Some(TrialArg::Path(o)) if is_bvh(&o) => Some(o),
+                None => None,
+                Some(_) => return Err(err("a BVH file is compared with a BVH file (a path)")),
+            };
+            view_bvh(py, p, original.as_deref(), &path, force)?;
+            return Ok(Vec::new());
+        }
+    }
     let (c, cpath) = c3d.open(py)?;
     let original = against.as_ref().map(|a| a.open(py)).transpose()?;
     refuse_inputs(&path, &cpath, original.as_ref().map(|(_, p)| p.as_path()))?;
@@ -115,4 +133,34 @@ pub fn view(
         c3dfix::save::write_atomic(&path, html.as_bytes(), force).map_err(lib_err)
     })?;
     Ok(warnings)
+}
+
+/// True for a `.bvh` file name (any case), as the command tells skeletons from trials.
+fn is_bvh(p: &Path) -> bool {
+    p.extension()
+        .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case("bvh"))
+}
+
+/// The page of a BVH skeleton (`c3dfix view FILE.bvh`), with `original` drawn beside it.
+fn view_bvh(
+    py: Python<'_>,
+    file: &Path,
+    original: Option<&Path>,
+    out: &Path,
+    force: bool,
+) -> PyResult<()> {
+    refuse_inputs(out, file, original)?;
+    py.allow_threads(|| {
+        let b = bvh::read(file).map_err(err)?;
+        let o = original
+            .map(|p| bvh::read(p).map(|b| (b, file_name(p))))
+            .transpose()
+            .map_err(err)?;
+        let html = show::view::skeleton::page(
+            (&b, &file_name(file)),
+            o.as_ref().map(|(b, n)| (b, n.as_str())),
+        )
+        .map_err(crate::plots::show_err)?;
+        c3dfix::save::write_atomic(out, html.as_bytes(), force).map_err(lib_err)
+    })
 }

@@ -205,3 +205,20 @@ def test_a_picture_is_never_written_over_its_trial(tmp_path):
         with pytest.raises(c3dfix.C3dError, match="is the input file .*refusing to overwrite"):
             write()
     assert f.read_bytes() == src.read_bytes() and g.read_bytes() == src.read_bytes()
+
+
+def test_view_of_a_bvh_skeleton_writes_the_commands_bytes(tmp_path):
+    d = corpus("BVH_SAMPLES", "../shared/bvh-samples")
+    if d is None:
+        pytest.skip("bvh-samples not found")
+    f = d / "bvhtoolbox_walk01.bvh"
+    want, _ = command_page(tmp_path, f)
+    out = tmp_path / "py.html"
+    assert c3dfix.view(f, out) == []
+    assert out.read_bytes() == want
+    # Against itself, as the command draws it.
+    want, _ = command_page(tmp_path, f, "--against", f)
+    c3dfix.view(f, out, against=f, force=True)
+    assert out.read_bytes() == want
+    with pytest.raises(c3dfix.C3dError, match="BVH file's bones"):
+        c3dfix.view(f, out, sticks=[("a", "b")], force=True)

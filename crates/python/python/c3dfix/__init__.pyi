@@ -246,7 +246,7 @@ def view(
     """Write the self-contained HTML page that plays the trial in 3D (what `c3dfix view`
     writes, byte for byte), atomically; against: the original drawn beside it; sticks:
     [marker, marker] label pairs (default: Plug-in Gait segments). Returns the force
-    plates' warnings."""
+    plates' warnings. A .bvh path is a skeleton (against: a .bvh path of the same one)."""
 
 def plot(
     c3d: Union[C3d, _Path],
