@@ -195,11 +195,37 @@ pub fn markers_up(c: &c3d::C3d) -> Option<Direction> {
         out
     });
     let mm = c3d::mm_per_unit(&c.point_units()) as f32;
+    frames_up(per_chunk.into_iter().flatten(), mm)
+}
+
+/// [`markers_up`]'s rule for positions held in memory (a BVH skeleton's joints, which have
+/// no C3D file to read them from): every point of `p` counts, over the same sampled frames,
+/// in `mm` millimetres per unit of the data.
+pub fn points_up(p: &c3d::Points, mm: f32) -> Option<Direction> {
+    let step = (p.frames() / 64).max(1);
+    let frames = (0..p.frames()).step_by(step).map(|f| {
+        let mut frame: [Vec<f32>; 3] = [Vec::new(), Vec::new(), Vec::new()];
+        for i in 0..p.count() {
+            if p.is_valid(f, i) {
+                let v = p.xyz[p.index(f, i)];
+                for a in 0..3 {
+                    frame[a].push(v[a]);
+                }
+            }
+        }
+        frame
+    });
+    frames_up(frames, mm)
+}
+
+/// The decision of [`markers_up`] from the valid samples of each sampled frame (per axis),
+/// `mm` millimetres per unit.
+fn frames_up(frames: impl Iterator<Item = [Vec<f32>; 3]>, mm: f32) -> Option<Direction> {
     let mut spread = [Vec::new(), Vec::new(), Vec::new()];
     let mut heights = [Vec::new(), Vec::new(), Vec::new()];
     // Per direction (−x, +x, −y, …), the height of each sampled frame's lowest marker.
     let mut lowest: [Vec<f32>; 6] = Default::default();
-    for mut frame in per_chunk.into_iter().flatten() {
+    for mut frame in frames {
         for a in 0..3 {
             heights[a].extend_from_slice(&frame[a]);
         }

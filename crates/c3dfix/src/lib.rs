@@ -32,6 +32,7 @@ pub mod export;
 pub mod files;
 pub mod gait_params;
 mod gaps;
+pub mod info;
 pub mod markers;
 mod options;
 pub mod platforms;
@@ -40,6 +41,7 @@ pub mod rerun;
 pub mod save;
 pub mod swap_stage;
 mod swaps;
+pub mod targets;
 pub mod trial;
 pub mod units;
 

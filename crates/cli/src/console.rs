@@ -61,7 +61,10 @@ pub fn describe(e: &anyhow::Error) -> String {
         // The library's kinds that name a setting are said with this tool's flags.
         let m = match cause.downcast_ref::<c3dfix::Error>() {
             Some(e) => crate::flags::phrase(e),
-            None => cause.to_string(),
+            None => match cause.downcast_ref::<show::Error>() {
+                Some(show::Error::Library(e)) => crate::flags::phrase(e),
+                _ => cause.to_string(),
+            },
         };
         if out.contains(&m) {
             continue;

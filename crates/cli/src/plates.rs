@@ -1,20 +1,9 @@
-//! Force plates as the outputs other than `forces` and `export` show them (`info`,
-//! `plot --forces`, the viewer): the plates computed with the default options. The lab's
-//! vertical and `--axes` are the library's ([`c3dfix::axes`]).
+//! The force-plate flags (`--threshold`, `--no-zero-baseline`, `--lowpass`) of the commands
+//! that compute plates, as the library's [`c3dfix::ForceOptions`]. The plates themselves, the
+//! lab's vertical and `--axes` are the library's ([`c3dfix::force_platforms`],
+//! [`c3dfix::axes`]).
 
-use anyhow::Result;
-use c3dfix::{ForceOptions, ForcePlatforms};
-
-/// Every plate of `c` with the default options (10 N push threshold, unloaded level
-/// removed, no filter).
-pub fn compute(c: &c3d::C3d) -> Result<ForcePlatforms> {
-    compute_with(c, &ForceOptions::default())
-}
-
-/// Every plate of `c` with the options a person gave ([`PlateArgs::options`]).
-pub fn compute_with(c: &c3d::C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
-    Ok(c3dfix::force_platforms(c, opts)?)
-}
+use c3dfix::ForceOptions;
 
 /// The force-plate options, one struct for every command that computes plates (`forces`,
 /// `plot --forces`; flattened into each command's arguments), mapping onto
@@ -55,12 +44,4 @@ impl PlateArgs {
     pub fn given(&self) -> bool {
         *self != PlateArgs::default()
     }
-}
-
-/// The analog sample shown for each point frame: the first of the frame's samples, as the
-/// file interleaves them (ANALOG:RATE = samples per frame × POINT:RATE), or `None` past the
-/// analog data's end.
-pub fn frame_sample(fp: &ForcePlatforms, frame: usize, samples: usize) -> Option<usize> {
-    let i = frame * fp.samples_per_frame.max(1);
-    (i < samples).then_some(i)
 }

@@ -14,9 +14,11 @@ mod cycles;
 mod export;
 mod files;
 mod gait;
+mod info_view;
 mod options;
 mod pickling;
 mod platforms;
+mod plots;
 
 pyo3::create_exception!(
     c3dfix,
@@ -545,6 +547,10 @@ fn _c3dfix(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(gait::gait_parameters, m)?)?;
     m.add_function(wrap_pyfunction!(cycles::detect_events, m)?)?;
     m.add_function(wrap_pyfunction!(cycles::cycles, m)?)?;
+    m.add_function(wrap_pyfunction!(info_view::info, m)?)?;
+    m.add_function(wrap_pyfunction!(info_view::view, m)?)?;
+    m.add_function(wrap_pyfunction!(plots::plot, m)?)?;
+    m.add_function(wrap_pyfunction!(plots::plot_forces, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

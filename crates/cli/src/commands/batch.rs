@@ -7,11 +7,12 @@
 use crate::commands::parallel::run_each;
 use crate::commands::repair::print_summary;
 use crate::commands::repair_io::RepairArgs;
-use crate::commands::targets::{plan, TargetArgs};
+use crate::commands::targets::TargetArgs;
 use crate::console::outln;
 use anyhow::{bail, Result};
 use c3dfix::files::Destination;
 use c3dfix::save::write_atomic;
+use c3dfix::targets::plan;
 use c3dfix::Summary;
 
 #[derive(clap::Args)]

@@ -6,10 +6,11 @@
 //! fully converted. A file that fails is reported and left untouched; the others go on.
 
 use crate::commands::parallel::run_each;
-use crate::commands::targets::{plan, TargetArgs};
+use crate::commands::targets::TargetArgs;
 use crate::console::{errln, outln};
 use anyhow::{bail, Result};
 use c3dfix::files::{convert_to, Conversion, Converted};
+use c3dfix::targets::plan;
 use std::path::{Path, PathBuf};
 
 #[derive(Clone, Copy, clap::ValueEnum)]

@@ -5,8 +5,8 @@
 //! `save`), so a run that is killed leaves every trial either as it was or complete.
 
 use crate::commands::parallel::pool;
-use crate::commands::targets::{plan, Destination};
 use anyhow::Result;
+use c3dfix::targets::{plan, Destination};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 

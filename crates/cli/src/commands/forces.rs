@@ -42,7 +42,7 @@ pub fn run(a: Args) -> Result<i32> {
         None => None,
     };
     let c = read_c3d(&a.file)?;
-    let fp = crate::plates::compute_with(&c, &a.plates.options())?;
+    let fp = c3dfix::force_platforms(&c, &a.plates.options())?;
     for w in &fp.warnings {
         errln!("c3dfix: warning: {}: {w}", a.file.display());
     }

@@ -10,7 +10,7 @@ use serde::Serialize;
 
 use crate::console::outln;
 use crate::output::write_atomic;
-use crate::plot::{render_keyframe_curves, KeyframeCurves};
+use show::plot::{render_keyframe_curves, KeyframeCurves};
 
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 pub enum Method {

@@ -3,8 +3,8 @@
 //! file's line is printed as soon as it is done, so a killed run still leaves a record of
 //! what it finished.
 
-use crate::commands::targets::Target;
 use anyhow::Result;
+use c3dfix::targets::Target;
 use rayon::prelude::*;
 use std::io::{IsTerminal, Write};
 use std::sync::Mutex;

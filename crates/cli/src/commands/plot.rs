@@ -3,8 +3,8 @@
 
 use crate::commands::info::read_c3d;
 use crate::output::write_atomic;
-use crate::plot::{render, Format, Plot};
 use anyhow::Result;
+use show::plot::{forces_picture, markers_picture, Format};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -50,44 +50,31 @@ pub fn run(a: Args) -> Result<i32> {
         anyhow::bail!("--threshold, --no-zero-baseline and --lowpass apply to --forces only");
     }
     let c = read_c3d(&a.file)?;
+    let fname = crate::output::file_name(&a.file);
     if a.forces {
-        let fp = crate::plates::compute_with(&c, &a.plates.options())?;
-        for w in &fp.warnings {
-            crate::console::errln!("c3dfix: warning: {}: {w}", a.file.display());
-        }
-        let events = event_marks(&c, &a)?;
-        let bytes =
-            crate::plot::render_forces(&fp, &crate::output::file_name(&a.file), &events, format)?;
+        let bytes = forces_picture(
+            (&c, &a.file, &fname),
+            &a.plates.options(),
+            a.detect_events,
+            format,
+            &mut |w| crate::console::errln!("c3dfix: warning: {}: {w}", a.file.display()),
+        )?;
         write_atomic(&a.output, &bytes, a.force)?;
         return Ok(0);
     }
     let orig = a.against.as_deref().map(read_c3d).transpose()?;
-    let (fname, oname) = (
-        crate::output::file_name(&a.file),
-        a.against.as_deref().map(crate::output::file_name),
-    );
-    let mut plot = Plot::gather(
-        (&c, &fname),
+    let oname = a.against.as_deref().map(crate::output::file_name);
+    if a.marker.is_empty() {
+        anyhow::bail!("no marker given (--marker NAME[,NAME…])");
+    }
+    let bytes = markers_picture(
+        (&c, &a.file, &fname),
         orig.as_ref().zip(oname.as_deref()),
         &a.marker,
         a.analog.as_deref(),
+        a.detect_events,
+        format,
     )?;
-    plot.events = event_marks(&c, &a)?;
-    let bytes = render(&plot, format)?;
     write_atomic(&a.output, &bytes, a.force)?;
     Ok(0)
-}
-
-/// The events drawn: the file's own, and the detector's with `--detect-events`; none where
-/// the file states no rate (the axis is then in frames or samples).
-fn event_marks(c: &c3d::C3d, a: &Args) -> Result<Vec<crate::event_marks::Mark>> {
-    let rate = c.point_rate();
-    if rate.is_nan() || rate <= 0.0 {
-        return Ok(Vec::new());
-    }
-    let mut events = crate::event_marks::from_file(c);
-    if a.detect_events {
-        events.extend(crate::event_marks::detected(c, &a.file)?);
-    }
-    Ok(events)
 }

@@ -3,9 +3,9 @@
 use crate::commands::info::read_c3d;
 use crate::output::file_name as name;
 use crate::output::write_atomic;
-use crate::plot::marker_index;
-use crate::view::{page, skeleton, sticks};
 use anyhow::{bail, Context, Result};
+use show::plot::marker_index;
+use show::view::{file_page, skeleton, sticks};
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
@@ -59,41 +59,22 @@ pub fn run(a: Args) -> Result<i32> {
         Some(path) => {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("cannot read {}", path.display()))?;
-            sticks::from_json(&text, &path.display().to_string(), |m| {
-                marker_index(&c, m, &fname)
-            })?
+            Some(sticks::from_json(
+                &text,
+                &path.display().to_string(),
+                |m| marker_index(&c, m, &fname),
+            )?)
         }
-        None => sticks::plug_in_gait(&c.point_labels()),
+        None => None,
     };
-    // Plates when FORCE_PLATFORM names some: a file without them has no analog decoded.
-    let params = c.platform_params();
-    let plates = if params.plates.is_empty() {
-        for p in &params.problems {
-            let w = c3dfix::PlateWarning {
-                plate: p.plate,
-                parameter: p.parameter.clone(),
-                message: p.message.clone(),
-            };
-            crate::console::errln!("c3dfix: warning: {}: {w}", a.file.display());
-        }
-        None
-    } else {
-        let fp = crate::plates::compute(&c)?;
-        for w in &fp.warnings {
-            crate::console::errln!("c3dfix: warning: {}: {w}", a.file.display());
-        }
-        Some(fp)
-    };
-    let mut events = crate::event_marks::from_file(&c);
-    if a.detect_events {
-        events.extend(crate::event_marks::detected(&c, &a.file)?);
-    }
-    let html = page(
-        (&c, &fname),
+    let html = file_page(
+        &c,
+        &a.file,
+        &fname,
         orig.as_ref().zip(oname.as_deref()),
         pairs,
-        plates.as_ref(),
-        events,
+        a.detect_events,
+        &mut |w| crate::console::errln!("c3dfix: warning: {}: {w}", a.file.display()),
     )?;
     write_atomic(&a.output, html.as_bytes(), a.force)?;
     Ok(0)

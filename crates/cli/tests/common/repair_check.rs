@@ -6,8 +6,8 @@
 //! read back with the same shape, that `info` can describe, and in which every sample the
 //! repair left alone (residual above 0 afterwards) and every analog value is as it was.
 
+use c3dfix::info::describe;
 use c3dfix::{FillMethod, RepairOptions, SpikeMode};
-use c3dfix_cli::commands::info::describe;
 use std::path::Path;
 
 /// The repair options for an input: its last byte picks the fill method, spikes and filter.

@@ -27,11 +27,15 @@ from ._c3dfix import (
     export_trc,
     gait_parameters,
     gaps,
+    info,
     lab_up,
+    plot,
+    plot_forces,
     read,
     repair,
     repair_file,
     swaps,
+    view,
 )
 
 __all__ = [
@@ -46,10 +50,14 @@ __all__ = [
     "export_trc",
     "gait_parameters",
     "gaps",
+    "info",
     "lab_up",
+    "plot",
+    "plot_forces",
     "read",
     "repair",
     "repair_file",
     "swaps",
+    "view",
     "__version__",
 ]

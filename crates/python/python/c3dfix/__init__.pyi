@@ -229,3 +229,47 @@ def cycles(
     `events` "file" or "detected" (detect=True, source as in detect_events). markers in mm
     (model outputs in their units), analog channels in physical units, forces per plate
     (N, lab frame); none named: every marker."""
+
+def info(c3d: Union[C3d, _Path]) -> Dict[str, Any]:
+    """What the trial holds and what is wrong with it, as `c3dfix info --json` prints it
+    (file, bytes, processor, format, header, frames, rates, up and up_source, markers with
+    their gaps, groups, events, force_platforms, warnings, ...). c3d: a C3d or a path."""
+
+def view(
+    c3d: Union[C3d, _Path],
+    path: _Path,
+    against: Optional[Union[C3d, _Path]] = None,
+    sticks: Optional[Sequence[Tuple[str, str]]] = None,
+    detect_events: bool = False,
+    force: bool = False,
+) -> List[str]:
+    """Write the self-contained HTML page that plays the trial in 3D (what `c3dfix view`
+    writes, byte for byte), atomically; against: the original drawn beside it; sticks:
+    [marker, marker] label pairs (default: Plug-in Gait segments). Returns the force
+    plates' warnings. A .bvh path is a skeleton (against: a .bvh path of the same one)."""
+
+def plot(
+    c3d: Union[C3d, _Path],
+    path: _Path,
+    markers: Sequence[str],
+    against: Optional[Union[C3d, _Path]] = None,
+    analog: Optional[str] = None,
+    detect_events: bool = False,
+    force: bool = False,
+) -> None:
+    """Draw the markers' x, y, z against time as SVG or PNG by the extension (what `c3dfix
+    plot --marker` draws, byte for byte), atomically; against: the original, its gaps shaded
+    and the repairs marked; analog: a channel (label or 1-based number) drawn below."""
+
+def plot_forces(
+    c3d: Union[C3d, _Path],
+    path: _Path,
+    threshold: float = 10.0,
+    zero_baseline: bool = True,
+    lowpass: Optional[str] = None,
+    detect_events: bool = False,
+    force: bool = False,
+) -> List[str]:
+    """Draw the force plates as SVG or PNG by the extension (what `c3dfix plot --forces`
+    draws, byte for byte), atomically; the plate options as for C3d.force_platforms.
+    Returns the plates' warnings."""

@@ -1,6 +1,6 @@
 //! What a plot shows, gathered from the files into plain arrays: nothing here draws.
 
-use anyhow::{anyhow, bail, Result};
+use crate::{Error, Result};
 use bvh::error_metric::{Effectors, Evaluator};
 use bvh::interp::{Interp, Interpolator};
 use bvh::keyframes::greedy;
@@ -71,26 +71,25 @@ pub struct Plot {
     pub analog: Option<AnalogPlot>,
     /// Events drawn as labelled vertical lines: the file's own (and detected ones when
     /// asked for), at their times on the file's base; none when the axis is in frames.
-    pub events: Vec<crate::event_marks::Mark>,
+    pub events: Vec<crate::marks::Mark>,
 }
 
 /// The index of marker `name` in `c`, or an error listing the markers there are.
 pub fn marker_index(c: &C3d, name: &str, file: &str) -> Result<usize> {
     if c.points().count() == 0 {
-        bail!("{file} has no 3D points");
+        return Err(Error::NoPoints { file: file.into() });
     }
-    c.point_index(name).ok_or_else(|| {
-        anyhow!(
-            "{file} has no marker {name:?}; available: {}",
-            c.point_labels().join(", ")
-        )
+    c.point_index(name).ok_or_else(|| Error::NoMarker {
+        file: file.into(),
+        name: name.into(),
+        available: c.point_labels(),
     })
 }
 
 fn analog_index(c: &C3d, name: &str, file: &str) -> Result<usize> {
     let labels = c.analog_labels();
     if labels.is_empty() {
-        bail!("{file} has no analog channels");
+        return Err(Error::NoAnalog { file: file.into() });
     }
     let bare = |s: &str| s.trim().to_ascii_uppercase();
     labels
@@ -104,11 +103,10 @@ fn analog_index(c: &C3d, name: &str, file: &str) -> Result<usize> {
                 .filter(|n| (1..=labels.len()).contains(n))
                 .map(|n| n - 1)
         })
-        .ok_or_else(|| {
-            anyhow!(
-                "{file} has no analog channel {name:?}; available: {}",
-                labels.join(", ")
-            )
+        .ok_or_else(|| Error::NoAnalogChannel {
+            file: file.into(),
+            name: name.into(),
+            available: labels.clone(),
         })
 }
 
@@ -167,13 +165,13 @@ impl Plot {
     ) -> Result<Plot> {
         let (c, name) = file;
         if markers.is_empty() {
-            bail!("no marker given (--marker NAME[,NAME…])");
+            return Err(Error::NoMarkerGiven);
         }
         if markers.len() > MAX_MARKERS {
-            bail!(
-                "{} markers given; one plot shows at most {MAX_MARKERS} (make several plots)",
-                markers.len()
-            );
+            return Err(Error::TooManyMarkers {
+                given: markers.len(),
+                most: MAX_MARKERS,
+            });
         }
         let record = c3dfix::rerun::Record::read(c);
         let mut out = Vec::new();
@@ -268,7 +266,7 @@ impl Plot {
             markers: out,
             analog,
             events: if c.point_rate() > 0.0 {
-                crate::event_marks::from_file(c)
+                crate::marks::from_file(c)
             } else {
                 Vec::new()
             },

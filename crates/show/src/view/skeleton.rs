@@ -2,7 +2,7 @@
 //! in every frame, and the hierarchy gives the sticks, so no marker-set guessing is needed.
 
 use super::{render, Style, Trial};
-use anyhow::{bail, Result};
+use crate::{Error, Result};
 use bvh::fk::{all_positions, Positions};
 use c3d::Points;
 
@@ -49,11 +49,12 @@ pub fn page(file: (&bvh::Bvh, &str), against: Option<(&bvh::Bvh, &str)>) -> Resu
             let only_here = missing(&pos.labels, &opos.labels);
             let only_there = missing(&opos.labels, &pos.labels);
             if !only_here.is_empty() || !only_there.is_empty() {
-                bail!(
-                    "{name} and {oname} have different skeletons: only in {name}: [{}]; only in {oname}: [{}]",
-                    only_here.join(", "),
-                    only_there.join(", ")
-                );
+                return Err(Error::DifferentSkeletons {
+                    file: name.into(),
+                    original: oname.to_string(),
+                    only_in_file: only_here.iter().map(|s| s.to_string()).collect(),
+                    only_in_original: only_there.iter().map(|s| s.to_string()).collect(),
+                });
             }
             let order = pos
                 .labels
@@ -78,7 +79,9 @@ pub fn page(file: (&bvh::Bvh, &str), against: Option<(&bvh::Bvh, &str)>) -> Resu
         traced: pos.end_sites.clone(),
         shadow: true,
         plates: None,
-        up: None,
+        // The lab's rule for markers, over the joints; BVH files state no unit, so the
+        // floor's band (in mm) reads the numbers as they are.
+        up: c3dfix::axes::points_up(&points, c3d::mm_per_unit(UNITS) as f32),
         fills_marked: false,
         events: Vec::new(),
     };

@@ -2,7 +2,7 @@
 //! label drawn beside the mark and the full wording for tooltips, from the file's EVENT
 //! group or from the detector.
 
-use anyhow::Result;
+use crate::Result;
 use serde::Serialize;
 use std::path::Path;
 
@@ -69,8 +69,9 @@ pub fn from_file(c: &c3d::C3d) -> Vec<Mark> {
     out
 }
 
-/// The events the detector finds (as `c3dfix events --from auto`), in time order.
-pub fn detected(c: &c3d::C3d, path: &Path) -> Result<Vec<Mark>> {
+/// The events the detector finds (as `c3dfix events --from auto`), in time order. The
+/// library's own error, as the detector gives it: a front end phrases its kinds.
+pub fn detected(c: &c3d::C3d, path: &Path) -> Result<Vec<Mark>, c3dfix::Error> {
     let d = c3dfix::detect_events(c, &c3dfix::EventOptions::default(), path)?;
     Ok(d.events
         .iter()

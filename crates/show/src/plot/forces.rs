@@ -9,8 +9,8 @@
 
 use super::decimate;
 use super::draw::{font, png_bytes, Format};
-use crate::event_marks::Mark;
-use anyhow::{anyhow, bail, Result};
+use crate::marks::Mark;
+use crate::{Error, Result};
 use c3dfix::axes::{horizontal_axes, platforms_up};
 use c3dfix::ForcePlatforms;
 use plotters::coord::Shift;
@@ -44,14 +44,10 @@ pub fn render_forces(
     format: Format,
 ) -> Result<Vec<u8>> {
     if fp.platforms.is_empty() {
-        bail!(
-            "{name}: no force platforms{} to plot",
-            if fp.warnings.is_empty() {
-                ""
-            } else {
-                " could be computed (see the warnings)"
-            }
-        );
+        return Err(Error::NoPlates {
+            file: name.into(),
+            warned: !fp.warnings.is_empty(),
+        });
     }
     let family = font()?;
     match format {
@@ -60,7 +56,7 @@ pub fn render_forces(
             {
                 let root = SVGBackend::with_string(&mut s, (W, H)).into_drawing_area();
                 draw(fp, name, events, family, &root)?;
-                root.present().map_err(|e| anyhow!("drawing failed: {e}"))?;
+                root.present().map_err(|e| Error::Draw(e.to_string()))?;
             }
             Ok(s.into_bytes())
         }
@@ -69,7 +65,7 @@ pub fn render_forces(
             {
                 let root = BitMapBackend::with_buffer(&mut px, (W, H)).into_drawing_area();
                 draw(fp, name, events, family, &root)?;
-                root.present().map_err(|e| anyhow!("drawing failed: {e}"))?;
+                root.present().map_err(|e| Error::Draw(e.to_string()))?;
             }
             png_bytes(&px, W, H)
         }
@@ -83,7 +79,7 @@ fn draw<DB: DrawingBackend>(
     family: &'static str,
     root: &DrawingArea<DB, Shift>,
 ) -> Result<()> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("drawing failed: {e}");
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| Error::Draw(e.to_string());
     root.fill(&WHITE).map_err(err)?;
     let body = root
         .titled(&format!("{name}: force plates"), (family, 22))
@@ -117,7 +113,7 @@ fn draw_vertical<DB: DrawingBackend>(
     family: &'static str,
     area: &DrawingArea<DB, Shift>,
 ) -> Result<()> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("drawing failed: {e}");
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| Error::Draw(e.to_string());
     let rate = fp.platforms[0].rate;
     let (dx, xdesc) = if rate > 0.0 {
         (1.0 / rate, "Time (s)")
@@ -187,7 +183,7 @@ fn draw_top_view<DB: DrawingBackend>(
     family: &'static str,
     area: &DrawingArea<DB, Shift>,
 ) -> Result<()> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("drawing failed: {e}");
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| Error::Draw(e.to_string());
     let [a, b] = horizontal_axes(up);
     let names = ["X", "Y", "Z"];
     let units = &fp.platforms[0].units.position;

@@ -74,8 +74,16 @@ pub struct PlateFrames {
     pub scale: f64,
 }
 
+/// The analog sample shown for each point frame: the first of the frame's samples, as the
+/// file interleaves them (ANALOG:RATE = samples per frame × POINT:RATE), or `None` past the
+/// analog data's end.
+pub fn frame_sample(fp: &c3dfix::ForcePlatforms, frame: usize, samples: usize) -> Option<usize> {
+    let i = frame * fp.samples_per_frame.max(1);
+    (i < samples).then_some(i)
+}
+
 /// Each plate of `fp` at each of `frames` point frames, from the first analog sample of the
-/// frame ([`crate::plates::frame_sample`]): the arrow shows what the plate measured as the
+/// frame ([`frame_sample`]): the arrow shows what the plate measured as the
 /// markers were captured, not an average over the frame's samples.
 pub fn plate_frames(fp: &c3dfix::ForcePlatforms, frames: usize) -> PlateFrames {
     let outlines = fp
@@ -107,7 +115,7 @@ pub fn plate_frames(fp: &c3dfix::ForcePlatforms, frames: usize) -> PlateFrames {
     let side = sides.get(sides.len() / 2).copied().unwrap_or(0.0);
     for f in 0..frames {
         for p in &fp.platforms {
-            let at = crate::plates::frame_sample(fp, f, p.force.len());
+            let at = frame_sample(fp, f, p.force.len());
             let v = match at {
                 Some(i) => {
                     let (cop, force) = (p.cop[i], p.force[i]);

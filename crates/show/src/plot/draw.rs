@@ -2,8 +2,8 @@
 
 use super::decimate;
 use super::gather::{AnalogPlot, KeyframeCurves, MarkerPlot, Plot, Track, MAX_MARKERS};
-use crate::event_marks::Mark;
-use anyhow::{anyhow, bail, Context, Result};
+use crate::marks::Mark;
+use crate::{Error, Result};
 use bvh::interp::Interp;
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -11,7 +11,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// The font every label is measured (and, for PNG, drawn) with: embedded so that plotting
-/// needs no system font libraries. DejaVu Sans, licence in `assets/DejaVuSans-LICENSE.txt`.
+/// needs no system font libraries. DejaVu Sans, licence in `crates/show/assets/DejaVuSans-LICENSE.txt`.
 static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
 const FAMILY: &str = "sans-serif";
 
@@ -46,7 +46,9 @@ impl Format {
         {
             Some("svg") => Ok(Format::Svg),
             Some("png") => Ok(Format::Png),
-            _ => bail!("{}: the output must end in .svg or .png", path.display()),
+            _ => Err(Error::PictureFormat {
+                path: path.to_path_buf(),
+            }),
         }
     }
 }
@@ -63,8 +65,7 @@ impl Plot {
 /// Register the embedded font and return its family name: every chart's text must use it,
 /// since no system fonts are assumed. Registering twice is harmless.
 pub fn font() -> Result<&'static str> {
-    plotters::style::register_font(FAMILY, FontStyle::Normal, FONT)
-        .map_err(|_| anyhow!("the embedded font cannot be read"))?;
+    plotters::style::register_font(FAMILY, FontStyle::Normal, FONT).map_err(|_| Error::Font)?;
     Ok(FAMILY)
 }
 
@@ -78,7 +79,7 @@ pub fn render(plot: &Plot, format: Format) -> Result<Vec<u8>> {
             {
                 let root = SVGBackend::with_string(&mut s, (w, h)).into_drawing_area();
                 draw(plot, &root)?;
-                root.present().map_err(|e| anyhow!("drawing failed: {e}"))?;
+                root.present().map_err(|e| Error::Draw(e.to_string()))?;
             }
             Ok(s.into_bytes())
         }
@@ -87,7 +88,7 @@ pub fn render(plot: &Plot, format: Format) -> Result<Vec<u8>> {
             {
                 let root = BitMapBackend::with_buffer(&mut px, (w, h)).into_drawing_area();
                 draw(plot, &root)?;
-                root.present().map_err(|e| anyhow!("drawing failed: {e}"))?;
+                root.present().map_err(|e| Error::Draw(e.to_string()))?;
             }
             png_bytes(&px, w, h)
         }
@@ -126,7 +127,7 @@ fn value_range<'a>(sets: impl Iterator<Item = (&'a [f32], &'a [bool])>) -> (f64,
 }
 
 fn draw<DB: DrawingBackend>(plot: &Plot, root: &DrawingArea<DB, Shift>) -> Result<()> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("drawing failed: {e}");
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| Error::Draw(e.to_string());
     root.fill(&WHITE).map_err(err)?;
     let body = root.titled(&plot.title, (FAMILY, 22)).map_err(err)?;
     let (_, h) = body.dim_in_pixel();
@@ -166,7 +167,7 @@ fn draw_axis<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     legend: bool,
 ) -> Result<()> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("drawing failed: {e}");
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| Error::Draw(e.to_string());
     let name = ["X", "Y", "Z"][axis];
     let comp = |t: &Track| -> Vec<f32> { t.xyz.iter().map(|p| p[axis]).collect() };
     let shown_v = comp(&m.shown);
@@ -309,7 +310,7 @@ fn draw_analog<DB: DrawingBackend>(
     events: &[Mark],
     area: &DrawingArea<DB, Shift>,
 ) -> Result<()> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("drawing failed: {e}");
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| Error::Draw(e.to_string());
     let ok = vec![true; a.values.len()];
     let (lo, hi) = value_range([(a.values.as_slice(), ok.as_slice())].into_iter());
     let (dx, xdesc) = if a.rate > 0.0 {
@@ -362,7 +363,7 @@ pub(super) fn draw_events<DB: DrawingBackend>(
     (lo, hi): (f64, f64),
     labels: bool,
 ) -> Result<()> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("drawing failed: {e}");
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| Error::Draw(e.to_string());
     for (detected, colour, name) in [
         (false, EVENT, "events (file)"),
         (true, DETECTED, "events (detected)"),
@@ -411,7 +412,7 @@ pub fn render_keyframe_curves(k: &KeyframeCurves) -> Result<String> {
         .iter()
         .any(|(_, c)| c.iter().any(|p| !p.1.is_finite()))
     {
-        bail!("cannot plot: the error curve is not finite");
+        return Err(Error::CurveNotFinite);
     }
     let family = font()?;
     let y_max = k
@@ -420,16 +421,17 @@ pub fn render_keyframe_curves(k: &KeyframeCurves) -> Result<String> {
         .flat_map(|(_, c)| c.iter().map(|p| p.1))
         .fold(0.0, f64::max)
         .max(1e-9);
+    let err = |e: DrawingAreaErrorKind<std::io::Error>| Error::Draw(e.to_string());
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (1000, 450)).into_drawing_area();
-        root.fill(&WHITE).context("plot")?;
+        root.fill(&WHITE).map_err(err)?;
         let root = root
             .titled(
                 &format!("{}: greedy keyframe reduction", k.name),
                 (family, 18),
             )
-            .context("plot")?;
+            .map_err(err)?;
         let panels = root.split_evenly((1, 2));
         for ((mode, curve), panel) in k.curves.iter().zip(panels.iter()) {
             let mut chart = ChartBuilder::on(panel)
@@ -438,22 +440,22 @@ pub fn render_keyframe_curves(k: &KeyframeCurves) -> Result<String> {
                 .x_label_area_size(40)
                 .y_label_area_size(70)
                 .build_cartesian_2d(0..k.frames.max(1), 0.0..y_max * 1.05)
-                .context("plot")?;
+                .map_err(err)?;
             chart
                 .configure_mesh()
                 .x_desc("removed frames")
                 .y_desc("total error (squared distance)")
                 .draw()
-                .context("plot")?;
+                .map_err(err)?;
             let colour = match mode {
                 Interp::Euler => RED,
                 Interp::Quat => BLUE,
             };
             chart
                 .draw_series(LineSeries::new(curve.iter().copied(), &colour))
-                .context("plot")?;
+                .map_err(err)?;
         }
-        root.present().context("plot")?;
+        root.present().map_err(err)?;
     }
     Ok(svg)
 }

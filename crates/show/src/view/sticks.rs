@@ -1,7 +1,7 @@
 //! Which markers the viewer joins with lines: a stick figure makes a cloud of dots readable as
 //! a body, and a broken stick shows a swapped or wandering marker at once.
 
-use anyhow::{bail, Context, Result};
+use crate::{Error, Result};
 use std::collections::HashMap;
 
 /// Plug-in Gait segments as marker pairs; `L`/`R` variants are made from the `S` ones.
@@ -92,12 +92,17 @@ pub fn from_json(
     source: &str,
     index: impl Fn(&str) -> Result<usize>,
 ) -> Result<Vec<(usize, usize)>> {
-    let pairs: Vec<Vec<String>> = serde_json::from_str(text)
-        .with_context(|| format!("{source}: expected a JSON list of [markerA, markerB] pairs"))?;
+    let pairs: Vec<Vec<String>> = serde_json::from_str(text).map_err(|e| Error::SticksJson {
+        file: source.into(),
+        source: e,
+    })?;
     let mut out = Vec::new();
     for p in pairs {
         let [a, b] = p.as_slice() else {
-            bail!("{source}: each stick is a pair of marker names, found {p:?}");
+            return Err(Error::SticksPair {
+                file: source.into(),
+                found: p,
+            });
         };
         out.push((index(a)?, index(b)?));
     }
@@ -168,7 +173,11 @@ mod tests {
         let idx = |s: &str| match s {
             "A" => Ok(0),
             "B" => Ok(1),
-            _ => bail!("no marker {s}"),
+            _ => Err(Error::NoMarker {
+                file: "test".into(),
+                name: s.into(),
+                available: vec!["A".into(), "B".into()],
+            }),
         };
         assert_eq!(
             from_json(r#"[["A","B"]]"#, "s.json", idx).unwrap(),

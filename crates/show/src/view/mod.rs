@@ -1,16 +1,19 @@
-//! `c3dfix view`: one self-contained HTML page that plays a trial in 3D — data, code and
+//! The viewer (`c3dfix view`): one self-contained HTML page that plays a trial in 3D — data, code and
 //! styles inlined, nothing fetched, so it can be mailed or opened offline.
 //!
 //! The page's code is plain canvas 2D with its own small projection (`viewer.js`): no library
 //! to vendor, and a 100-marker × 10 000-frame trial still plays smoothly.
 
+mod file_page;
 pub mod pack;
 pub mod skeleton;
 pub mod sticks;
 
-use anyhow::{bail, Result};
+use crate::{Error, Result};
 use c3d::{C3d, Points};
 use serde::Serialize;
+
+pub use file_page::file_page;
 
 const TEMPLATE: &str = include_str!("viewer.html");
 const SCRIPT: &str = include_str!("viewer.js");
@@ -95,12 +98,13 @@ pub struct Style {
     pub shadow: bool,
     /// Force plates with their ground reaction per frame.
     pub plates: Option<pack::PlateFrames>,
-    /// The lab's up ([`c3dfix::axes::up`]); `None`: the axis of largest spread, [`up_axis`].
+    /// The lab's up ([`c3dfix::axes::up`] for a C3D file, [`c3dfix::axes::points_up`] for a
+    /// skeleton); `None` (no frame with two valid points): +z.
     pub up: Option<c3dfix::Direction>,
     /// Whether a residual of 0 marks a computed sample in this file (see [`fills_marked`]).
     pub fills_marked: bool,
     /// Events to mark on the time bar (times on the file's base).
-    pub events: Vec<crate::event_marks::Mark>,
+    pub events: Vec<crate::marks::Mark>,
 }
 
 /// Whether the file's residuals tell filled samples from measured ones: a residual of 0
@@ -134,50 +138,11 @@ fn markers_only(c: &C3d) -> (Points, Vec<String>, Vec<Option<usize>>) {
     (p, labels, new_index)
 }
 
-/// The axis along which markers spread most within a frame: a standing body is taller than it
-/// is wide, so this is the vertical one whichever convention the lab used. Z when unsure.
-pub fn up_axis(p: &Points) -> usize {
-    let step = (p.frames() / 64).max(1);
-    let mut spread = [Vec::new(), Vec::new(), Vec::new()];
-    for f in (0..p.frames()).step_by(step) {
-        let mut lo = [f32::INFINITY; 3];
-        let mut hi = [f32::NEG_INFINITY; 3];
-        let mut n = 0;
-        for i in 0..p.count() {
-            if p.is_valid(f, i) {
-                let v = p.xyz[p.index(f, i)];
-                for a in 0..3 {
-                    lo[a] = lo[a].min(v[a]);
-                    hi[a] = hi[a].max(v[a]);
-                }
-                n += 1;
-            }
-        }
-        if n >= 2 {
-            for a in 0..3 {
-                spread[a].push(hi[a] - lo[a]);
-            }
-        }
-    }
-    let median = |v: &mut Vec<f32>| {
-        v.sort_by(f32::total_cmp);
-        v.get(v.len() / 2).copied().unwrap_or(0.0)
-    };
-    let m: Vec<f32> = spread.iter_mut().map(median).collect();
-    if m[2] >= m[0] && m[2] >= m[1] {
-        2
-    } else if m[1] >= m[0] {
-        1
-    } else {
-        0
-    }
-}
-
 /// The events within the stored frames, placed on them: frame `n` of the capture is at
 /// (`n` − 1) / rate, the first stored frame is `first_frame`, so an event at `t` s falls at
 /// index `t` × rate − (`first_frame` − 1). None without a rate.
 fn bar_events(
-    events: &[crate::event_marks::Mark],
+    events: &[crate::marks::Mark],
     rate: f32,
     first_frame: usize,
     frames: usize,
@@ -222,12 +187,12 @@ pub fn page(
     original: Option<(&C3d, &str)>,
     sticks: Vec<(usize, usize)>,
     plates: Option<&c3dfix::ForcePlatforms>,
-    events: Vec<crate::event_marks::Mark>,
+    events: Vec<crate::marks::Mark>,
 ) -> Result<String> {
     let (c, name) = file;
     let (points, labels, new_index) = markers_only(c);
     if points.count() == 0 && c.point_count() > 0 {
-        bail!("{name} has only model outputs (angles, moments, …), no markers to show");
+        return Err(Error::OnlyModelOutputs { file: name.into() });
     }
     let sticks = sticks
         .into_iter()
@@ -236,11 +201,16 @@ pub fn page(
     let orig = match original {
         Some((o, oname)) => {
             if o.points().count() == 0 {
-                bail!("{oname} has no 3D points to compare with");
+                return Err(Error::NothingToCompare {
+                    original: oname.into(),
+                });
             }
             let order: Vec<Option<usize>> = labels.iter().map(|l| o.point_index(l)).collect();
             if order.iter().all(Option::is_none) {
-                bail!("{oname} shares no marker label with {name}");
+                return Err(Error::NoSharedLabel {
+                    file: name.into(),
+                    original: oname.into(),
+                });
             }
             Some((Trial::c3d(o, oname), order))
         }
@@ -279,15 +249,17 @@ pub fn render(
     let p = file.points;
     let name = file.name;
     if p.count() == 0 {
-        bail!("{name} has no 3D points to show");
+        return Err(Error::NothingToShow { file: name.into() });
     }
     let all: Vec<Option<usize>> = (0..p.count()).map(Some).collect();
     let packed = pack::pack(p, &all, p.frames(), style.fills_marked);
     let orig = original
         .as_ref()
         .map(|(o, order)| pack::pack(o.points, order, p.frames(), false));
+    // Without an up (no frame holds two valid points, so no spread to compare), +z: what the
+    // viewer's own spread rule gave such a trial before the library's rule replaced it.
     let up = style.up.unwrap_or(c3dfix::Direction {
-        axis: up_axis(p),
+        axis: 2,
         positive: true,
     });
     let oname = original.as_ref().map(|(o, _)| o.name);
