@@ -23,17 +23,19 @@ def module_path(f):
     return parts
 
 
-def reexports(mod):
-    """Items the module's file re-exports (`pub use a::{B, C}` and `pub(crate) use`), by
-    name: the path they come from."""
+def reexports(mod, public_only=False):
+    """Items the module's file imports, by name: the path they come from. Its children see
+    its private imports too (`super::linear` in auto/steps.rs is what auto/mod.rs imports
+    as `linear`); `public_only` keeps its re-exports (`pub use`, `pub(crate) use`)."""
     f = src.joinpath(*mod).with_suffix(".rs")
     if not f.exists():
         f = src.joinpath(*mod, "mod.rs")
     if not f.exists():
         return {}
-    text = f.read_text().split("#[cfg(test)]")[0]
+    text = code(f.read_text())
     out = {}
-    for m in re.finditer(r"^\s*pub(?:\([^)]*\))?\s+use\s+([^;]+);", text, re.M):
+    vis = r"pub(?:\([^)]*\))?\s+" if public_only else r"(?:pub(?:\([^)]*\))?\s+)?"
+    for m in re.finditer(r"^\s*" + vis + r"use\s+([^;]+);", text, re.M):
         for q in expand(re.sub(r"\s+", "", m.group(1))):
             name = q.split(" as ")[-1].split("::")[-1]
             out[name] = q
@@ -42,22 +44,24 @@ def reexports(mod):
 
 def resolve(here, path, seen=0):
     """The module an import path names: `super::super::anchor::Raw` from fill::auto::holes
-    is fill::anchor; an item a module re-exports is followed to where it is defined.
+    is fill::anchor; a name a module imports is followed to where it is defined.
     Anything not a module file is taken as an item of the module before it."""
-    mod = resolve_modules(here, path)
-    if mod is None:
+    found = resolve_modules(here, path)
+    if found is None:
         return None
-    rest = path.split("::")
-    item = rest[-1]
-    again = reexports(mod).get(item)
+    mod, rest = found
+    again = reexports(mod).get(rest[0]) if rest else None
     if again and seen < 8 and mod != here:
-        deeper = resolve(mod, again if again.startswith(("crate", "super", "self")) else "self::" + again, seen + 1)
+        if not again.startswith(("crate", "super", "self")):
+            again = "self::" + again
+        deeper = resolve(mod, "::".join([again, *rest[1:]]), seen + 1)
         if deeper is not None:
             return deeper
     return mod
 
 
 def resolve_modules(here, path):
+    """The longest module path `path` starts with, and the names after it."""
     parts = path.split("::")
     if parts[0] == "crate":
         base, rest = [], parts[1:]
@@ -69,20 +73,31 @@ def resolve_modules(here, path):
                 base.pop()
             rest = rest[1:]
     else:
-        return None
+        # A path from a child module (`use holes::score;` in auto/mod.rs).
+        child = src.joinpath(*here, parts[0])
+        if not (child.with_suffix(".rs").exists() or (child / "mod.rs").exists()):
+            return None
+        base, rest = list(here), parts
     mod = list(base)
-    for p in rest:
+    for i, p in enumerate(rest):
         cand = src.joinpath(*mod, p)
         if cand.with_suffix(".rs").exists() or (cand / "mod.rs").exists():
             mod.append(p)
         else:
-            break
-    return mod
+            return mod, rest[i:]
+    return mod, []
+
+
+def code(text):
+    """The file's code without its test modules (from the first `#[cfg(test)] mod x {`)
+    and without imports made for the documentation only (`#[cfg(doc)] use`)."""
+    text = re.split(r"#\[cfg\(test\)\]\s*(?:pub(?:\([^)]*\))?\s+)?mod\s+\w+\s*\{", text)[0]
+    return re.sub(r"#\[cfg\(doc\)\]\s*use[^;]+;", "", text)
 
 
 def uses(text):
-    """Import paths of the file's code before its first `#[cfg(test)]`, braces expanded."""
-    text = text.split("#[cfg(test)]")[0]
+    """Import paths of the file's code, braces expanded."""
+    text = code(text)
     out = []
     for m in re.finditer(r"^\s*(?:pub(?:\([^)]*\))?\s+)?use\s+([^;]+);", text, re.M):
         body = re.sub(r"\s+", "", m.group(1))
@@ -112,12 +127,12 @@ def expand(body):
 def inline_paths(text, here, is_mod):
     """Paths written in the code rather than imported: `crate::profile::gap(..)`,
     `super::super::x`, and in a `mod.rs` its own child modules (`auto::fill(..)`)."""
-    code = text.split("#[cfg(test)]")[0]
-    code = "\n".join(l.split("//")[0] for l in code.splitlines())
-    found = re.findall(r"\b((?:crate|super)(?:::\w+)+)", code)
+    body = re.sub(r"^\s*(?:pub(?:\([^)]*\))?\s+)?use\s+[^;]+;", "", code(text), flags=re.M)
+    body = "\n".join(l.split("//")[0] for l in body.splitlines())
+    found = re.findall(r"\b((?:crate|super)(?:::\w+)+)", body)
     if is_mod:
         here_dir = src.joinpath(*here)
-        for m in re.finditer(r"(?<![:\w])(\w+)::", code):
+        for m in re.finditer(r"(?<![:\w])(\w+)::", body):
             c = here_dir / m.group(1)
             if c.with_suffix(".rs").exists() or (c / "mod.rs").exists():
                 found.append("self::" + m.group(1))
@@ -130,7 +145,7 @@ for f in files:
     here = module_path(f)
     text = f.read_text()
     edges = set()
-    own = set(reexports(here).values()) if f.name == "mod.rs" else set()
+    own = set(reexports(here, public_only=True).values()) if f.name == "mod.rs" else set()
     for u in uses(text) + inline_paths(text, here, f.name == "mod.rs"):
         if u in own:
             continue  # a re-export: what the module shows, not what it depends on
