@@ -10,16 +10,19 @@ pub(crate) struct Data<'a> {
     pub xyz: &'a [Vec<[f64; 3]>],
     pub valid: &'a [Vec<bool>],
     pub frames: usize,
-    /// Per marker, its largest step between consecutive valid frames ([`max_steps`]):
+    /// Per marker, its largest step between consecutive valid frames
+    /// ([`max_steps`](super::max_steps)):
     /// no fill may move the marker faster than its own recorded data does.
     pub max_step: &'a [f64],
-    /// One marker's validity read from here instead of `valid` (see [`fill_gaps`](super::fill_gaps): the
-    /// target as recorded, among neighbours whose first-pass fills count as samples).
+    /// One marker's validity read from here instead of `valid` (see
+    /// [`fill_gaps`](super::fill_gaps): the target as recorded, among neighbours whose
+    /// first-pass fills count as samples).
     pub(super) own: Option<(usize, &'a [bool])>,
     /// The published PCA's whole-trial models of this data, shared by the pass's gaps.
     pub(super) gloersen: Option<&'a gloersen::Cache>,
 }
 
+/// The distance between two samples.
 pub(crate) fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
