@@ -1,6 +1,6 @@
 //! The lab's axes: which way is up, found once for every output (`info`, the viewer, plots,
 //! the OpenSim export), and [`Axes`], the proper rotation that turns the lab's axes into
-//! another program's (`--axes`, OpenSim's Y-up frame).
+//! another program's (an export's axes setting, OpenSim's Y-up frame).
 //!
 //! Up comes from the plates when the file has any: a plate lies in the floor, so the normal
 //! of its CORNERS' plane is the lab's vertical, and the manual's corner order (quadrants
@@ -12,7 +12,7 @@
 //! so the axis along which the markers of one frame spread most is vertical, and they stand
 //! above the floor, so the sign is that of their median height.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Setting};
 use serde::Serialize;
 use std::fmt;
 
@@ -349,7 +349,7 @@ pub fn travel(c: &c3d::C3d, up: Direction, min_travel: f64) -> Option<Direction>
 }
 
 /// A proper rotation of the lab's axes: output axis `k` is `sign × lab[axis]`. Parsed from
-/// `--axes`, e.g. `x,z,-y` for OpenSim's Y-up frame from a Z-up lab, or built from the lab's
+/// an export's axes setting ([`Axes::parse`]), e.g. `x,z,-y` for OpenSim's Y-up frame from a Z-up lab, or built from the lab's
 /// up ([`Axes::opensim`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Axes {
@@ -389,7 +389,11 @@ impl Axes {
     /// foot becomes a right one, moments change sign), which no export should do silently.
     pub fn parse(spec: &str) -> Result<Axes> {
         let hint = "expected three lab axes with signs, a rotation such as x,z,-y (OpenSim's Y-up from a Z-up lab)";
-        let bad = |why: String| Error::options(format!("--axes {spec}: {why}"));
+        let bad = |why: String| Error::Invalid {
+            setting: Setting::Axes,
+            value: spec.to_string(),
+            why,
+        };
         let parts: Vec<&str> = spec.split(',').map(str::trim).collect();
         if parts.len() != 3 {
             return Err(bad(hint.to_string()));
@@ -500,6 +504,15 @@ mod tests {
             "x,z,y", "x,y,-z", "-x,y,z", "y,x,z", "x,x,z", "x,y", "x,y,w", "",
         ] {
             assert!(Axes::parse(bad).is_err(), "{bad}");
+        }
+        // The refusal names the setting in plain words; each front end says its own flag
+        // or keyword (the command line's `--axes`).
+        match Axes::parse("x,y") {
+            Err(e @ Error::Invalid { .. }) => assert_eq!(
+                e.to_string(),
+                "axes x,y: expected three lab axes with signs, a rotation such as x,z,-y (OpenSim's Y-up from a Z-up lab)"
+            ),
+            other => panic!("{other:?}"),
         }
     }
 

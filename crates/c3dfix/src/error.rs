@@ -41,6 +41,14 @@ pub enum Error {
         /// What is accepted, e.g. "from 1 to 80 frames".
         limits: String,
     },
+    /// A setting's value that does not read as one (a malformed specification): the
+    /// setting, the value as given and what is wrong with it.
+    #[error("{} {value}: {why}", setting.name())]
+    Invalid {
+        setting: Setting,
+        value: String,
+        why: String,
+    },
     /// Options that make no sense (an unknown method, a malformed filter spec, a marker the
     /// file does not have, a value out of range).
     #[error("{0}")]
@@ -93,6 +101,8 @@ pub enum Setting {
     EventSource,
     /// Repair: what is done with label swaps and jumps.
     Swaps,
+    /// Exports: the rotation from the lab's axes to the output's.
+    Axes,
 }
 
 impl Setting {
@@ -109,6 +119,7 @@ impl Setting {
             Setting::Threshold => "threshold",
             Setting::EventSource => "event source",
             Setting::Swaps => "swaps",
+            Setting::Axes => "axes",
         }
     }
 }

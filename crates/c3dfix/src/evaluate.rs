@@ -20,8 +20,8 @@ pub struct EvaluateOptions {
     pub gap_lengths: Vec<usize>,
     /// Markers that lose data (labels); `None` for every marker.
     pub markers: Option<Vec<String>>,
-    /// Method names to compare; `None` for all.
-    pub methods: Option<Vec<String>>,
+    /// Methods to compare; `None` for all ([`FillMethod::ALL`]).
+    pub methods: Option<Vec<FillMethod>>,
     /// Artificial gaps (or groups of gaps) per length.
     pub gaps_per_length: usize,
     /// 1, or 2–3 markers (a marker and its nearest neighbours) losing frames together.
@@ -72,12 +72,11 @@ pub struct Evaluation {
 }
 
 impl EvaluateOptions {
-    /// The methods to compare, checked.
-    pub fn fill_methods(&self) -> Result<Vec<FillMethod>> {
-        match &self.methods {
-            Some(m) => m.iter().map(|s| s.parse().map_err(Error::from)).collect(),
-            None => Ok(FillMethod::ALL.to_vec()),
-        }
+    /// The methods to compare.
+    pub fn fill_methods(&self) -> Vec<FillMethod> {
+        self.methods
+            .clone()
+            .unwrap_or_else(|| FillMethod::ALL.to_vec())
     }
 
     fn check(&self) -> Result<()> {
@@ -127,7 +126,7 @@ pub fn evaluate(
     mut each: impl FnMut(&FileEvaluation),
 ) -> Result<Evaluation> {
     opts.check()?;
-    let methods = opts.fill_methods()?;
+    let methods = opts.fill_methods();
     let mut out = Vec::new();
     let mut pooled: BTreeMap<(usize, String), (f64, usize, f64)> = BTreeMap::new();
     for f in files {

@@ -3,7 +3,7 @@
 //! fourth word. Scored against that frame, a fill was off by the marker's distance from the
 //! origin; the evaluation now knocks no gap there.
 
-use c3dfix::{evaluate, EvaluateOptions};
+use c3dfix::{evaluate, EvaluateOptions, FillMethod};
 
 /// The lost frame of `arthuman-sample.c3d` (0-based), and the valid samples an artificial
 /// gap keeps on each side of it (`repair`'s placement margin).
@@ -27,7 +27,7 @@ fn no_artificial_gap_touches_samples_at_the_origin() {
     }
     let opts = EvaluateOptions {
         gap_lengths: vec![5, 20, 80],
-        methods: Some(vec!["linear".into()]),
+        methods: Some(vec![FillMethod::Linear]),
         gaps_per_length: 200,
         ..EvaluateOptions::default()
     };

@@ -17,6 +17,7 @@ pub fn flag(s: Setting) -> &'static str {
         Setting::Threshold => "--threshold",
         Setting::EventSource => "--from",
         Setting::Swaps => "--swaps",
+        Setting::Axes => "--axes",
         // A setting added to the library before it is given a flag here: its plain name.
         other => other.name(),
     }
@@ -41,6 +42,11 @@ pub fn phrase(e: &Error) -> String {
             value,
             limits,
         } => format!("{} {value}: {limits}", flag(*setting)),
+        Error::Invalid {
+            setting,
+            value,
+            why,
+        } => format!("{} {value}: {why}", flag(*setting)),
         other => other.to_string(),
     }
 }
@@ -64,6 +70,13 @@ mod tests {
         };
         assert_eq!(phrase(&e), "--group 4: must be 1, 2 or 3");
         assert_eq!(e.to_string(), "group 4: must be 1, 2 or 3");
+        let e = Error::Invalid {
+            setting: Setting::Axes,
+            value: "x,y".into(),
+            why: "expected three lab axes".into(),
+        };
+        assert_eq!(phrase(&e), "--axes x,y: expected three lab axes");
+        assert_eq!(e.to_string(), "axes x,y: expected three lab axes");
         assert_eq!(
             phrase(&Error::Conflict(Conflict::NoDestination)),
             "give -o OUT or --in-place"

@@ -514,6 +514,16 @@ fn evaluate(
     group: usize,
     seed: u64,
 ) -> PyResult<PyObject> {
+    // A misspelt method is the library's error, as on the command line.
+    let methods = methods
+        .map(|names| {
+            names
+                .iter()
+                .map(|n| n.parse().map_err(c3dfix::Error::from))
+                .collect::<c3dfix::Result<Vec<c3dfix::FillMethod>>>()
+        })
+        .transpose()
+        .map_err(err)?;
     let opts = c3dfix::EvaluateOptions {
         gap_lengths,
         markers,

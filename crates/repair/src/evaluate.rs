@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{RepairError, Result};
 use crate::fill::{
     features, fill_gaps, max_steps, step_ratio, Data, Diag, FillMethod, FillOptions, FillOutcome,
-    Span, Target, FEATURES,
+    Span, Target, Vetting, FEATURES,
 };
 use crate::gaps::Gap;
 use crate::rng::SplitMix64;
@@ -453,7 +453,7 @@ fn run_group(trial: &Trial, placed: &Placed, len: usize, cfg: &EvalConfig) -> Ve
             // The group filled together, as the pipeline fills a trial's gaps (into a copy:
             // the trial holds the truth).
             let mut xyz = trial.xyz.clone();
-            let filled = fill_gaps(&mut xyz, &valid, &steps, &gaps, &opts, false);
+            let filled = fill_gaps(&mut xyz, &valid, &steps, &gaps, &opts, Vetting::AsMade);
             for ((&(m, a), gap), got) in g.iter().zip(&gaps).zip(filled) {
                 match got {
                     (

@@ -4,7 +4,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::Result;
-use crate::fill::{fill_gaps, max_steps, FillOptions, FillOutcome, SkipReason};
+use crate::fill::{fill_gaps, max_steps, FillOptions, FillOutcome, SkipReason, Vetting};
 use crate::filter::FilterSpec;
 use crate::gaps::{find_gaps, valid_segments, Gap};
 use crate::spikes::{detect, Spike, SpikeMode, SpikeOptions};
@@ -258,7 +258,7 @@ pub fn repair_trial_after(
         &steps,
         &found,
         &cfg.fill,
-        true,
+        Vetting::Checked,
     );
     let mut gaps = Vec::with_capacity(found.len() + again.len());
     for (gap, (v, outcome, _)) in found.into_iter().zip(filled) {

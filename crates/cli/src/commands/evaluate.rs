@@ -37,15 +37,26 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<i32> {
+    // Names are read here, before any file is opened, by the library's `FromStr`.
+    let methods = a
+        .methods
+        .as_ref()
+        .map(|names| {
+            names
+                .iter()
+                .map(|n| n.parse().map_err(c3dfix::Error::from))
+                .collect::<c3dfix::Result<Vec<FillMethod>>>()
+        })
+        .transpose()?;
     let opts = EvaluateOptions {
         gap_lengths: a.gap_lengths.clone(),
         markers: a.markers.clone(),
-        methods: a.methods.clone(),
+        methods,
         gaps_per_length: a.gaps_per_length,
         group: a.group,
         seed: a.seed,
     };
-    let methods = opts.fill_methods()?;
+    let methods = opts.fill_methods();
     let mut printed: Result<()> = Ok(());
     let ev = c3dfix::evaluate(&a.files, &opts, |fe| {
         if !a.json && printed.is_ok() {

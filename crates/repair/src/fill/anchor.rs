@@ -8,8 +8,8 @@
 //! line does, on short gaps above all (a spline of the trajectory is the best single method
 //! there). `auto` scores both variants on its artificial gaps and keeps what wins.
 
+use super::data::{Span, Target};
 use super::spline;
-use super::{Span, Target};
 
 /// Most frames beyond the nearest valid ones looked at for context residuals, per node.
 const REACH: usize = 3;
@@ -140,8 +140,9 @@ impl Raw {
 
 #[cfg(test)]
 mod tests {
+    use super::super::data::Data;
+    use super::super::step::max_steps;
     use super::super::test_util::with_gap;
-    use super::super::{max_steps, Data};
     use super::*;
 
     /// A prediction off by a cubic drift: the spline through the residuals removes the

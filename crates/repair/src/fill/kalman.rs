@@ -12,15 +12,20 @@
 //! read back from them. Unlike the per-frame PCA fill, the marker's own samples on both
 //! sides and the continuity of the motion both inform the gap.
 
-use std::cell::RefCell;
+use std::cell::{OnceCell, RefCell};
 use std::ops::AddAssign;
 use std::rc::Rc;
 
 use nalgebra::{DMatrix, DVector};
 
 use super::anchor::Raw;
-use super::pca::{centroid, neighbours_through, row, scoring_group, sums, training, Sums};
-use super::{FillOptions, Plan, SkipReason, Span, Target};
+use super::data::{Span, Target};
+use super::donors::Donors;
+use super::options::FillOptions;
+use super::outcome::SkipReason;
+use super::subspace::{
+    centroid, neighbours_through, row, scoring_group, sums, training, Shared, Sums,
+};
 use crate::linalg::symmetric_eigen;
 
 /// Fewest training frames accepted (as for PCA).
@@ -36,7 +41,9 @@ const CONTEXT: usize = 10;
 pub(super) fn raw(
     t: &Target,
     span: Span,
-    plan: &Plan,
+    plan: &Donors,
+    shared: &Shared,
+    cache: &Cache,
     opts: &FillOptions,
     per_side: usize,
 ) -> Result<Raw, SkipReason> {
@@ -52,17 +59,17 @@ pub(super) fn raw(
         _ => Some(None),
     };
     let model: Rc<Model> = match scoring {
-        None => plan
-            .kalman_model
+        None => cache
+            .model
             .get_or_init(|| {
-                let s = training(t, plan, opts, &[])?;
+                let s = training(t, plan, shared, opts, &[])?;
                 Model::train(&s, t, nb, opts).map(Rc::new)
             })
             .clone()?,
         Some(Some(h)) => {
-            let (g, members) = scoring_group(t, plan, opts, h)?;
-            let hit = plan
-                .kalman_scoring
+            let (g, members) = scoring_group(t, plan, shared, opts, h)?;
+            let hit = cache
+                .scoring
                 .borrow()
                 .iter()
                 .find(|(k, _)| *k == g)
@@ -70,9 +77,9 @@ pub(super) fn raw(
             match hit {
                 Some(m) => m,
                 None => {
-                    let s = training(t, plan, opts, &members)?;
+                    let s = training(t, plan, shared, opts, &members)?;
                     let m = Rc::new(Model::train(&s, t, nb, opts)?);
-                    plan.kalman_scoring.borrow_mut().push((g, Rc::clone(&m)));
+                    cache.scoring.borrow_mut().push((g, Rc::clone(&m)));
                     m
                 }
             }
@@ -109,6 +116,15 @@ pub(super) fn raw(
         }))
     };
     Raw::gather(t, span, per_side, predict).ok_or(SkipReason::NoDonors)
+}
+
+/// One plan's smoother models, trained on first use: the gap's own, and per group of
+/// `auto`'s artificial holes (PCA's groups, see `subspace::groups`) the one trained without
+/// them.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Cache {
+    model: OnceCell<Result<Rc<Model>, SkipReason>>,
+    scoring: RefCell<Vec<(usize, Rc<Model>)>>,
 }
 
 /// The subspace and its dynamics.
@@ -393,9 +409,12 @@ fn times_trans_t(m: &DMatrix<f64>, r: usize) -> DMatrix<f64> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::data::Data;
+    use super::super::method::FillMethod;
+    use super::super::plan::Plan;
     use super::super::rigid::tests::rigid_cluster;
+    use super::super::step::max_steps;
     use super::super::test_util::*;
-    use super::super::{max_steps, Data, FillMethod};
     use super::*;
 
     /// The textbook Rauch–Tung–Striebel smoother with explicit inverses, as a reference for
@@ -469,7 +488,7 @@ mod tests {
         let span = Span::new(120, 159, data.frames);
         let opts = FillOptions::default();
         let plan = Plan::build(&t, span, &opts);
-        let s = training(&t, &plan, &opts, &[]).unwrap();
+        let s = training(&t, &plan, &plan.subspace, &opts, &[]).unwrap();
         let model = Model::train(&s, &t, &plan.pca, &opts).unwrap();
         assert!(model.r >= 3, "components kept: {}", model.r);
         let got = model.smooth(&t, &plan.pca, 100, 179).unwrap();

@@ -1,6 +1,7 @@
 //! Straight line between the valid samples on either side of the gap.
 
-use super::{Fill, SkipReason, Span, Target};
+use super::data::{Span, Target};
+use super::outcome::{Fill, SkipReason};
 
 pub(super) fn fill(t: &Target, span: Span) -> Fill {
     let (b, a) = match (

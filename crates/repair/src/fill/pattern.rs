@@ -3,11 +3,18 @@
 //! target's one anchor.
 
 use super::anchor::Raw;
-use super::{Plan, SkipReason, Span, Target};
+use super::data::{Span, Target};
+use super::donors::Donors;
+use super::outcome::SkipReason;
 
 /// The donor's path over the span, with residuals at up to `per_side` frames per side
 /// (see [`Raw`]).
-pub(super) fn raw(t: &Target, span: Span, plan: &Plan, per_side: usize) -> Result<Raw, SkipReason> {
+pub(super) fn raw(
+    t: &Target,
+    span: Span,
+    plan: &Donors,
+    per_side: usize,
+) -> Result<Raw, SkipReason> {
     let d = t.data;
     let (lo, hi) = span.outer();
     let Some(j) = plan.pattern.filter(|&j| d.ok_through(j, lo, hi)) else {

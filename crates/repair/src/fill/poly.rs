@@ -1,7 +1,8 @@
 //! Lagrange polynomials through the valid samples nearest the gap, as evenly split between
 //! both sides as the data allows (at least one on each side: never extrapolate).
 
-use super::{Fill, SkipReason, Span, Target};
+use super::data::{Span, Target};
+use super::outcome::{Fill, SkipReason};
 
 /// Frames of the `n` nodes: nearest first, alternating sides, topping up from the side
 /// that has more when the other runs out.
@@ -53,8 +54,9 @@ pub(super) fn lagrange(t: &Target, span: Span, n: usize) -> Fill {
 
 #[cfg(test)]
 mod tests {
+    use super::super::method::FillMethod;
+    use super::super::outcome::SkipReason;
     use super::super::test_util::*;
-    use super::super::{FillMethod, SkipReason};
 
     #[test]
     fn quadratic_is_exact_with_lagrange2() {

@@ -4,7 +4,9 @@
 //! removed by blending the anchor errors across the gap.
 
 use super::anchor::Raw;
-use super::{Plan, SkipReason, Span, Target};
+use super::data::{Span, Target};
+use super::donors::Donors;
+use super::outcome::SkipReason;
 use crate::linalg::kabsch;
 
 /// Reference frames per side.
@@ -14,7 +16,12 @@ const REF_REACH: usize = 200;
 
 /// The rigid prediction over the span, with residuals at up to `per_side` frames per side
 /// (see [`Raw`]).
-pub(super) fn raw(t: &Target, span: Span, plan: &Plan, per_side: usize) -> Result<Raw, SkipReason> {
+pub(super) fn raw(
+    t: &Target,
+    span: Span,
+    plan: &Donors,
+    per_side: usize,
+) -> Result<Raw, SkipReason> {
     let donors = &plan.rigid;
     let d = t.data;
     let (lo, hi) = span.outer();

@@ -4,7 +4,9 @@
 //! body (long gaps, donors far away) are pulled back; fills that already respect the
 //! skeleton are left exactly as they are.
 
-use super::{FillOptions, Plan, Span, Target};
+use super::data::{Span, Target};
+use super::donors::Donors;
+use super::options::FillOptions;
 
 fn dist2(a: [f64; 3], b: [f64; 3]) -> f64 {
     (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)
@@ -68,7 +70,7 @@ impl Runs {
 impl Skeleton {
     /// Intervals to the plan's donors valid through the gap, over the frames of the PCA
     /// training window where both markers are valid; `None` with fewer than two.
-    pub fn new(t: &Target, span: Span, plan: &Plan, opts: &FillOptions) -> Option<Skeleton> {
+    pub fn new(t: &Target, span: Span, plan: &Donors, opts: &FillOptions) -> Option<Skeleton> {
         let _time = crate::profile::time(crate::profile::Work::Skeleton);
         crate::profile::count(crate::profile::Count::Skeleton);
         let d = t.data;

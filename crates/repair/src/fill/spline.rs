@@ -2,8 +2,9 @@
 //! scipy's CubicSpline default), so any cubic is reproduced exactly; 3 nodes give the
 //! parabola and 2 the line, the not-a-knot limits.
 
+use super::data::{Span, Target};
+use super::outcome::{Fill, SkipReason};
 use super::poly::lagrange_eval;
-use super::{Fill, SkipReason, Span, Target};
 use crate::linalg::solve_band_in_place;
 
 pub(super) fn fill(t: &Target, span: Span, per_side: usize) -> Fill {

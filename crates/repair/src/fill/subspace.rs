@@ -1,0 +1,278 @@
+//! The subspace PCA and the Kalman smoother share: per frame, the PCA neighbours' positions
+//! centred on their centroid and weighted (the target's offset after them), summed over the
+//! training window of the plan's gap. Each artificial gap `auto` scores on is trained
+//! without its own rows, and nearby artificial gaps share one such training set while
+//! together they hold at most a fifth of the rows (see [`groups`]).
+
+use std::cell::OnceCell;
+
+use nalgebra::DMatrix;
+
+use super::data::{Span, Target};
+use super::donors::Donors;
+use super::options::FillOptions;
+use super::outcome::SkipReason;
+use crate::profile::{self, Count};
+
+/// What PCA and the Kalman smoother share for one plan, gathered on first use: the
+/// training sums of the gap's window, and which artificial holes train together.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Shared {
+    /// The PCA training sums for the gap's window.
+    sums: OnceCell<Result<Sums, SkipReason>>,
+    /// Per hole of the plan's `exclude`, the group of holes it is trained without.
+    groups: OnceCell<Vec<usize>>,
+}
+
+pub(super) fn centroid(t: &Target, nb: &[(usize, f64)], f: usize) -> [f64; 3] {
+    let mut c = [0.0; 3];
+    for &(j, _) in nb {
+        let p = t.data.at(j, f);
+        for k in 0..3 {
+            c[k] += p[k] / nb.len() as f64;
+        }
+    }
+    c
+}
+
+/// Weighted neighbour offsets from their centroid `c`.
+pub(super) fn known_row(t: &Target, nb: &[(usize, f64)], f: usize, c: [f64; 3], row: &mut [f64]) {
+    for (i, &(j, w)) in nb.iter().enumerate() {
+        let p = t.data.at(j, f);
+        for k in 0..3 {
+            row[3 * i + k] = w * (p[k] - c[k]);
+        }
+    }
+}
+
+/// Sums over the training rows: frames of `region`'s window where the target and all
+/// neighbours are valid. Rows are shifted by the first one for accuracy.
+#[derive(Debug, Clone)]
+pub(crate) struct Sums {
+    frames: Vec<usize>,
+    shift: Vec<f64>,
+    sum: Vec<f64>,
+    xxt: DMatrix<f64>,
+}
+
+/// One frame's row (unshifted): weighted neighbour offsets, then the target's offset.
+pub(super) fn row(t: &Target, nb: &[(usize, f64)], f: usize, out: &mut [f64]) {
+    let known = 3 * nb.len();
+    let c = centroid(t, nb, f);
+    known_row(t, nb, f, c, &mut out[..known]);
+    let p = t.at(f);
+    for k in 0..3 {
+        out[known + k] = p[k] - c[k];
+    }
+}
+
+pub(super) fn sums(
+    t: &Target,
+    region: Span,
+    nb: &[(usize, f64)],
+    opts: &FillOptions,
+) -> Result<Sums, SkipReason> {
+    profile::count(Count::PcaSums);
+    let d = t.data;
+    let dims = 3 * nb.len() + 3;
+    let half = opts.pca_window.max(5 * region.len());
+    let lo = region.first.saturating_sub(half);
+    let hi = (region.last + half).min(d.frames - 1);
+    let frames: Vec<usize> = (lo..=hi)
+        .filter(|&f| t.ok(f) && nb.iter().all(|&(j, _)| d.ok(j, f)))
+        .collect();
+    let Some(&f0) = frames.first() else {
+        return Err(SkipReason::NoContext);
+    };
+    let mut shift = vec![0.0; dims];
+    row(t, nb, f0, &mut shift);
+    // Rows are accumulated in blocks (columns of a small dims × BLOCK matrix) so the
+    // cross-products go through nalgebra's blocked gemm without a large temporary.
+    const BLOCK: usize = 64;
+    let mut sum = vec![0.0; dims];
+    let mut xxt = DMatrix::<f64>::zeros(dims, dims);
+    for chunk in frames.chunks(BLOCK) {
+        let mut x = DMatrix::<f64>::zeros(dims, chunk.len());
+        for (i, &f) in chunk.iter().enumerate() {
+            let mut col = x.column_mut(i);
+            let s = col.as_mut_slice();
+            row(t, nb, f, s);
+            for (k, v) in s.iter_mut().enumerate() {
+                *v -= shift[k];
+                sum[k] += *v;
+            }
+        }
+        xxt.gemm(1.0, &x, &x.transpose(), 1.0);
+    }
+    Ok(Sums {
+        frames,
+        shift,
+        sum,
+        xxt,
+    })
+}
+
+impl Sums {
+    /// The training frames.
+    pub(super) fn frames(&self) -> &[usize] {
+        &self.frames
+    }
+
+    /// Mean row and covariance (row-major, `dims × dims`) of the rows summed.
+    pub(super) fn moments(&self) -> (Vec<f64>, Vec<f64>) {
+        let dims = self.shift.len();
+        let nf = self.frames.len() as f64;
+        let (sum, xxt) = (&self.sum, &self.xxt);
+        let mean: Vec<f64> = (0..dims).map(|i| self.shift[i] + sum[i] / nf).collect();
+        let mut cov = vec![0.0; dims * dims];
+        for i in 0..dims {
+            for j in 0..dims {
+                cov[i * dims + j] = (xxt[(i, j)] - sum[i] * sum[j] / nf) / (nf - 1.0);
+            }
+        }
+        (mean, cov)
+    }
+}
+
+/// The plan's PCA neighbours, when there are at least two and each is valid through the
+/// span and its anchors (the rows are centred on their centroid frame by frame).
+pub(super) fn neighbours_through<'p>(
+    t: &Target,
+    span: Span,
+    plan: &'p Donors,
+) -> Result<&'p [(usize, f64)], SkipReason> {
+    let nb = &plan.pca;
+    let (lo, hi) = span.outer();
+    if nb.len() < 2 || !nb.iter().all(|&(j, _)| t.data.ok_through(j, lo, hi)) {
+        return Err(SkipReason::NoDonors);
+    }
+    Ok(nb)
+}
+
+/// Per hole of the plan's `exclude`, its group (see [`groups`]), worked out on first use.
+pub(super) fn scoring_groups<'s>(plan: &Donors, shared: &'s Shared, all: &Sums) -> &'s [usize] {
+    let holes = plan.exclude.get().map_or(&[][..], Vec::as_slice);
+    shared.groups.get_or_init(|| groups(all, holes))
+}
+
+/// The scoring model of artificial hole `h`: its index, and the holes trained without.
+pub(super) fn group(
+    plan: &Donors,
+    shared: &Shared,
+    all: &Sums,
+    h: (usize, usize),
+) -> (usize, Vec<(usize, usize)>) {
+    let holes = plan.exclude.get().map_or(&[][..], Vec::as_slice);
+    let group_of = scoring_groups(plan, shared, all);
+    let g = group_of[holes.iter().position(|&x| x == h).unwrap_or(0)];
+    let members = holes
+        .iter()
+        .zip(group_of)
+        .filter(|&(_, &k)| k == g)
+        .map(|(&x, _)| x)
+        .collect();
+    (g, members)
+}
+
+/// The plan's training sums (the gap's own model's rows), gathered on first use.
+pub(super) fn plan_sums<'s>(
+    t: &Target,
+    plan: &Donors,
+    shared: &'s Shared,
+    opts: &FillOptions,
+) -> Result<&'s Sums, SkipReason> {
+    let base = Target {
+        hole: plan.hole,
+        ..*t
+    };
+    shared
+        .sums
+        .get_or_init(|| sums(&base, plan.region, &plan.pca, opts))
+        .as_ref()
+        .map_err(|&e| e)
+}
+
+/// Which of PCA's scoring models artificial hole `h` shares (see `groups`), and the holes
+/// it is trained without. The Kalman smoother trains its models on the same rows as PCA,
+/// so both are scored alike.
+pub(super) fn scoring_group(
+    t: &Target,
+    plan: &Donors,
+    shared: &Shared,
+    opts: &FillOptions,
+    h: (usize, usize),
+) -> Result<(usize, Vec<(usize, usize)>), SkipReason> {
+    Ok(group(plan, shared, plan_sums(t, plan, shared, opts)?, h))
+}
+
+/// The training sums of the plan's window without the artificial holes `exclude` (none:
+/// the gap's own model's rows).
+pub(super) fn training(
+    t: &Target,
+    plan: &Donors,
+    shared: &Shared,
+    opts: &FillOptions,
+    exclude: &[(usize, usize)],
+) -> Result<Sums, SkipReason> {
+    let all = plan_sums(t, plan, shared, opts)?;
+    let base = Target {
+        hole: plan.hole,
+        ..*t
+    };
+    Ok(without(all, &base, &plan.pca, exclude))
+}
+
+/// Holes sharing a scoring model: consecutive ones while together they remove at most
+/// `1 / SHARE` of the training rows (at least one hole per model). Fewer
+/// eigen-decompositions, and every model still trains on nearly all the window.
+fn groups(s: &Sums, holes: &[(usize, usize)]) -> Vec<usize> {
+    const SHARE: usize = 5;
+    let cap = s.frames.len() / SHARE;
+    let mut group_of = Vec::with_capacity(holes.len());
+    let (mut g, mut used) = (0, 0);
+    for (i, &(a, b)) in holes.iter().enumerate() {
+        let n = b - a + 1;
+        if i > 0 && used + n > cap {
+            g += 1;
+            used = 0;
+        }
+        used += n;
+        group_of.push(g);
+    }
+    group_of
+}
+
+/// `s` without the rows of frames inside `exclude` (artificial gaps): a downdate instead
+/// of a second pass over the window.
+pub(super) fn without(
+    s: &Sums,
+    t: &Target,
+    nb: &[(usize, f64)],
+    exclude: &[(usize, usize)],
+) -> Sums {
+    let dims = s.shift.len();
+    let mut out = s.clone();
+    let mut gone: Vec<usize> = Vec::new();
+    for &(a, b) in exclude {
+        let i0 = out.frames.partition_point(|&f| f < a);
+        let i1 = out.frames.partition_point(|&f| f <= b);
+        gone.extend_from_slice(&out.frames[i0..i1]);
+        out.frames.drain(i0..i1);
+    }
+    // The removed rows' cross-products go through one gemm per block, as in `sums`.
+    const BLOCK: usize = 64;
+    for chunk in gone.chunks(BLOCK) {
+        let mut x = DMatrix::<f64>::zeros(dims, chunk.len());
+        for (i, &f) in chunk.iter().enumerate() {
+            let mut col = x.column_mut(i);
+            let r = col.as_mut_slice();
+            row(t, nb, f, r);
+            for ((v, sh), acc) in r.iter_mut().zip(&out.shift).zip(out.sum.iter_mut()) {
+                *v -= sh;
+                *acc -= *v;
+            }
+        }
+        out.xxt.gemm(-1.0, &x, &x.transpose(), 1.0);
+    }
+    out
+}
