@@ -91,7 +91,8 @@ pub struct Evidence {
     /// Frames of the episode where the links decided (the rest were bridged).
     pub frames_decided: usize,
     /// Median link error of the markers as labelled over the decided frames, in units of
-    /// each link's tolerance (above 1: broken), summed over the markers.
+    /// each link's tolerance (above 1: broken), summed over the markers (a jump found by
+    /// its leaps alone: over the span's frames where its one link is seen).
     pub link_error: f64,
     /// The same with the swap exchanged back (for a jump: the error once the marker sits
     /// where its links put it, 0).
@@ -522,6 +523,12 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
 /// exactly.
 const LEAP_ONLY_CONFIDENCE: f64 = 0.75;
 
+/// A jump found by continuity alone is noise when the median leap inside it is above this
+/// share of its smaller edge leap ...
+const QUIET_SHARE: f64 = 0.25;
+/// ... and its confidence is then multiplied by this.
+const NOISY: f64 = 0.5;
+
 /// Longest span between a jump's two leaps looked for, frames.
 const MAX_LEAP_SPAN: usize = 120;
 
@@ -876,7 +883,23 @@ fn leap_jump_find(cx: &Ctx, a: usize, s: usize, e: usize, opts: &SwapOptions) ->
         .filter_map(|&f| cx.step(a, f, (a, a), (0, 0), false))
         .collect();
     let smoother = steps.iter().filter(|&&x| x > cx.break_mm(a)).count();
-    let confidence = (LEAP_ONLY_CONFIDENCE * closure.max(0.0)).clamp(0.0, 1.0);
+    // The error of the one link, if any, for the evidence (one link cannot say which of
+    // its two markers strayed).
+    let errs: Vec<f64> = (s..=e).filter_map(|f| cx.score(a, f, None)).collect();
+    // A label on another point follows that point, as smooth as any marker: its two leaps
+    // stand out of a quiet span. Leaps amid leaps as large are a noisy trajectory (a fast
+    // arm seen by few cameras), which closes on itself as often as not.
+    let inner: Vec<f64> = (s + 2..e).filter_map(|f| cx.leap(a, f)).collect();
+    let edge = match (v1, v2) {
+        (Some(v1), Some(v2)) => norm(&v1).min(norm(&v2)),
+        _ => 0.0,
+    };
+    let quiet = if !inner.is_empty() && median(inner) > QUIET_SHARE * edge {
+        NOISY
+    } else {
+        1.0
+    };
+    let confidence = (LEAP_ONLY_CONFIDENCE * closure.max(0.0) * quiet).clamp(0.0, 1.0);
     Find {
         kind: FindKind::Jump,
         markers: vec![a],
@@ -887,7 +910,7 @@ fn leap_jump_find(cx: &Ctx, a: usize, s: usize, e: usize, opts: &SwapOptions) ->
         evidence: Evidence {
             links: cx.links[a].len(),
             frames_decided: 0,
-            link_error: 0.0,
+            link_error: median(errs),
             link_error_undone: 0.0,
             edges_smoother: smoother,
             edges_checked: steps.len(),
