@@ -721,6 +721,9 @@ fn swap_find(
     let (before, after) = (median(before), median(after));
     // Continuity at each edge: labelled against undone.
     let (mut smoother, mut checked, mut edge_step) = (0, 0, 0.0f64);
+    // The least share of the labelled steps that undoing removes at an edge, where both
+    // markers leap there (the labelled steps above both breaks); 0 otherwise.
+    let mut leap_gain = 1.0f64;
     let nf = cx.t.frames();
     for f in [s, e + 1] {
         if f == 0 || f >= nf || (f == e + 1 && e + 1 >= nf) {
@@ -740,7 +743,12 @@ fn swap_find(
             if u < l {
                 smoother += 1;
             }
+            let leaps = l > cx.break_mm(a) + cx.break_mm(b);
+            leap_gain = leap_gain.min(if leaps { 1.0 - u / l } else { 0.0 });
         }
+    }
+    if checked == 0 {
+        leap_gain = 0.0;
     }
     let strength = (before - after).max(0.0);
     let p_link = 1.0 - (-strength / 2.0).exp();
@@ -761,7 +769,12 @@ fn swap_find(
         } else {
             0.8
         };
-        p_link * share * p_cont
+        // The two trajectories leaping into each other's places at every edge is evidence
+        // of its own, beside the links: a long swap of two markers of one segment keeps
+        // their own link whole and mends the others only in the frames where they are
+        // seen, and the edges then say what the links say weakly.
+        let p_edges = EDGE_WEIGHT * leap_gain.max(0.0);
+        1.0 - (1.0 - p_link * share * p_cont) * (1.0 - p_edges)
     }
     .clamp(0.0, 1.0);
     Find {
@@ -864,6 +877,10 @@ fn jump_find(
         },
     }
 }
+
+/// Most the continuity at a swap's edges adds to its link evidence (as the probability of
+/// an independent witness): half, so that it cannot settle a swap whose links say little.
+const EDGE_WEIGHT: f64 = 0.5;
 
 /// A jump of a marker with fewer than two links, found by continuity alone between two
 /// opposite leaps ([`Ctx::leap_pairs`]): how nearly the second leap takes back the first
