@@ -526,7 +526,7 @@ const LEAP_ONLY_CONFIDENCE: f64 = 0.75;
 /// A jump found by continuity alone is noise when the median leap inside it is above this
 /// share of its smaller edge leap ...
 const QUIET_SHARE: f64 = 0.25;
-/// ... and its confidence is then multiplied by this.
+/// ... and its confidence is then multiplied by this (as when its leaps are small).
 const NOISY: f64 = 0.5;
 
 /// Longest span between a jump's two leaps looked for, frames.
@@ -916,7 +916,15 @@ fn leap_jump_find(cx: &Ctx, a: usize, s: usize, e: usize, opts: &SwapOptions) ->
     } else {
         1.0
     };
-    let confidence = (LEAP_ONLY_CONFIDENCE * closure.max(0.0) * quiet).clamp(0.0, 1.0);
+    // With no link to confirm it, a leap just past a break is as likely a glitch of the
+    // cameras (two of them, opposite by chance, frames apart) as a label on another point:
+    // continuity alone calls a jump whose leaps are both at least twice a break.
+    let plain = if edge >= 2.0 * cx.break_mm(a) {
+        1.0
+    } else {
+        NOISY
+    };
+    let confidence = (LEAP_ONLY_CONFIDENCE * closure.max(0.0) * quiet * plain).clamp(0.0, 1.0);
     Find {
         kind: FindKind::Jump,
         markers: vec![a],
