@@ -900,9 +900,6 @@ fn leap_jump_find(cx: &Ctx, a: usize, s: usize, e: usize, opts: &SwapOptions) ->
         .filter_map(|&f| cx.step(a, f, (a, a), (0, 0), false))
         .collect();
     let smoother = steps.iter().filter(|&&x| x > cx.break_mm(a)).count();
-    // The error of the one link, if any, for the evidence (one link cannot say which of
-    // its two markers strayed).
-    let errs: Vec<f64> = (s..=e).filter_map(|f| cx.score(a, f, None)).collect();
     // A label on another point follows that point, as smooth as any marker: its two leaps
     // stand out of a quiet span. Leaps amid leaps as large are a noisy trajectory (a fast
     // arm seen by few cameras), which closes on itself as often as not.
@@ -935,7 +932,14 @@ fn leap_jump_find(cx: &Ctx, a: usize, s: usize, e: usize, opts: &SwapOptions) ->
         evidence: Evidence {
             links: cx.links[a].len(),
             frames_decided: 0,
-            link_error: median(errs),
+            // The error of the one link, if any (one link cannot say which of its two
+            // markers strayed), for a find that is reported: most spans between opposite
+            // leaps are not, and this is the costliest part of their evidence.
+            link_error: if confidence >= opts.min_report {
+                median((s..=e).filter_map(|f| cx.score(a, f, None)).collect())
+            } else {
+                0.0
+            },
             link_error_undone: 0.0,
             edges_smoother: smoother,
             edges_checked: steps.len(),
