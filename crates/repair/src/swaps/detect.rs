@@ -91,7 +91,8 @@ pub struct Evidence {
     /// Frames of the episode where the links decided (the rest were bridged).
     pub frames_decided: usize,
     /// Median link error of the markers as labelled over the decided frames, in units of
-    /// each link's tolerance (above 1: broken), summed over the markers.
+    /// each link's tolerance (above 1: broken), summed over the markers (a jump found by
+    /// its leaps alone: over the span's frames where its one link is seen).
     pub link_error: f64,
     /// The same with the swap exchanged back (for a jump: the error once the marker sits
     /// where its links put it, 0).
@@ -522,6 +523,12 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
 /// exactly.
 const LEAP_ONLY_CONFIDENCE: f64 = 0.75;
 
+/// A jump found by continuity alone is noise when the median leap inside it is above this
+/// share of its smaller edge leap ...
+const QUIET_SHARE: f64 = 0.25;
+/// ... and its confidence is then multiplied by this (as when its leaps are small).
+const NOISY: f64 = 0.5;
+
 /// Longest span between a jump's two leaps looked for, frames.
 const MAX_LEAP_SPAN: usize = 120;
 
@@ -714,6 +721,9 @@ fn swap_find(
     let (before, after) = (median(before), median(after));
     // Continuity at each edge: labelled against undone.
     let (mut smoother, mut checked, mut edge_step) = (0, 0, 0.0f64);
+    // The least share of the labelled steps that undoing removes at an edge, where both
+    // markers leap there (the labelled steps above both breaks); 0 otherwise.
+    let mut leap_gain = 1.0f64;
     let nf = cx.t.frames();
     for f in [s, e + 1] {
         if f == 0 || f >= nf || (f == e + 1 && e + 1 >= nf) {
@@ -733,7 +743,12 @@ fn swap_find(
             if u < l {
                 smoother += 1;
             }
+            let leaps = l > cx.break_mm(a) + cx.break_mm(b);
+            leap_gain = leap_gain.min(if leaps { 1.0 - u / l } else { 0.0 });
         }
+    }
+    if checked == 0 {
+        leap_gain = 0.0;
     }
     let strength = (before - after).max(0.0);
     let p_link = 1.0 - (-strength / 2.0).exp();
@@ -754,7 +769,12 @@ fn swap_find(
         } else {
             0.8
         };
-        p_link * share * p_cont
+        // The two trajectories leaping into each other's places at every edge is evidence
+        // of its own, beside the links: a long swap of two markers of one segment keeps
+        // their own link whole and mends the others only in the frames where they are
+        // seen, and the edges then say what the links say weakly.
+        let p_edges = EDGE_WEIGHT * leap_gain.max(0.0);
+        1.0 - (1.0 - p_link * share * p_cont) * (1.0 - p_edges)
     }
     .clamp(0.0, 1.0);
     Find {
@@ -858,6 +878,10 @@ fn jump_find(
     }
 }
 
+/// Most the continuity at a swap's edges adds to its link evidence (as the probability of
+/// an independent witness): half, so that it cannot settle a swap whose links say little.
+const EDGE_WEIGHT: f64 = 0.5;
+
 /// A jump of a marker with fewer than two links, found by continuity alone between two
 /// opposite leaps ([`Ctx::leap_pairs`]): how nearly the second leap takes back the first
 /// (a label on another point and back: exactly; a foot striking the ground and leaving it:
@@ -876,7 +900,28 @@ fn leap_jump_find(cx: &Ctx, a: usize, s: usize, e: usize, opts: &SwapOptions) ->
         .filter_map(|&f| cx.step(a, f, (a, a), (0, 0), false))
         .collect();
     let smoother = steps.iter().filter(|&&x| x > cx.break_mm(a)).count();
-    let confidence = (LEAP_ONLY_CONFIDENCE * closure.max(0.0)).clamp(0.0, 1.0);
+    // A label on another point follows that point, as smooth as any marker: its two leaps
+    // stand out of a quiet span. Leaps amid leaps as large are a noisy trajectory (a fast
+    // arm seen by few cameras), which closes on itself as often as not.
+    let inner: Vec<f64> = (s + 2..e).filter_map(|f| cx.leap(a, f)).collect();
+    let edge = match (v1, v2) {
+        (Some(v1), Some(v2)) => norm(&v1).min(norm(&v2)),
+        _ => 0.0,
+    };
+    let quiet = if !inner.is_empty() && median(inner) > QUIET_SHARE * edge {
+        NOISY
+    } else {
+        1.0
+    };
+    // With no link to confirm it, a leap just past a break is as likely a glitch of the
+    // cameras (two of them, opposite by chance, frames apart) as a label on another point:
+    // continuity alone calls a jump whose leaps are both at least twice a break.
+    let plain = if edge >= 2.0 * cx.break_mm(a) {
+        1.0
+    } else {
+        NOISY
+    };
+    let confidence = (LEAP_ONLY_CONFIDENCE * closure.max(0.0) * quiet * plain).clamp(0.0, 1.0);
     Find {
         kind: FindKind::Jump,
         markers: vec![a],
@@ -887,7 +932,14 @@ fn leap_jump_find(cx: &Ctx, a: usize, s: usize, e: usize, opts: &SwapOptions) ->
         evidence: Evidence {
             links: cx.links[a].len(),
             frames_decided: 0,
-            link_error: 0.0,
+            // The error of the one link, if any (one link cannot say which of its two
+            // markers strayed), for a find that is reported: most spans between opposite
+            // leaps are not, and this is the costliest part of their evidence.
+            link_error: if confidence >= opts.min_report {
+                median((s..=e).filter_map(|f| cx.score(a, f, None)).collect())
+            } else {
+                0.0
+            },
             link_error_undone: 0.0,
             edges_smoother: smoother,
             edges_checked: steps.len(),
