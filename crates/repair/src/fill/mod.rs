@@ -540,7 +540,7 @@ pub(crate) fn fill_with(
         }
         FillMethod::Auto => auto::fill(t, span, plan, opts, auto::candidates(span)).map(|(v, _)| v),
         FillMethod::Hold => linear::hold(t, span),
-        FillMethod::Gloersen => gloersen::fill(t, span, opts.mm_per_unit),
+        FillMethod::Gloersen => gloersen::fill(t, span, plan, opts.mm_per_unit),
     }
 }
 
