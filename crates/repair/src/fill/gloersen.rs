@@ -626,6 +626,38 @@ mod reference {
         assert_eq!(cache.models.lock().unwrap().len(), 2);
     }
 
+    /// `auto`'s artificial holes in the target's own data share a model: four holes of 10
+    /// frames in an 800-frame trial (together under a fifth of it) are each filled by one
+    /// model trained without all four, built once.
+    #[test]
+    fn own_holes_share_one_model() {
+        use super::super::{max_steps, Data, Plan, Target};
+        use super::{fill, fill_without, Cache, Span};
+        let trial = crate::synth::gait_like(24, 8, 800, 100.0, 0.3, 7);
+        let mut valid = trial.valid.clone();
+        valid[0][400..430].fill(false);
+        let steps = max_steps(&trial.xyz, &valid);
+        let data = Data::new(&trial.xyz, &valid, &steps);
+        let cache = Cache::default();
+        let cached = data.with_gloersen(&cache);
+        let holes = vec![(100, 109), (200, 209), (550, 559), (650, 659)];
+        let plan = Plan::empty(Span::new(400, 429, 800));
+        plan.exclude.set(holes.clone()).unwrap();
+        for &(a, b) in &holes {
+            let span = Span::new(a, b, 800);
+            let t = Target {
+                m: 0,
+                data: cached,
+                hole: Some((a, b)),
+            };
+            let got = fill(&t, span, &plan, 1.0).unwrap();
+            let alone = Target { data, ..t };
+            assert_eq!(got, fill_without(&alone, span, &holes, 1.0).unwrap());
+            assert!(got.iter().all(|p| p.iter().all(|v| v.is_finite())));
+        }
+        assert_eq!(cache.models.lock().unwrap().len(), 1);
+    }
+
     #[test]
     fn matches_independent_reference() {
         let path = testkit::workspace_root().join("tests/reference/gloersen.json");
