@@ -56,7 +56,7 @@ pub(super) fn fill(
     plan: &Plan,
     mm_per_unit: f64,
 ) -> Result<Vec<[f64; 3]>, SkipReason> {
-    fill_without(t, span, &holes(t, plan), mm_per_unit)
+    fill_without(t, span, &holes(t, span, plan), mm_per_unit)
 }
 
 /// [`fill`] with the model trained without `holes` (which hold `t.hole`, if any).
@@ -78,6 +78,11 @@ fn fill_without(
     }
 }
 
+/// Real gaps shorter than this are filled by the model of their first artificial hole's
+/// group (as `pca` does for its own model): one model fewer per gap, trained without a few
+/// short holes besides the gap.
+const SHARE_BELOW: usize = 20;
+
 /// Share of the trial's frames the artificial holes sharing one model may take from its
 /// training rows together (as `pca` groups its scoring models' holes): a model per hole
 /// was 87 % of the fills' time on the corpora (`docs/price.md`), each hole taking a few
@@ -88,13 +93,16 @@ const SHARE: usize = 5;
 /// the target's own data (the plan's `exclude`), it and its neighbours in that list while
 /// together they take at most 1 / [`SHARE`] of the trial's frames, so the holes of a gap
 /// share a few models instead of one each; otherwise its own hole, if any.
-fn holes(t: &Target, plan: &Plan) -> Vec<(usize, usize)> {
-    let Some(h) = t.hole else {
-        return Vec::new();
+fn holes(t: &Target, span: Span, plan: &Plan) -> Vec<(usize, usize)> {
+    let list = match (t.hole, plan.hole, plan.exclude.get()) {
+        (Some(h), None, Some(v)) if v.contains(&h) => v,
+        (Some(h), _, _) => return vec![h],
+        (None, None, Some(v)) if span.len() < SHARE_BELOW && !v.is_empty() => v,
+        (None, _, _) => return Vec::new(),
     };
-    let list = match (plan.hole, plan.exclude.get()) {
-        (None, Some(v)) if v.contains(&h) => v,
-        _ => return vec![h],
+    // A short real gap is filled by the model of its nearest artificial hole's group.
+    let Some(h) = t.hole.or_else(|| list.first().copied()) else {
+        return Vec::new();
     };
     let cap = t.data.frames / SHARE;
     let mut groups: Vec<Vec<(usize, usize)>> = vec![Vec::new()];
