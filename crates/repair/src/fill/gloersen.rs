@@ -516,7 +516,10 @@ mod tests {
         z.columns_mut(6, 3).fill(0.0);
         let covz = (z.transpose() * &z) / scale;
         let (w_zero, q_zero) = crate::linalg::symmetric_eigen(covz.as_slice(), cols);
-        for (v, p, w, q) in [(&v_no, &p_no, &w_no, &q_no), (&v_zero, &p_zero, &w_zero, &q_zero)] {
+        for (v, p, w, q) in [
+            (&v_no, &p_no, &w_no, &q_no),
+            (&v_zero, &p_zero, &w_zero, &q_zero),
+        ] {
             assert_eq!(p.shape(), (cols, rn));
             for i in 0..rn - 1 {
                 assert!((v[i] - w[i]).abs() < 1e-9 * w[0], "eigenvalue {i}");
@@ -713,8 +716,8 @@ mod reference {
                 hole: None,
             };
             let span = Span::new(first, first + n - 1, data.frames);
-            let got = super::fill_without(&t, span, &[], 1.0)
-                .unwrap_or_else(|e| panic!("{file}: {e:?}"));
+            let got =
+                super::fill_without(&t, span, &[], 1.0).unwrap_or_else(|e| panic!("{file}: {e:?}"));
             let want = case["fill"].as_array().expect("fill");
             assert_eq!(got.len(), want.len());
             let mut worst: f64 = 0.0;
