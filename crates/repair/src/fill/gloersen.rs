@@ -81,9 +81,10 @@ fn fill_without(
 /// Real gaps shorter than this are filled by the model of their first artificial hole's
 /// group (as `pca` does for its own model): one model fewer per gap, trained without a few
 /// holes besides the gap. On the held-apart labs (`fill_eval --held-apart --gaps 10`),
-/// against every real gap with its own model: at 5 and 10 frames cells 1.1 % better to 1.7 %
-/// worse, at 20 frames 0.1–4.2 % better; from 40 frames 1.2 % better to 11.9 % worse
-/// (walking, one marker, 80 frames), so gaps from 40 frames keep their own model.
+/// against the code before any sharing of the published PCA's models: at 5 and 10 frames
+/// cells 1.1 % better to 1.7 % worse, at 20 frames 0.1–4.2 % better; with every real gap
+/// sharing, cells from 40 frames 1.2 % better to 11.9 % worse (walking, one marker, 80
+/// frames), so gaps from 40 frames keep their own model.
 const SHARE_BELOW: usize = 40;
 
 /// Share of the trial's frames the artificial holes sharing one model may take from its
