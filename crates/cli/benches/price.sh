@@ -98,8 +98,9 @@ echo "c3dfix repair, whole process, one thread: $base_id (old) against $head_id 
 awk -F'\t' 'NR > 1 { o += $2; w += $3 } END {
     printf "CPU (user+sys): old %.2f s, new %.2f s, ratio %.2fx\n", o, w, (o > 0 ? w / o : 0) }' "$table"
 echo
+# (awk, not head: head closing the pipe early would end the script under pipefail.)
 echo "Slowest trials (new build):"
-tail -n +2 "$table" | sort -t$'\t' -k3,3 -g -r | head -10 |
+tail -n +2 "$table" | sort -t$'\t' -k3,3 -g -r | awk 'NR <= 10' |
     awk -F'\t' '{ printf "  %7.2f s (old %6.2f s, %6sx)  %s\n", $3, $2, $4, $1 }' |
     sed "s|$root/../||"
 echo

@@ -28,7 +28,7 @@ pub(crate) fn fill_with(
             fill_raw(method, t, span, plan, opts, 1).map(|r| r.anchored(span))
         }
         FillMethod::Hold => linear::hold(t, span),
-        FillMethod::Gloersen => gloersen::fill(t, span, opts.mm_per_unit),
+        FillMethod::Gloersen => gloersen::fill(t, span, plan, opts.mm_per_unit),
     }
 }
 

@@ -29,6 +29,7 @@
 //! It differs from `pca`, which fits the nearest markers over a window around the gap and
 //! ties the prediction to the gap's anchors.
 
+use super::donors::Donors;
 use super::{SkipReason, Span, Target};
 use crate::linalg::symmetric_eigen;
 use nalgebra::DMatrix;
@@ -47,19 +48,90 @@ const MIN_CUM_SV: f64 = 0.99;
 
 /// The target's fill over `span` (`mm_per_unit` converts σ to the data's units), with the
 /// pass's whole-trial model of the target when [`fill_gaps`] has built it already.
+/// `auto`'s artificial holes in the target's own data share models (see [`holes`]).
 ///
 /// [`fill_gaps`]: super::fill_gaps
-pub(super) fn fill(t: &Target, span: Span, mm_per_unit: f64) -> Result<Vec<[f64; 3]>, SkipReason> {
+pub(super) fn fill(
+    t: &Target,
+    span: Span,
+    plan: &Donors,
+    mm_per_unit: f64,
+) -> Result<Vec<[f64; 3]>, SkipReason> {
+    fill_without(t, span, &holes(t, span, plan), mm_per_unit)
+}
+
+/// [`fill`] with the model trained without `holes` (which hold `t.hole`, if any).
+fn fill_without(
+    t: &Target,
+    span: Span,
+    holes: &[(usize, usize)],
+    mm_per_unit: f64,
+) -> Result<Vec<[f64; 3]>, SkipReason> {
     crate::profile::count(crate::profile::Count::Gloersen);
     match t.data.gloersen {
         Some(cache) => cache
-            .model(t, mm_per_unit)
+            .model(t, holes, mm_per_unit)
             .as_ref()
             .as_ref()
             .map_err(|&e| e)?
             .fill(t, span),
-        None => Model::build(t, mm_per_unit)?.fill(t, span),
+        None => Model::build(t, holes, mm_per_unit)?.fill(t, span),
     }
+}
+
+/// Real gaps shorter than this are filled by the model of their first artificial hole's
+/// group (as `pca` does for its own model): one model fewer per gap, trained without a few
+/// holes besides the gap. On the held-apart labs (`fill_eval --held-apart --gaps 10`),
+/// against the code before any sharing of the published PCA's models: at 5 and 10 frames
+/// cells 1.1 % better to 1.7 % worse, at 20 frames 0.1–4.2 % better; with every real gap
+/// sharing, cells from 40 frames 1.2 % better to 11.9 % worse (walking, one marker, 80
+/// frames), so gaps from 40 frames keep their own model.
+const SHARE_BELOW: usize = 40;
+
+/// Share of the trial's frames the artificial holes sharing one model may take from its
+/// training rows together (as `pca` groups its scoring models' holes, there a fifth): a
+/// model per hole was 87 % of the fills' time on the corpora (`docs/price.md`), each hole
+/// taking a few frames from a whole trial's rows. A third instead of a fifth, on the
+/// held-apart labs (`fill_eval --held-apart --gaps 10`): cells 3.1 % better to 1.7 % worse
+/// than before any sharing (2 % better to 2.5 % worse than a fifth's), the calibration within
+/// half a point of before.
+const SHARE: usize = 3;
+
+/// The artificial holes target `t`'s model is trained without: for one of `auto`'s holes in
+/// the target's own data (the plan's `exclude`), it and its neighbours in that list while
+/// together they take at most 1 / [`SHARE`] of the trial's frames, so the holes of a gap
+/// share a few models instead of one each; otherwise its own hole, if any.
+fn holes(t: &Target, span: Span, plan: &Donors) -> Vec<(usize, usize)> {
+    let list = match (t.hole, plan.hole, plan.exclude.get()) {
+        (Some(h), None, Some(v)) if v.contains(&h) => v,
+        (Some(h), _, _) => return vec![h],
+        (None, None, Some(v)) if span.len() < SHARE_BELOW && !v.is_empty() => v,
+        (None, _, _) => return Vec::new(),
+    };
+    // A short real gap is filled by the model of its nearest artificial hole's group.
+    let Some(h) = t.hole.or_else(|| list.first().copied()) else {
+        return Vec::new();
+    };
+    let cap = t.data.frames / SHARE;
+    let mut groups: Vec<Vec<(usize, usize)>> = vec![Vec::new()];
+    let mut used = 0;
+    for (i, &(a, b)) in list.iter().enumerate() {
+        let n = b - a + 1;
+        if i > 0 && used + n > cap {
+            groups.push(Vec::new());
+            used = 0;
+        }
+        used += n;
+        if let Some(g) = groups.last_mut() {
+            g.push((a, b));
+        }
+    }
+    let mut g = groups
+        .into_iter()
+        .find(|g| g.contains(&h))
+        .unwrap_or_else(|| vec![h]);
+    g.sort_unstable();
+    g
 }
 
 /// The whole-trial model of one target (with its artificial hole, if any) in one pass's
@@ -85,7 +157,7 @@ pub(super) struct Model {
 
 /// Whole-trial models built in one pass of [`fill_gaps`], by what a model depends on
 /// besides the pass's data: the marker read as recorded there (the second pass's target,
-/// see `Data::with_own`), the target, and its artificial hole. Every gap of a marker asks
+/// see `Data::with_own`), the target, and the artificial holes it is trained without. Every gap of a marker asks
 /// for the same model, and so do the artificial holes that coincide (same marker, same
 /// frames) for gaps near each other; each was built anew before, two eigen-decompositions
 /// of every marker's coordinates each time. A model is a function of its key, so which
@@ -97,7 +169,7 @@ pub(crate) struct Cache {
     models: Mutex<HashMap<Key, Arc<Built>>>,
 }
 
-type Key = (Option<usize>, usize, Option<(usize, usize)>);
+type Key = (Option<usize>, usize, Vec<(usize, usize)>);
 type Built = Result<Model, SkipReason>;
 
 /// Models a [`Cache`] holds at most (it is emptied when full): gaps are filled in marker
@@ -107,13 +179,13 @@ const CACHE_MODELS: usize = 128;
 
 impl Cache {
     /// The target's model in this pass's data, built on first use.
-    fn model(&self, t: &Target, mm_per_unit: f64) -> Arc<Built> {
-        let key = (t.data.own.map(|(m, _)| m), t.m, t.hole);
+    fn model(&self, t: &Target, holes: &[(usize, usize)], mm_per_unit: f64) -> Arc<Built> {
+        let key = (t.data.own.map(|(m, _)| m), t.m, holes.to_vec());
         if let Some(m) = self.models.lock().ok().and_then(|c| c.get(&key).cloned()) {
             return m;
         }
         // Built outside the lock: two threads may build the same model, never a wrong one.
-        let m = Arc::new(Model::build(t, mm_per_unit));
+        let m = Arc::new(Model::build(t, holes, mm_per_unit));
         if let Ok(mut c) = self.models.lock() {
             if c.len() >= CACHE_MODELS {
                 c.clear();
@@ -125,11 +197,20 @@ impl Cache {
 }
 
 impl Model {
-    fn build(t: &Target, mm_per_unit: f64) -> Result<Model, SkipReason> {
+    /// The model of `t` trained without `holes` (which hold `t.hole`, if any) as well as
+    /// without its missing frames.
+    fn build(t: &Target, holes: &[(usize, usize)], mm_per_unit: f64) -> Result<Model, SkipReason> {
         crate::profile::count(crate::profile::Count::GloersenModel);
         let d = t.data;
         let (n, markers) = (d.frames, d.xyz.len());
-        let ok = |j: usize, f: usize| if j == t.m { t.ok(f) } else { d.ok(j, f) };
+        let in_hole = |f: usize| holes.iter().any(|&(a, b)| f >= a && f <= b);
+        let ok = |j: usize, f: usize| {
+            if j == t.m {
+                t.ok(f) && !in_hole(f)
+            } else {
+                d.ok(j, f)
+            }
+        };
         let complete: Vec<bool> = (0..markers).map(|j| (0..n).all(|f| ok(j, f))).collect();
         // 1. The mean trajectory of the markers recorded throughout.
         let whole: Vec<usize> = (0..markers).filter(|&j| complete[j] && j != t.m).collect();
@@ -224,25 +305,13 @@ impl Model {
             sd[c] = if s == 0.0 { 1.0 } else { s };
         }
         let wc = |c: usize| w[c / 3];
-        let is_target = |c: usize| c / 3 == ti;
         // 4. Principal components by the eigenvectors of YᵀY, Y = X / √(n − 1): its singular
-        // values are the square roots of the eigenvalues. One product serves both matrices:
-        // zeroing the target's columns of X zeroes its rows and columns of XᵀX and leaves the
-        // rest as they are.
+        // values are the square roots of the eigenvalues (see `components`).
         for (c, mut col) in x.column_iter_mut().enumerate() {
             col.iter_mut()
                 .for_each(|v| *v = (*v - mean[c]) / sd[c] * wc(c));
         }
-        let cov_no = (x.transpose() * &x) / (rn as f64 - 1.0);
-        let mut cov_zero = cov_no.clone();
-        for c in (0..cols).filter(|&c| is_target(c)) {
-            cov_zero.row_mut(c).fill(0.0);
-            cov_zero.column_mut(c).fill(0.0);
-        }
-        let pca = |c: &DMatrix<f64>| {
-            // Symmetric (to rounding; the decomposition reads one triangle), so its
-            // column-major slice serves as the row-major one.
-            let (vals, mut vecs) = symmetric_eigen(c.as_slice(), cols);
+        let pca = |(vals, mut vecs): (Vec<f64>, DMatrix<f64>)| {
             // The published product (step 4) changes with the components' signs, which the
             // decomposition leaves arbitrary: each is turned so that its largest coordinate is
             // positive (the reference script does the same).
@@ -264,11 +333,12 @@ impl Model {
                     acc += v;
                     acc >= MIN_CUM_SV * total
                 })
-                .unwrap_or(cols - 1);
+                .unwrap_or(sv.len().saturating_sub(1));
             (vecs, k)
         };
-        let (p_no, k1) = pca(&cov_no);
-        let (p_zero, k2) = pca(&cov_zero);
+        let (no, zero) = components(&x, ti);
+        let (p_no, k1) = pca(no);
+        let (p_zero, k2) = pca(zero);
         let k = k1.max(k2) + 1;
         // T = P_noᵀ P_zero (k × k).
         let mut tm = vec![0.0; k * k];
@@ -363,6 +433,56 @@ impl Model {
     }
 }
 
+/// The principal components of `x`'s columns, and of the same with kept marker `ti`'s
+/// three columns set to 0: for each, the eigenvalues of XᵀX / (n − 1), descending, and
+/// their eigenvectors as columns. One product serves both: zeroing a marker's columns of X
+/// zeroes its rows and columns of XᵀX and leaves the rest as they are.
+///
+/// When X has fewer rows (frames) than columns (3 × markers), as short trials with many
+/// markers have, the eigenvectors come from the frames' side: XXᵀ has the same nonzero
+/// eigenvalues, and for each, with u its eigenvector, Xᵀu / √((n − 1) λ) is XᵀX's. The
+/// decomposition then works on n × n instead of columns × columns (pyCGM's walking trial:
+/// 323 frames against 477 columns, a third of the work); the components are the same to
+/// rounding. Components beyond the frames' count have eigenvalue 0 and are returned as 0:
+/// the 99 % of the singular values' sum is reached before them.
+type Components = (Vec<f64>, DMatrix<f64>);
+fn components(x: &DMatrix<f64>, ti: usize) -> (Components, Components) {
+    let (rn, cols) = x.shape();
+    let scale = (rn as f64 - 1.0).max(1.0);
+    if rn >= cols {
+        let cov_no = (x.transpose() * x) / scale;
+        let mut cov_zero = cov_no.clone();
+        for c in 3 * ti..3 * ti + 3 {
+            cov_zero.row_mut(c).fill(0.0);
+            cov_zero.column_mut(c).fill(0.0);
+        }
+        // Symmetric (to rounding; the decomposition reads one triangle), so their
+        // column-major slices serve as row-major ones.
+        return (
+            symmetric_eigen(cov_no.as_slice(), cols),
+            symmetric_eigen(cov_zero.as_slice(), cols),
+        );
+    }
+    let from_frames = |x: &DMatrix<f64>| {
+        let gram = (x * x.transpose()) / scale;
+        let (vals, u) = symmetric_eigen(gram.as_slice(), rn);
+        let mut vecs = x.transpose() * u;
+        // Eigenvalues at rounding level have no direction to speak of.
+        let floor = vals.first().copied().unwrap_or(0.0).max(0.0) * 1e-13;
+        for (mut v, &l) in vecs.column_iter_mut().zip(&vals) {
+            if l > floor {
+                v /= (scale * l).sqrt();
+            } else {
+                v.fill(0.0);
+            }
+        }
+        (vals, vecs)
+    };
+    let mut zeroed = x.clone();
+    zeroed.columns_mut(3 * ti, 3).fill(0.0);
+    (from_frames(x), from_frames(&zeroed))
+}
+
 /// The kept markers' centred coordinates at frame `f`, the target's set to zero (it is
 /// missing there).
 fn raw_zeroed(
@@ -380,6 +500,45 @@ fn raw_zeroed(
 mod tests {
     use super::super::test_util::{fill, max_err, with_gap};
     use super::super::FillMethod;
+    use nalgebra::DMatrix;
+
+    /// The components from the frames' side (fewer frames than columns) are those of the
+    /// columns' side: each leading eigenvalue equal, each eigenvector equal up to its sign,
+    /// for the matrix and for it with a marker's columns zeroed.
+    #[test]
+    fn frames_side_components_equal_the_columns_side() {
+        // 12 frames, 30 columns, rank 3 over the frames: a few motions mixed.
+        let (rn, cols) = (12, 30);
+        let x = DMatrix::from_fn(rn, cols, |r, c| {
+            let t = r as f64 * 0.37;
+            (t + c as f64 * 0.11).sin() * (1.0 + c as f64 * 0.05)
+                + (2.3 * t).cos() * ((c % 7) as f64 - 3.0)
+                + 0.01 * ((r * 31 + c * 17) % 13) as f64
+        });
+        let ((v_no, p_no), (v_zero, p_zero)) = super::components(&x, 2);
+        // The columns' side, built as when frames outnumber columns.
+        let scale = rn as f64 - 1.0;
+        let cov = (x.transpose() * &x) / scale;
+        let (w_no, q_no) = crate::linalg::symmetric_eigen(cov.as_slice(), cols);
+        let mut z = x.clone();
+        z.columns_mut(6, 3).fill(0.0);
+        let covz = (z.transpose() * &z) / scale;
+        let (w_zero, q_zero) = crate::linalg::symmetric_eigen(covz.as_slice(), cols);
+        for (v, p, w, q) in [
+            (&v_no, &p_no, &w_no, &q_no),
+            (&v_zero, &p_zero, &w_zero, &q_zero),
+        ] {
+            assert_eq!(p.shape(), (cols, rn));
+            for i in 0..rn - 1 {
+                assert!((v[i] - w[i]).abs() < 1e-9 * w[0], "eigenvalue {i}");
+                if w[i] < 1e-6 * w[0] {
+                    continue;
+                }
+                let dot: f64 = p.column(i).dot(&q.column(i));
+                assert!((dot.abs() - 1.0).abs() < 1e-6, "eigenvector {i}: {dot}");
+            }
+        }
+    }
 
     /// Markers that move together (a segment swinging while the body walks on, with two
     /// independent motions) are reconstructed from the others' correlations across a
@@ -459,7 +618,8 @@ mod reference {
     #[test]
     fn cached_models_fill_as_fresh_ones() {
         use super::super::{max_steps, Data, Target};
-        use super::{fill, Cache, Span};
+        use super::{fill_without, Cache, Span};
+        let fill = |t: &Target, span, mm| fill_without(t, span, &Vec::from_iter(t.hole), mm);
         let trial = crate::synth::gait_like(24, 8, 800, 100.0, 0.3, 7);
         let mut valid = trial.valid.clone();
         valid[0][100..110].fill(false);
@@ -483,6 +643,38 @@ mod reference {
             }
         }
         assert_eq!(cache.models.lock().unwrap().len(), 2);
+    }
+
+    /// `auto`'s artificial holes in the target's own data share a model: four holes of 10
+    /// frames in an 800-frame trial (together under a fifth of it) are each filled by one
+    /// model trained without all four, built once.
+    #[test]
+    fn own_holes_share_one_model() {
+        use super::super::{max_steps, Data, Plan, Target};
+        use super::{fill, fill_without, Cache, Span};
+        let trial = crate::synth::gait_like(24, 8, 800, 100.0, 0.3, 7);
+        let mut valid = trial.valid.clone();
+        valid[0][400..430].fill(false);
+        let steps = max_steps(&trial.xyz, &valid);
+        let data = Data::new(&trial.xyz, &valid, &steps);
+        let cache = Cache::default();
+        let cached = data.with_gloersen(&cache);
+        let holes = vec![(100, 109), (200, 209), (550, 559), (650, 659)];
+        let plan = Plan::empty(Span::new(400, 429, 800));
+        plan.exclude.set(holes.clone()).unwrap();
+        for &(a, b) in &holes {
+            let span = Span::new(a, b, 800);
+            let t = Target {
+                m: 0,
+                data: cached,
+                hole: Some((a, b)),
+            };
+            let got = fill(&t, span, &plan, 1.0).unwrap();
+            let alone = Target { data, ..t };
+            assert_eq!(got, fill_without(&alone, span, &holes, 1.0).unwrap());
+            assert!(got.iter().all(|p| p.iter().all(|v| v.is_finite())));
+        }
+        assert_eq!(cache.models.lock().unwrap().len(), 1);
     }
 
     #[test]
@@ -531,8 +723,9 @@ mod reference {
                 data,
                 hole: None,
             };
-            let got = super::fill(&t, Span::new(first, first + n - 1, data.frames), 1.0)
-                .unwrap_or_else(|e| panic!("{file}: {e:?}"));
+            let span = Span::new(first, first + n - 1, data.frames);
+            let got =
+                super::fill_without(&t, span, &[], 1.0).unwrap_or_else(|e| panic!("{file}: {e:?}"));
             let want = case["fill"].as_array().expect("fill");
             assert_eq!(got.len(), want.len());
             let mut worst: f64 = 0.0;

@@ -110,7 +110,9 @@ const KALMAN_FROM: usize = 40;
 /// bench is above [`GLOERSEN_BUDGET`], so its time is unchanged; on trials below the cap
 /// each gap costs two eigen-decompositions of every marker's coordinates per artificial gap
 /// (the evaluation's gaps of 20 frames took 189 s instead of 6 s on 2 cores, about 60 ms a
-/// gap).
+/// gap). From 10 again, for its price (issue 35: the 671 corpus fills of 5–9 frames), was
+/// measured on the held-apart labs (`fill_eval --held-apart --gaps 10`): 5-frame cells
+/// 0.6 % better to 3.1 % worse (full body, one marker), beyond the 2 % allowed; not kept.
 const GLOERSEN_FROM: usize = 5;
 /// Largest frames × (3 × markers)² of a trial on which `auto` weighs the published PCA: its
 /// covariance of every coordinate over the whole trial and two eigen-decompositions, per
