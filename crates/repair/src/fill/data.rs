@@ -1,8 +1,24 @@
 //! The trial's data as the fill methods read it ([`Data`]), the marker being filled
 //! ([`Target`]) and the frames to fill ([`Span`]).
 
-use super::gloersen;
+use super::outcome::SkipReason;
 use crate::gaps::Gap;
+
+/// A pass's store of whole-trial models, kept beside the data they are models of and shared
+/// by the pass's gaps. Declared here and implemented by the published PCA's cache
+/// (`gloersen::Cache`), so that the data, at the bottom of the fill room, names no method
+/// above it.
+pub(crate) trait TrialModels: Sync {
+    /// `span` of `t` filled by the model trained without `holes` (which hold `t.hole`, if
+    /// any), built on first use.
+    fn fill(
+        &self,
+        t: &Target,
+        span: Span,
+        holes: &[(usize, usize)],
+        mm_per_unit: f64,
+    ) -> Result<Vec<[f64; 3]>, SkipReason>;
+}
 
 /// The trial's data as the fill methods read it.
 #[derive(Clone, Copy)]
@@ -19,7 +35,7 @@ pub(crate) struct Data<'a> {
     /// first-pass fills count as samples).
     pub(super) own: Option<(usize, &'a [bool])>,
     /// The published PCA's whole-trial models of this data, shared by the pass's gaps.
-    pub(super) gloersen: Option<&'a gloersen::Cache>,
+    pub(super) gloersen: Option<&'a dyn TrialModels>,
 }
 
 /// The distance between two samples.
@@ -42,7 +58,7 @@ impl<'a> Data<'a> {
 
     /// The same data with the published PCA's models kept in `cache` (which must not
     /// outlive this data: the models are of it).
-    pub(super) fn with_gloersen(self, cache: &'a gloersen::Cache) -> Self {
+    pub(super) fn with_gloersen(self, cache: &'a dyn TrialModels) -> Self {
         Data {
             gloersen: Some(cache),
             ..self

@@ -29,6 +29,7 @@
 //! It differs from `pca`, which fits the nearest markers over a window around the gap and
 //! ties the prediction to the gap's anchors.
 
+use super::data::TrialModels;
 use super::donors::Donors;
 use super::{SkipReason, Span, Target};
 use crate::linalg::symmetric_eigen;
@@ -69,12 +70,7 @@ fn fill_without(
 ) -> Result<Vec<[f64; 3]>, SkipReason> {
     crate::profile::count(crate::profile::Count::Gloersen);
     match t.data.gloersen {
-        Some(cache) => cache
-            .model(t, holes, mm_per_unit)
-            .as_ref()
-            .as_ref()
-            .map_err(|&e| e)?
-            .fill(t, span),
+        Some(cache) => cache.fill(t, span, holes, mm_per_unit),
         None => Model::build(t, holes, mm_per_unit)?.fill(t, span),
     }
 }
@@ -176,6 +172,22 @@ type Built = Result<Model, SkipReason>;
 /// order, so the models a gap can share are those of the gaps just before it. A model is
 /// a few hundred kB on the corpora's largest trials.
 const CACHE_MODELS: usize = 128;
+
+impl TrialModels for Cache {
+    fn fill(
+        &self,
+        t: &Target,
+        span: Span,
+        holes: &[(usize, usize)],
+        mm_per_unit: f64,
+    ) -> Result<Vec<[f64; 3]>, SkipReason> {
+        self.model(t, holes, mm_per_unit)
+            .as_ref()
+            .as_ref()
+            .map_err(|&e| e)?
+            .fill(t, span)
+    }
+}
 
 impl Cache {
     /// The target's model in this pass's data, built on first use.

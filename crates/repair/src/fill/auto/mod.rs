@@ -22,6 +22,7 @@
 //! choice among them.
 
 mod holes;
+mod kind;
 mod model;
 pub(super) mod steps;
 
@@ -31,7 +32,8 @@ use super::{
     SkipReason, Span, Target, STEP_FACTOR,
 };
 use crate::profile::{self, Count, Method, Work};
-use holes::{other_markers, same_marker, score, Scoring};
+use holes::{other_markers, same_marker, score, Scoring, RESID_NODES};
+use kind::Kind;
 pub(crate) use model::features;
 pub use model::{calibrated, log_ratio, Diag, FEATURES};
 use model::{deviation, donor_index, drift, prior};
@@ -60,8 +62,6 @@ const EDGE: [FillMethod; 5] = [
     FillMethod::Pattern,
     FillMethod::Gloersen,
 ];
-/// Other markers tried at most when the target has too little room.
-pub(super) const OTHER_MARKERS: usize = 4;
 /// Gap length from which a gap is scored on the full number of artificial gaps (shorter
 /// ones on half) and the target's shorter holes stand in for missing room. 5 (every length
 /// the evaluation measures) instead of 20 was chosen leave-one-lab-out (`fill_eval
@@ -75,9 +75,6 @@ const LONG: usize = 5;
 /// (up to 20: held-apart cells at 40 frames 0.7 % better to 2.8 % worse, tuned ones 2–5 %
 /// worse; up to 80: held-apart cells at 80 frames 0.4–3.5 % worse).
 const SMOOTH_MAX: usize = 40;
-/// Residuals per side the spline goes through: 8 instead of 5 was chosen in 25 of 26 folds
-/// of `fill_eval --nested` (3 in 1), every cell within 0.5 % of 5's: it hardly matters.
-pub(super) const RESID_NODES: usize = 8;
 /// Gap length from which PCA also enters with a wide model: the `WIDE_NEIGHBOURS` nearest
 /// markers over ±`WIDE_WINDOW` frames (towards Gløersen & Federolf's whole-trial model),
 /// which carries long gaps where the nearest markers alone do not. From 80 frames instead
@@ -135,11 +132,6 @@ fn gloersen_cost(t: &Target) -> f64 {
 /// gap and pull good fills off), and the 100-marker pipeline bench, whose gaps are up to
 /// 30 frames, took 1.3× as long.
 const SKELETON_FROM: usize = 40;
-/// Candidates this many times worse than the best after the first third of the trials are
-/// no longer scored, except the runner-up (see `holes::score`). 5 instead of 3 was chosen
-/// in 26 of 26 folds of `fill_eval --nested` (tuned labs' cells 3.3 % better to 0.8 %
-/// worse, held-apart ones within 1 %), at no cost on the pipeline bench.
-pub(super) const PRUNE: f64 = 5.0;
 
 /// `auto`'s candidates for a gap: donor methods only at the trial's edges.
 pub(super) fn candidates(span: Span) -> &'static [FillMethod] {
@@ -148,22 +140,6 @@ pub(super) fn candidates(span: Span) -> &'static [FillMethod] {
     } else {
         &INTERIOR
     }
-}
-
-/// What kind of fill a candidate is, beside its method.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub(super) struct Kind {
-    /// Held to the skeleton.
-    pub skel: bool,
-    /// A donor method's prediction tied to the samples by a spline through its residuals
-    /// (see `anchor`) instead of the line.
-    pub smooth: bool,
-    /// PCA with the wide model.
-    pub wide: bool,
-    /// How far the step rule moved the fill (mean distance, data units): 0 for a fill that
-    /// needed no slowing. A slowed fill is not its method's prediction, and what the
-    /// artificial gaps scored does not vouch for it (see `Diag::slowed`).
-    pub moved: f64,
 }
 
 /// What `auto` chose for one gap.
@@ -219,32 +195,7 @@ pub(super) fn fill(
     opts: &FillOptions,
     cands: &[FillMethod],
 ) -> Result<(Vec<[f64; 3]>, Choice), SkipReason> {
-    fill_checked(t, span, plan, opts, cands, true)
-}
-
-/// [`fill`]; with `estimate` false the first candidate that fills is returned as it is,
-/// unchecked and without an expected error (evaluations of single methods).
-pub(super) fn fill_checked(
-    t: &Target,
-    span: Span,
-    plan: &Plan,
-    opts: &FillOptions,
-    cands: &[FillMethod],
-    estimate: bool,
-) -> Result<(Vec<[f64; 3]>, Choice), SkipReason> {
     let edge = span.before.is_none() || span.after.is_none();
-    if !estimate {
-        let mut reason = None;
-        for &m in cands {
-            match fill_with(m, t, span, plan, opts) {
-                Ok(v) => return Ok((v, Choice::single(m))),
-                Err(r) => {
-                    reason.get_or_insert(r);
-                }
-            }
-        }
-        return Err(reason.unwrap_or(SkipReason::NoContext));
-    }
     let len = span.len();
     // Short gaps: polynomials and donors differ clearly, half the trials tell them apart.
     let want = if len >= LONG {
