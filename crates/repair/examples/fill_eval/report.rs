@@ -1,304 +1,7 @@
-//! Fill accuracy on every walking, running and full-body trial of the shared corpora
-//! (issue 10): artificial gaps of 5–80 frames in one marker and in 2–3 neighbouring
-//! markers, each single method against `auto`, per set and per rate, mean and max error in
-//! mm; the calibration of `auto`'s expected errors; fills that step faster than the marker
-//! ever moves. Coordinates are converted to mm before anything is pooled.
-//!
-//! ```sh
-//! cargo run --release -p repair --example fill_eval              # the full evaluation
-//! cargo run --release -p repair --example fill_eval -- --quick   # 10 gaps per cell, for iterating
-//! ```
-//! Options: `--gaps N` (per length, group and file; default 30), `--seed S`, `--only TEXT`
-//! (files whose path contains TEXT), `--set walking|fullbody`, `--records FILE` (every
-//! gap's errors as JSON lines, for further analysis; with `--replay`, the replayed records
-//! with the expected errors the model now makes), `--replay FILE` (report again from
-//! records), `--ablate` (with `--replay`: each expected-error feature left out in turn), `--nested
-//! A,B,...` (records of full runs that differ in one choice of `auto`'s, the shipped one
-//! first: the choice made leave-one-lab-out; a variant run with `--lengths` counts as the
-//! shipped one at the lengths it did not run), `--lengths 40,80` (only these gap lengths: a
-//! variant of a choice that acts on some lengths only costs that much), and the fill settings
-//! a variant may change: `--auto-trials N`, `--rigid-donors N`, `--spline-context N`,
-//! `--pca-neighbours N`, `--pca-variance F`, `--pca-window N`. `--trial-ends` knocks the gaps
-//! out at a trial's start or end instead of inside it (the trial cut where the gap begins or
-//! ends), and `--held-apart` runs the held-apart labs only; with either, the report closes
-//! with the shipped expected-error model's figures on those gaps (within 2×, over twice,
-//! what `--max-expected-error` leaves), for the CLI's help and docs/fill-evaluation.md.
+//! The evaluation's tables: per set, length and method; the held-apart labs; every lab left
+//! out; the worst cells; the nested leave-one-lab-out choice among variants.
 
-mod corpus;
-
-use corpus::{load, load_recorded, FILES};
-use repair::{calibration, evaluate, EvalConfig, FillMethod, GapScore};
-use std::collections::{BTreeMap, HashMap, HashSet};
-use std::io::Write;
-use std::path::PathBuf;
-
-/// The corpora every constant, candidate set and model weight of `auto` was chosen on.
-const TUNED: [&str; 3] = ["samples", "extra", "fullbody"];
-
-const LENGTHS: [usize; 5] = [5, 10, 20, 40, 80];
-const SINGLES: [FillMethod; 8] = [
-    FillMethod::Linear,
-    FillMethod::Lagrange2,
-    FillMethod::Lagrange5,
-    FillMethod::Spline,
-    FillMethod::Rigid,
-    FillMethod::Pattern,
-    FillMethod::Pca,
-    FillMethod::Kalman,
-];
-
-struct Args {
-    gaps: usize,
-    seed: u64,
-    only: Option<String>,
-    set: Option<String>,
-    records: Option<PathBuf>,
-    replay: Option<PathBuf>,
-    /// With `--replay`: the expected-error model with each feature left out in turn.
-    ablate: bool,
-    /// Records of `auto` under variants of one choice, the shipped variant first.
-    nested: Vec<PathBuf>,
-    methods: Option<Vec<FillMethod>>,
-    /// Gap lengths to run (all of [`LENGTHS`] unless `--lengths`).
-    lengths: Vec<usize>,
-    fill: repair::FillOptions,
-    /// Gaps at a trial's start or end (see `EvalConfig::at_trial_ends`).
-    trial_ends: bool,
-    /// Only the labs nothing was chosen on.
-    held_apart: bool,
-}
-
-fn args() -> Result<Args, String> {
-    let mut a = Args {
-        gaps: 30,
-        seed: 1,
-        only: None,
-        set: None,
-        records: None,
-        replay: None,
-        ablate: false,
-        nested: Vec::new(),
-        methods: None,
-        lengths: LENGTHS.to_vec(),
-        fill: repair::FillOptions::default(),
-        trial_ends: false,
-        held_apart: false,
-    };
-    let mut it = std::env::args().skip(1);
-    while let Some(x) = it.next() {
-        let mut val = || it.next().ok_or(format!("{x} needs a value"));
-        match x.as_str() {
-            "--quick" => a.gaps = 10,
-            "--gaps" => a.gaps = val()?.parse().map_err(|_| "--gaps: a number")?,
-            "--seed" => a.seed = val()?.parse().map_err(|_| "--seed: a number")?,
-            "--only" => a.only = Some(val()?),
-            "--set" => a.set = Some(val()?),
-            "--records" => a.records = Some(PathBuf::from(val()?)),
-            "--replay" => a.replay = Some(PathBuf::from(val()?)),
-            "--ablate" => a.ablate = true,
-            "--trial-ends" => a.trial_ends = true,
-            "--held-apart" => a.held_apart = true,
-            "--nested" => a.nested = val()?.split(',').map(PathBuf::from).collect(),
-            "--lengths" => {
-                a.lengths = val()?
-                    .split(',')
-                    .map(|l| {
-                        l.parse()
-                            .ok()
-                            .filter(|l| LENGTHS.contains(l))
-                            .ok_or(format!("--lengths: {l} is not one of {LENGTHS:?}"))
-                    })
-                    .collect::<Result<_, _>>()?
-            }
-            "--methods" => {
-                a.methods = Some(
-                    val()?
-                        .split(',')
-                        .map(|m| FillMethod::from_name(m).ok_or(format!("no method {m}")))
-                        .collect::<Result<_, _>>()?,
-                )
-            }
-            "--pca-neighbours" => {
-                a.fill.pca_neighbours = val()?.parse().map_err(|_| "--pca-neighbours: a number")?
-            }
-            "--pca-window" => {
-                a.fill.pca_window = val()?.parse().map_err(|_| "--pca-window: a number")?
-            }
-            "--pca-variance" => {
-                a.fill.pca_variance = val()?.parse().map_err(|_| "--pca-variance: a number")?
-            }
-            "--auto-trials" => {
-                a.fill.auto_trials = val()?.parse().map_err(|_| "--auto-trials: a number")?
-            }
-            "--rigid-donors" => {
-                a.fill.rigid_donors = val()?.parse().map_err(|_| "--rigid-donors: a number")?
-            }
-            "--spline-context" => {
-                a.fill.spline_context = val()?.parse().map_err(|_| "--spline-context: a number")?
-            }
-            _ => return Err(format!("unknown option {x}")),
-        }
-    }
-    Ok(a)
-}
-
-/// One gap record with where it came from.
-#[derive(Clone)]
-struct Rec {
-    /// The trial, relative to its corpus.
-    file: String,
-    /// From a lab nothing was chosen on (see [`TUNED`]).
-    held: bool,
-    /// From the corpora everything was chosen on.
-    tuned: bool,
-    set: &'static str,
-    lab: &'static str,
-    rate: u32,
-    group: usize,
-    /// The run the gap came from: 1, 2 or 3 markers (`group` puts 2 and 3 together); 0 in
-    /// records written before it was kept.
-    run: usize,
-    g: GapScore,
-}
-
-fn main() {
-    let a = match args() {
-        Ok(a) => a,
-        Err(e) => {
-            eprintln!("fill_eval: {e}");
-            std::process::exit(2);
-        }
-    };
-    if !a.nested.is_empty() {
-        match a
-            .nested
-            .iter()
-            .map(|p| replay(p))
-            .collect::<Result<Vec<_>, _>>()
-        {
-            Ok(variants) => nested(&a.nested, &variants),
-            Err(e) => {
-                eprintln!("fill_eval: --nested: {e}");
-                std::process::exit(2);
-            }
-        }
-        return;
-    }
-    if let Some(path) = &a.replay {
-        match replay(path) {
-            Ok(recs) => {
-                // Replayed records written again carry the expected errors the model now
-                // in the code makes.
-                if let Some(p) = &a.records {
-                    write_records(p, &recs);
-                }
-                let tuned: Vec<Rec> = recs.iter().filter(|r| r.tuned).map(Rec::clone).collect();
-                report(&tuned);
-                held_apart(&recs);
-                if a.ablate {
-                    ablation(&recs);
-                }
-            }
-            Err(e) => {
-                eprintln!("fill_eval: {}: {e}", path.display());
-                std::process::exit(2);
-            }
-        }
-        return;
-    }
-    let roots: BTreeMap<&str, Option<PathBuf>> = [
-        ("samples", testkit::c3d_samples()),
-        ("extra", testkit::c3d_extra()),
-        ("fullbody", testkit::c3d_fullbody()),
-        ("more", testkit::c3d_more()),
-    ]
-    .into_iter()
-    .collect();
-    let methods = a.methods.clone().unwrap_or_else(|| {
-        let mut m = SINGLES.to_vec();
-        m.push(FillMethod::Gloersen);
-        m.push(FillMethod::Auto);
-        m
-    });
-    let mut recs: Vec<Rec> = Vec::new();
-    let t0 = std::time::Instant::now();
-    let tuned_labs: Vec<&str> = FILES
-        .iter()
-        .filter(|f| TUNED.contains(&f.2))
-        .map(|f| f.1)
-        .collect();
-    for &(set, lab, corpus, rel) in FILES {
-        let held = !TUNED.contains(&corpus) && !tuned_labs.contains(&lab);
-        if a.set.as_deref().is_some_and(|s| s != set)
-            || a.only.as_deref().is_some_and(|o| !rel.contains(o))
-            || (a.held_apart && !held)
-        {
-            continue;
-        }
-        let Some(Some(root)) = roots.get(corpus) else {
-            continue;
-        };
-        let path = root.join(rel);
-        // Trials of `c3d-more` may hold the capture software's fills (residual 0), which
-        // are no truth: where a trial has recorded residuals, they count as missing.
-        let loaded = if corpus == "more" {
-            load_recorded(&path)
-        } else {
-            load(&path)
-        };
-        let trial = match loaded {
-            Ok(t) if t.markers() >= 4 => t,
-            Ok(_) => {
-                eprintln!("{rel}: fewer than 4 markers, left out");
-                continue;
-            }
-            Err(e) => {
-                eprintln!("{rel}: {e}");
-                continue;
-            }
-        };
-        let rate = trial.rate_hz.round() as u32;
-        // Groups of 2 and of 3 markers share the "2–3 markers" rows, half the gaps each.
-        for (group, gaps) in [(1, a.gaps), (2, a.gaps.div_ceil(2)), (3, a.gaps / 2)] {
-            let cfg = EvalConfig {
-                gap_lengths: a.lengths.clone(),
-                gaps_per_length: gaps,
-                methods: methods.clone(),
-                group,
-                seed: a.seed,
-                fill: a.fill.clone(),
-                markers: None,
-                at_trial_ends: a.trial_ends,
-            };
-            match evaluate(&trial, &cfg) {
-                Ok(ev) => recs.extend(ev.gaps.into_iter().map(|g| Rec {
-                    file: rel.to_string(),
-                    held,
-                    tuned: TUNED.contains(&corpus),
-                    set,
-                    lab,
-                    rate,
-                    group: group.min(2),
-                    run: group,
-                    g,
-                })),
-                Err(e) => eprintln!("{rel}: {e}"),
-            }
-        }
-        eprintln!("{rel}: done at {:.0} s", t0.elapsed().as_secs_f64());
-    }
-    if let Some(p) = &a.records {
-        write_records(p, &recs);
-    }
-    // The corpora everything was chosen on, as before; then the labs nothing was chosen on
-    // (the CMU trials of `c3d-more` are in neither: their lab was tuned on).
-    let tuned: Vec<Rec> = recs.iter().filter(|r| r.tuned).map(Rec::clone).collect();
-    report(&tuned);
-    held_apart(&recs);
-    if a.trial_ends || a.held_apart {
-        shipped_on_held_apart(&recs, a.trial_ends);
-    }
-}
+use super::*;
 
 /// The shipped expected-error model (the one `repair` applies) on the held-apart labs'
 /// `auto` gaps of this run, inside the trial or at its ends: how often the truth is within
@@ -306,7 +9,7 @@ fn main() {
 /// was fitted on gaps inside trials only, so on gaps at a trial's end these figures are
 /// what it gives a kind of gap it never saw; inside, the held-apart labs were among those
 /// it was fitted on (the full run's leave-one-lab-out lines are the fair figure there).
-fn shipped_on_held_apart(recs: &[Rec], ends: bool) {
+pub(crate) fn shipped_on_held_apart(recs: &[Rec], ends: bool) {
     let place = if ends {
         "at a trial's start or end"
     } else {
@@ -340,7 +43,7 @@ fn shipped_on_held_apart(recs: &[Rec], ends: bool) {
 /// under it: the figures the choice earns on a lab it was not made on. Prints how many
 /// labs' folds chose each variant, and the nested pooled errors of the held-apart and
 /// the tuned labs against the shipped variant's.
-fn nested(paths: &[PathBuf], variants: &[Vec<Rec>]) {
+pub(crate) fn nested(paths: &[PathBuf], variants: &[Vec<Rec>]) {
     // A cell (set, markers, length), and per lab and cell the sum and count of auto's
     // mean errors.
     type Cell = (&'static str, usize, usize);
@@ -503,7 +206,7 @@ Compared on {} of the shipped run's {} gaps (those every variant ran).
 /// from the same draw, and a long run draws a place again now and then). Records written
 /// before the run was kept are in the order the runs drew them, so the run is then
 /// counted from the record order.
-fn common_gaps(variants: &[Vec<Rec>]) -> Vec<Vec<bool>> {
+pub(crate) fn common_gaps(variants: &[Vec<Rec>]) -> Vec<Vec<bool>> {
     use std::collections::BTreeSet;
     type Key = (String, usize, usize, usize, usize, usize);
     // Each variant's lengths, and each of its records' key (`None`: not auto).
@@ -562,69 +265,7 @@ fn common_gaps(variants: &[Vec<Rec>]) -> Vec<Vec<bool>> {
         .collect()
 }
 
-/// Every gap's record as one JSON line (`--records`).
-fn write_records(p: &std::path::Path, recs: &[Rec]) {
-    let mut f = std::io::BufWriter::new(std::fs::File::create(p).expect("records file"));
-    for r in recs {
-        let v = serde_json::json!({"file": r.file, "held": r.held, "tuned": r.tuned, "set": r.set, "lab": r.lab, "rate": r.rate, "group": r.group, "run": r.run, "gap": r.g});
-        writeln!(f, "{v}").expect("write records");
-    }
-}
-
-/// The records of an earlier run (`--records`), to report again without filling: the
-/// expected-error model's fit and its held-apart check read only what the records hold.
-fn replay(path: &std::path::Path) -> Result<Vec<Rec>, String> {
-    #[derive(serde::Deserialize)]
-    struct Line {
-        file: String,
-        held: bool,
-        tuned: bool,
-        set: String,
-        lab: String,
-        rate: u32,
-        group: usize,
-        #[serde(default)]
-        run: usize,
-        gap: GapScore,
-    }
-    // Set and lab names as the corpus list spells them (records of labs it no longer
-    // lists keep theirs).
-    let name = |s: &str| -> &'static str {
-        FILES
-            .iter()
-            .flat_map(|f| [f.0, f.1])
-            .find(|n| *n == s)
-            .unwrap_or_else(|| Box::leak(s.to_string().into_boxed_str()))
-    };
-    let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
-    text.lines()
-        .enumerate()
-        .map(|(i, l)| {
-            let mut v: Line =
-                serde_json::from_str(l).map_err(|e| format!("line {}: {e}", i + 1))?;
-            // `auto`'s expected error as the model now in the code makes it.
-            if let (FillMethod::Auto, Some(mut d)) = (v.gap.method, v.gap.evidence) {
-                // Records made before the fill's step was evidence hold it beside.
-                d.step = d.step.or(Some(v.gap.step_ratio));
-                v.gap.evidence = Some(d);
-                v.gap.expected = Some(repair::fill::calibrated(&d));
-            }
-            Ok(Rec {
-                file: v.file,
-                held: v.held,
-                tuned: v.tuned,
-                set: name(&v.set),
-                lab: name(&v.lab),
-                rate: v.rate,
-                group: v.group,
-                run: v.run,
-                g: v.gap,
-            })
-        })
-        .collect()
-}
-
-fn mean(v: impl Iterator<Item = f64>) -> (f64, usize) {
+pub(crate) fn mean(v: impl Iterator<Item = f64>) -> (f64, usize) {
     let (mut s, mut n) = (0.0, 0);
     for x in v {
         s += x;
@@ -635,7 +276,7 @@ fn mean(v: impl Iterator<Item = f64>) -> (f64, usize) {
 
 /// Pooled tables: rows (set or rate) × group, columns gap lengths; auto's mean (max) and
 /// the best single method's mean on the same gaps.
-fn table(title: &str, recs: &[&Rec]) {
+pub(crate) fn table(title: &str, recs: &[&Rec]) {
     println!("\n### {title}\n");
     println!("| markers | | 5 | 10 | 20 | 40 | 80 |");
     println!("|---|---|---|---|---|---|---|");
@@ -679,7 +320,7 @@ fn table(title: &str, recs: &[&Rec]) {
     }
 }
 
-fn report(recs: &[Rec]) {
+pub(crate) fn report(recs: &[Rec]) {
     let all: Vec<&Rec> = recs.iter().collect();
     let files_note = "Mean 3D error in mm over the artificial gaps (max in brackets)";
     println!(
@@ -752,389 +393,9 @@ fn report(recs: &[Rec]) {
     println!("\nlabs: {}", labs.join(", "));
 }
 
-/// Features of the expected-error model (see `repair`'s `calibrated`, which makes them for
-/// its own estimates and for this fit).
-fn features(g: &GapScore) -> Option<[f64; K]> {
-    g.calibration_features()
-}
-
-/// Number of features.
-const K: usize = repair::fill::FEATURES;
-/// The share of gaps an expected error may leave above twice itself (the limit the
-/// estimates are held to).
-const OVER_CONFIDENT: f64 = 0.05;
-/// One-sided 90 % normal quantile: the margin over labs' spread in [`fit`].
-const LAB_BOUND_Z: f64 = 1.2816;
-/// The labs of the set a new lab's estimates are judged with, in [`fit`]'s bound: the
-/// model is re-measured on sets of trials from sources it never saw (two such sets so far,
-/// 6 sources each), and a lab's users judge it on their own trials alike.
-const NEW_LABS: f64 = 6.0;
-
-/// The expected-error model: ln(expected / scored) = β · x + c₁ · exp(γ · x) + c₀.
-#[derive(Clone, Copy)]
-struct Model {
-    beta: [f64; K],
-    gamma: [f64; K],
-    c1: f64,
-    c0: f64,
-}
-
-/// One gap of the fit: its lab, features and ln(real / scored).
-type Row<'a> = (&'a str, [f64; K], f64);
-
-/// Fits the model to ln(real / scored): β by median regression (iteratively reweighted
-/// least squares, residuals floored at 0.05); γ by least squares of the log of the
-/// residuals' size (floored at 0.001); every lab weighing the same in both. The margin is
-/// chosen on gaps of labs the β and γ judging them never saw (each lab's gaps by a fit to
-/// the other labs'), as the shipped model meets new labs: c₁ on a grid from −1 to 3 and,
-/// for each, the smallest c₀ whose labs' over-confidence rates (gaps above twice their
-/// estimate) keep their mean over a new set of [`NEW_LABS`] labs at 5 % or less by a
-/// one-sided 90 % prediction bound (the labs' mean rate + 1.28 · sd · √(1/labs +
-/// 1/[`NEW_LABS`])); the pair that puts most gaps within 2× (labs weighing the same) is
-/// kept.
-///
-/// Why labs and a bound: with c₀ set to leave 5 % of the pooled gaps above twice their
-/// estimate, the held-apart labs of `c3d-more` got 6.0 %. Per lab the rate ran from 3.5 to
-/// 8.6 %, the small labs higher, and the pooled quantile is set by the two big ones. Labs
-/// weighed alike and the bound bring the held-apart labs to about 5 % at 0.5 points of
-/// within-2×. A bound on the labs' mean rate alone (sd / √labs) still left the 9
-/// held-apart labs, judged leave-one-lab-out, at 4.9 % (walking 5.1 %): their rates ran
-/// from 3.5 to 6.7 %, and a set of a few new labs strays from the mean of 26 by more than
-/// that mean is uncertain, so the bound is a prediction bound for such a set (4.6 %,
-/// walking 4.7 %, at 0.7 points of within-2×). The median, not the mean: a fit that keeps most gaps close to their estimate
-/// puts more of them within 2× once the offset caps over-confidence, and the real errors'
-/// heavy tails pull a least-squares fit about.
-fn fit(gs: &[(&str, &GapScore)]) -> Option<Model> {
-    fit_masked(gs, &[true; K])
-}
-
-/// [`fit`] with only the features of `mask` (the others' weights stay 0).
-fn fit_masked(gs: &[(&str, &GapScore)], mask: &[bool; K]) -> Option<Model> {
-    let rows: Vec<Row> = gs
-        .iter()
-        .filter_map(|(lab, g)| {
-            let mut x = features(g)?;
-            x.iter_mut().zip(mask).for_each(|(v, &on)| {
-                if !on {
-                    *v = 0.0;
-                }
-            });
-            Some((
-                *lab,
-                x,
-                (g.mean.max(1e-9) / g.evidence?.scored.max(1e-9)).ln(),
-            ))
-        })
-        .collect();
-    let mut labs: Vec<&str> = rows.iter().map(|r| r.0).collect();
-    labs.sort_unstable();
-    labs.dedup();
-    // Each gap's residual and scale under the β and γ fitted without its lab.
-    let mut unseen: Vec<(f64, f64, f64)> = Vec::with_capacity(rows.len());
-    let mut lab_of: Vec<usize> = Vec::with_capacity(rows.len());
-    let mut lab_ix = 0usize;
-    for lab in &labs {
-        let (test, train): (Vec<Row>, Vec<Row>) = rows.iter().partition(|r| r.0 == *lab);
-        let Some((beta, gamma)) = fit_core(&train) else {
-            continue;
-        };
-        let w = 1.0 / test.len() as f64;
-        unseen.extend(test.iter().map(|(_, x, y)| {
-            (
-                y - dot(&beta, x),
-                dot(&gamma, x).clamp(-20.0, 20.0).exp(),
-                w,
-            )
-        }));
-        lab_of.extend(std::iter::repeat_n(lab_ix, test.len()));
-        lab_ix += 1;
-    }
-    let (beta, gamma) = fit_core(&rows)?;
-    let ln2 = std::f64::consts::LN_2;
-    let total: f64 = unseen.iter().map(|u| u.2).sum();
-    let mut best: Option<(f64, Model)> = None;
-    for i in 0..=80 {
-        let c1 = -1.0 + 0.05 * f64::from(i);
-        let z: Vec<(f64, f64)> = unseen.iter().map(|(r, s, w)| (r - c1 * s, *w)).collect();
-        // The smallest c0 whose labs' over-confidence rates keep a new set of labs' mean at
-        // 5 % by a one-sided 90 % prediction bound: new labs are more draws from labs, not
-        // from gaps.
-        let ok = |c0: f64| {
-            let mut over = vec![(0usize, 0usize); lab_ix];
-            for (&(v, _), &l) in z.iter().zip(&lab_of) {
-                over[l].1 += 1;
-                over[l].0 += usize::from(v - c0 > ln2);
-            }
-            let rates: Vec<f64> = over
-                .iter()
-                .filter(|o| o.1 > 0)
-                .map(|o| o.0 as f64 / o.1 as f64)
-                .collect();
-            let n = rates.len() as f64;
-            let m = rates.iter().sum::<f64>() / n;
-            let sd = (rates.iter().map(|r| (r - m).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
-            m + LAB_BOUND_Z * sd * (1.0 / n + 1.0 / NEW_LABS).sqrt() <= OVER_CONFIDENT
-        };
-        let (mut lo, mut hi) = (-5.0, 5.0);
-        for _ in 0..40 {
-            let mid = 0.5 * (lo + hi);
-            if ok(mid) {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-        }
-        let c0 = hi;
-        let within = z
-            .iter()
-            .filter(|(v, _)| (v - c0).abs() <= ln2)
-            .map(|(_, w)| w)
-            .sum::<f64>()
-            / total;
-        if best.as_ref().is_none_or(|b| within > b.0) {
-            best = Some((
-                within,
-                Model {
-                    beta,
-                    gamma,
-                    c1,
-                    c0,
-                },
-            ));
-        }
-    }
-    best.map(|b| b.1)
-}
-
-/// β and γ of [`fit`].
-fn fit_core(rows: &[Row]) -> Option<([f64; K], [f64; K])> {
-    if rows.len() < 2 * K {
-        return None;
-    }
-    let xy: Vec<([f64; K], f64)> = rows.iter().map(|r| (r.1, r.2)).collect();
-    // Every lab weighs the same, whatever its number of gaps: a user's lab is one more lab.
-    let mut per_lab: BTreeMap<&str, usize> = BTreeMap::new();
-    rows.iter()
-        .for_each(|r| *per_lab.entry(r.0).or_default() += 1);
-    let lab_w: Vec<f64> = rows
-        .iter()
-        .map(|r| rows.len() as f64 / per_lab[r.0] as f64)
-        .collect();
-    let mut w = lab_w.clone();
-    let mut beta = [0.0; K];
-    for _ in 0..15 {
-        beta = regress(&xy, &w)?;
-        for (((x, y), wi), lw) in xy.iter().zip(w.iter_mut()).zip(&lab_w) {
-            *wi = lw / (y - dot(&beta, x)).abs().max(0.05);
-        }
-    }
-    let size: Vec<([f64; K], f64)> = xy
-        .iter()
-        .map(|(x, y)| (*x, (y - dot(&beta, x)).abs().max(1e-3).ln()))
-        .collect();
-    let gamma = regress(&size, &lab_w)?;
-    Some((beta, gamma))
-}
-
-/// Weighted least squares of the rows' targets on their features.
-fn regress(rows: &[([f64; K], f64)], w: &[f64]) -> Option<[f64; K]> {
-    let mut m = [[0.0; K + 1]; K];
-    for ((x, y), wi) in rows.iter().zip(w) {
-        for i in 0..K {
-            m[i][K] += wi * x[i] * y;
-            for j in 0..K {
-                m[i][j] += wi * x[i] * x[j];
-            }
-        }
-    }
-    // A feature left out (all zero) gets weight 0.
-    for (i, row) in m.iter_mut().enumerate() {
-        if row[i] == 0.0 {
-            row[i] = 1.0;
-        }
-    }
-    solve(m)
-}
-
-fn dot(a: &[f64; K], b: &[f64; K]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-/// Gauss–Jordan elimination with partial pivoting on the K × (K + 1) augmented system.
-fn solve(mut m: [[f64; K + 1]; K]) -> Option<[f64; K]> {
-    for c in 0..K {
-        let p = (c..K).max_by(|&i, &j| m[i][c].abs().total_cmp(&m[j][c].abs()))?;
-        m.swap(c, p);
-        if m[c][c].abs() < 1e-12 {
-            return None;
-        }
-        let pivot = m[c];
-        for (r, row) in m.iter_mut().enumerate() {
-            if r != c {
-                let f = row[c] / pivot[c];
-                for (x, p) in row.iter_mut().zip(pivot).skip(c) {
-                    *x -= f * p;
-                }
-            }
-        }
-    }
-    Some(std::array::from_fn(|i| m[i][K] / m[i][i]))
-}
-
-/// Names of the expected-error model's features (see `repair::fill::features`).
-const FEATURE_NAMES: [&str; K] = [
-    "1",
-    "ln q",
-    "ln len",
-    "(ln q)^2",
-    "ln q3",
-    "ln h",
-    "ln bend",
-    "ln drift",
-    "refilled",
-    "ln rescored",
-    "hinge",
-    "ln donor_err",
-    "share",
-    "ln respread",
-    "step excess",
-    "one candidate",
-];
-
-/// Each feature of the expected-error model left out in turn: the model judged
-/// leave-one-lab-out on the tuned labs (each lab by a fit to the others, the margin chosen
-/// inside that fit as always), which decides whether a feature pays, and the model fitted
-/// on all tuned labs judged on the held-apart labs, which reports it.
-fn ablation(recs: &[Rec]) {
-    use rayon::prelude::*;
-    let tuned: Vec<(&str, &GapScore)> = recs
-        .iter()
-        .filter(|r| r.tuned && r.g.method == FillMethod::Auto)
-        .map(|r| (r.lab, &r.g))
-        .collect();
-    let held: Vec<&GapScore> = recs
-        .iter()
-        .filter(|r| r.held && r.g.method == FillMethod::Auto)
-        .map(|r| &r.g)
-        .collect();
-    let mut labs: Vec<&str> = tuned.iter().map(|r| r.0).collect();
-    labs.sort_unstable();
-    labs.dedup();
-    let start = [true; K];
-    let variants: Vec<Option<usize>> = std::iter::once(None)
-        .chain((1..K).filter(|&k| start[k]).map(Some))
-        .collect();
-    let rows: Vec<String> = variants
-        .par_iter()
-        .map(|&out| {
-            let mut mask = start;
-            if let Some(k) = out {
-                mask[k] = false;
-            }
-            let mut lolo = Vec::new();
-            for lab in &labs {
-                let train: Vec<(&str, &GapScore)> =
-                    tuned.iter().filter(|r| r.0 != *lab).copied().collect();
-                if let Some(m) = fit_masked(&train, &mask) {
-                    lolo.extend(tuned.iter().filter(|r| r.0 == *lab).map(|r| GapScore {
-                        expected: predict(r.1, &m).or(r.1.expected),
-                        ..*r.1
-                    }));
-                }
-            }
-            let a = calibration(&lolo, 0.0);
-            let h = fit_masked(&tuned, &mask).map(|m| {
-                let v: Vec<GapScore> = held
-                    .iter()
-                    .map(|g| GapScore {
-                        expected: predict(g, &m).or(g.expected),
-                        ..**g
-                    })
-                    .collect();
-                calibration(&v, 0.0)
-            });
-            let name = out.map_or("(none)", |k| FEATURE_NAMES[k]);
-            format!(
-                "| {name} | {:.3} | {:.1} | {:.1} | {} |",
-                a.spearman,
-                100.0 * a.within_2x,
-                100.0 * a.over_confident,
-                h.map_or("–".into(), |h| format!(
-                    "{:.3} | {:.1} | {:.1}",
-                    h.spearman,
-                    100.0 * h.within_2x,
-                    100.0 * h.over_confident
-                ))
-            )
-        })
-        .collect();
-    println!("\n### expected-error model: each feature left out\n");
-    println!("| left out | tuned LOLO Spearman | within 2x % | over % | held apart Spearman | within 2x % | over % |");
-    println!("|---|---|---|---|---|---|---|");
-    rows.iter().for_each(|r| println!("{r}"));
-}
-
-fn predict(g: &GapScore, m: &Model) -> Option<f64> {
-    let x = features(g)?;
-    // As `calibrated` does: a score of 0 (exact data) counts as 1e-12.
-    let s = g.evidence?.scored.max(1e-12);
-    Some(s * repair::fill::log_ratio(&x, &m.beta, &m.gamma, m.c1, m.c0).exp())
-}
-
-/// The expected-error model fitted leave-one-lab-out: each lab's gaps are estimated by a
-/// model fitted on the other labs only.
-fn calibrate(recs: &[Rec]) {
-    let auto: Vec<&Rec> = recs
-        .iter()
-        .filter(|r| r.g.method == FillMethod::Auto)
-        .collect();
-    let out = left_out(&auto);
-    let show = |name: &str, v: Vec<GapScore>| {
-        println!(
-            "{}",
-            calibration_line(&format!("{name}, model fitted leave-one-lab-out"), &v)
-        );
-    };
-    show("all", out.iter().map(|x| x.1).collect());
-    for set in ["walking", "fullbody"] {
-        show(
-            set,
-            out.iter().filter(|x| x.0.set == set).map(|x| x.1).collect(),
-        );
-    }
-}
-
-/// `auto`'s gaps of every lab in `auto`, each with the expected error of the model fitted to
-/// the other labs' gaps (a lab whose fit fails is left out; a gap without evidence keeps
-/// its prior).
-fn left_out<'a>(auto: &[&'a Rec]) -> Vec<(&'a Rec, GapScore)> {
-    use rayon::prelude::*;
-    let mut labs: Vec<&str> = auto.iter().map(|r| r.lab).collect();
-    labs.sort_unstable();
-    labs.dedup();
-    labs.par_iter()
-        .flat_map_iter(|lab| {
-            let train: Vec<(&str, &GapScore)> = auto
-                .iter()
-                .filter(|r| r.lab != *lab)
-                .map(|r| (r.lab, &r.g))
-                .collect();
-            let model = fit(&train);
-            auto.iter()
-                .filter(|r| r.lab == *lab)
-                .filter_map(|r| {
-                    // A gap without evidence keeps its prior (see `repair`'s `prior`).
-                    let expected = predict(&r.g, &model?).or(r.g.expected);
-                    Some((*r, GapScore { expected, ..r.g }))
-                })
-                .collect::<Vec<_>>()
-        })
-        .collect()
-}
-
 /// One line of an expected-error calibration: `label`, then how the gaps' expected errors
 /// match their real ones.
-fn calibration_line(label: &str, v: &[GapScore]) -> String {
+pub(crate) fn calibration_line(label: &str, v: &[GapScore]) -> String {
     let c = calibration(v, 0.0);
     format!(
         "- {label}: {} gaps, Spearman {:.3}, within 2x {:.1} %, over-confident {:.1} %, under-confident {:.1} %",
@@ -1149,7 +410,7 @@ fn calibration_line(label: &str, v: &[GapScore]) -> String {
 /// How the fills off by more than 20 mm fare under their expected errors: how many get
 /// one above 10 mm (within 2× or cautious) and above `repair`'s default limit of 20 mm
 /// (left `uncertain`), and how many fills within 10 mm that limit would leave.
-fn catastrophic_line(label: &str, v: &[GapScore]) -> String {
+pub(crate) fn catastrophic_line(label: &str, v: &[GapScore]) -> String {
     let above = |g: &GapScore, e: f64| g.expected.is_some_and(|x| x > e);
     let bad: Vec<&GapScore> = v.iter().filter(|g| g.mean > 20.0).collect();
     let flagged = bad.iter().filter(|g| above(g, 10.0)).count();
@@ -1167,7 +428,7 @@ fn catastrophic_line(label: &str, v: &[GapScore]) -> String {
 /// What `repair --max-expected-error LIMIT` (mm) leaves `uncertain` of the gaps `v`: the
 /// share of all gaps, and of the fills off by more than 50 mm, by more than 20 mm and
 /// within 5 mm (the CLI's help quotes this line for the held-apart labs).
-fn limit_line(label: &str, limit: f64, v: &[GapScore]) -> String {
+pub(crate) fn limit_line(label: &str, limit: f64, v: &[GapScore]) -> String {
     let left = |keep: &dyn Fn(&GapScore) -> bool| {
         let of: Vec<&GapScore> = v.iter().filter(|g| keep(g)).collect();
         let n = of
@@ -1186,7 +447,7 @@ fn limit_line(label: &str, limit: f64, v: &[GapScore]) -> String {
 }
 
 /// Mean error of `m` over the gaps of `recs` of `group` and `len` (NaN without any).
-fn cell_mean(recs: &[&Rec], group: usize, len: usize, m: FillMethod) -> f64 {
+pub(crate) fn cell_mean(recs: &[&Rec], group: usize, len: usize, m: FillMethod) -> f64 {
     mean(
         recs.iter()
             .filter(|r| r.group == group && r.g.gap_len == len && r.g.method == m)
@@ -1196,7 +457,7 @@ fn cell_mean(recs: &[&Rec], group: usize, len: usize, m: FillMethod) -> f64 {
 }
 
 /// The lowest mean of a single method in a cell, and the method.
-fn best_single(recs: &[&Rec], group: usize, len: usize) -> (f64, FillMethod) {
+pub(crate) fn best_single(recs: &[&Rec], group: usize, len: usize) -> (f64, FillMethod) {
     SINGLES
         .iter()
         .map(|&m| (cell_mean(recs, group, len, m), m))
@@ -1215,7 +476,7 @@ fn best_single(recs: &[&Rec], group: usize, len: usize) -> (f64, FillMethod) {
 /// [`TUNED`]), as a new lab meets `auto`: its pooled tables, the spread over labs, and the
 /// expected-error model's calibration there, fitted on the tuned labs and fitted
 /// leave-one-lab-out on every lab (the shipped model is fitted on every lab).
-fn held_apart(recs: &[Rec]) {
+pub(crate) fn held_apart(recs: &[Rec]) {
     let held: Vec<&Rec> = recs.iter().filter(|r| r.held).collect();
     if held.is_empty() {
         return;
@@ -1372,7 +633,7 @@ fn held_apart(recs: &[Rec]) {
 /// labs, as the shipped model, fitted to every lab, meets a new one. Reported for the
 /// held-apart labs, the tuned labs and all of them; then the constants fitted to every
 /// lab, which `repair` ships.
-fn every_lab_left_out(recs: &[Rec]) {
+pub(crate) fn every_lab_left_out(recs: &[Rec]) {
     let auto: Vec<&Rec> = recs
         .iter()
         .filter(|r| (r.held || r.tuned) && r.g.method == FillMethod::Auto)
@@ -1448,7 +709,7 @@ fn every_lab_left_out(recs: &[Rec]) {
 
 /// Prints a row per lab, set and markers (one, 2–3) of `per_lab`, with `cell`'s text for
 /// each gap length (it gets the lab, set, markers' name, records, group and length).
-fn lab_rows<'a>(
+pub(crate) fn lab_rows<'a>(
     per_lab: &[(&'a str, &'a str, Vec<&'a Rec>)],
     mut cell: impl FnMut(&'a str, &'a str, &str, &[&Rec], usize, usize) -> String,
 ) {
@@ -1468,7 +729,7 @@ fn lab_rows<'a>(
 /// its fill came from, its expected error and what that was made from (score on the
 /// artificial gaps, the two best candidates' spread on the real gap): the fills a user
 /// is most misled by when the estimate is small.
-fn worst_per_cell(recs: &[&Rec]) {
+pub(crate) fn worst_per_cell(recs: &[&Rec]) {
     println!("\n### held apart: auto's largest error per cell\n");
     println!("| set | markers | frames | lab | mean (max) mm | method | expected | scored | spread | refilled |");
     println!("|---|---|---|---|---|---|---|---|---|---|");
