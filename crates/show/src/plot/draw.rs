@@ -293,14 +293,7 @@ fn draw_axis<DB: DrawingBackend>(
     }
     draw_events(&mut chart, &plot.events, (x0, t1), (lo, hi), axis == 0)?;
     if legend {
-        chart
-            .configure_series_labels()
-            .label_font((FAMILY, 12))
-            .background_style(WHITE.mix(0.85))
-            .border_style(RGBColor(180, 180, 180))
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(err)?;
+        draw_legend(&mut chart)?;
     }
     Ok(())
 }
@@ -356,6 +349,21 @@ fn draw_analog<DB: DrawingBackend>(
 /// Each event within the x range as a vertical line over the panel's height; with
 /// `labels`, its short label at the top (the file's) or the bottom (detected ones, so the
 /// two never cover each other), centred on the line, and a legend entry per kind.
+/// The series' legend, in the chart's upper right corner, as every chart draws it.
+pub(super) fn draw_legend<'a, DB: DrawingBackend + 'a>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+) -> Result<()> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| Error::Draw(e.to_string());
+    chart
+        .configure_series_labels()
+        .label_font((FAMILY, 12))
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(180, 180, 180))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(err)
+}
+
 pub(super) fn draw_events<DB: DrawingBackend>(
     chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
     events: &[Mark],

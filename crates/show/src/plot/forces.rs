@@ -166,15 +166,8 @@ fn draw_vertical<DB: DrawingBackend>(
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
     }
     super::draw::draw_events(&mut chart, events, (x0, t1), (lo, hi), true)?;
-    chart
-        .configure_series_labels()
-        .label_font((family, 12))
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(180, 180, 180))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(err)?;
-    Ok(())
+    // `family` is the embedded font's (`draw::font`), which the legend uses too.
+    super::draw::draw_legend(&mut chart)
 }
 
 fn draw_top_view<DB: DrawingBackend>(
