@@ -272,7 +272,7 @@ fn force_sources(c: &c3d::C3d, opts: &ForceOptions, path: &Path) -> Result<Vec<S
     if fp.platforms.is_empty() {
         return Err(trial_error(
             path,
-            "--forces: the trial has no force plate that can be computed",
+            "force-plate columns were asked for, but the trial has no force plate that can be computed",
         ));
     }
     Ok(fp
