@@ -5,6 +5,7 @@
 //! cargo run --release -p c3dfix --example events_eval -- --strike zeni:0.02 --off desailly:-0.012,zeni:-0.015
 //! cargo run --release -p c3dfix --example events_eval -- --misses       # each missed event, where
 //! cargo run --release -p c3dfix --example events_eval -- --dump e.csv   # each method's error per event
+//! cargo run --release -p c3dfix --example events_eval -- --correlate --correlate-strike heel  # auto matched to the plate steps
 //! ```
 //!
 //! Every C3D file of `c3d-samples`, `c3d-more`, `c3d-extra` and `c3d-fullbody` whose foot
@@ -286,8 +287,39 @@ fn main() {
             }
         }
     }
-    let calib_window = arg(&args, "--calibrate-window").unwrap_or(events::CALIBRATE_WINDOW_S);
     opts.no_calibrate = args.iter().any(|a| a == "--no-calibrate");
+    // --correlate [--correlate-window S] [--correlate-search S] [--correlate-raw]
+    // [--correlate-strike PART] [--correlate-off PART]: auto's kinematic events matched to
+    // the plate steps' marker heights (gait::correlate).
+    let mut corr = gait::CorrelateOptions::default();
+    if let Some(v) = arg(&args, "--correlate-window") {
+        corr.half_window_s = v;
+    }
+    if let Some(v) = arg(&args, "--correlate-search") {
+        corr.search_s = v;
+    }
+    corr.remove_mean = !args.iter().any(|a| a == "--correlate-raw");
+    for (flag, slot) in [
+        ("--correlate-strike", &mut corr.strike_part),
+        ("--correlate-off", &mut corr.off_part),
+    ] {
+        if let Some(v) = args
+            .iter()
+            .position(|a| a == flag)
+            .and_then(|i| args.get(i + 1))
+        {
+            match v.parse() {
+                Ok(p) => *slot = p,
+                Err(e) => {
+                    eprintln!("{flag} {v}: {e}");
+                    std::process::exit(2);
+                }
+            }
+        }
+    }
+    if args.iter().any(|a| a == "--correlate") {
+        opts.correlate = Some(corr);
+    }
     let verbose = args.iter().any(|a| a == "-v");
     let misses = args.iter().any(|a| a == "--misses");
     // --dump FILE: one CSV row per truth event with each method's signed error (s), for
@@ -305,7 +337,7 @@ fn main() {
             use std::io::Write as _;
             let _ = writeln!(
                 f,
-                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05,velocity,zeni_lift"
+                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05,velocity,zeni_lift,stride_s,speed_m_s"
             );
             f
         });
@@ -393,14 +425,13 @@ fn main() {
                 continue;
             }
             let plates = triple(&plates_raw);
-            let window = calib_window * rate;
             // auto as `c3dfix events` gives it: kinematics shifted by the trial's own plate
             // lag, plate events where a foot lands on a plate.
             let auto = kin_raw.as_ref().map(|k| {
                 let k = if opts.no_calibrate {
                     k.clone()
                 } else {
-                    gait::calibrate(&plates_raw, k, window)
+                    events::calibrated(&feet, rate, &plates_raw, k, &opts)
                 };
                 triple(&events::merge_auto(&plates_raw, &k, rate))
             });
@@ -415,7 +446,10 @@ fn main() {
                             .filter(|(j, _)| *j != i)
                             .map(|(_, e)| *e)
                             .collect();
-                        (plates[i], triple(&gait::calibrate(&others, k, window)))
+                        (
+                            plates[i],
+                            triple(&events::calibrated(&feet, rate, &others, k, &opts)),
+                        )
                     })
                     .collect(),
                 _ => Vec::new(),
@@ -478,6 +512,32 @@ fn main() {
                 } else {
                     "held_out"
                 };
+                // The trial's rhythm, from the markers alone: each foot's median interval
+                // between Zeni strikes, and the pelvis' median speed over ±0.5 s.
+                let stride = |side: Side| {
+                    let mut d: Vec<f64> = variants[0]
+                        .iter()
+                        .filter(|e| e.0 == side && e.1 == Kind::FootStrike)
+                        .map(|e| e.2)
+                        .collect::<Vec<_>>()
+                        .windows(2)
+                        .map(|w| w[1] - w[0])
+                        .collect();
+                    d.sort_by(f64::total_cmp);
+                    d.get(d.len() / 2).copied().unwrap_or(f64::NAN)
+                };
+                let h = (0.5 * rate) as usize;
+                let speeds: Vec<f64> = (h..feet.pelvis.len().saturating_sub(h))
+                    .map(|i| {
+                        let (a, b) = (feet.pelvis[i - h], feet.pelvis[i + h]);
+                        ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2))
+                            .sqrt()
+                            / (2.0 * h as f64 / rate)
+                            / 1000.0
+                    })
+                    .filter(|v| v.is_finite() && *v > 0.2)
+                    .collect();
+                let speed = quantile(&speeds, 0.5);
                 for (truth_name, truth) in [("lab", &lab_events), ("plate", &plates)] {
                     for &(side, kind, t) in truth.iter() {
                         let errs: Vec<String> = variants
@@ -493,9 +553,10 @@ fn main() {
                             .collect();
                         let _ = writeln!(
                             f,
-                            "{lab},{group},{truth_name},{},{rate},{side:?},{kind:?},{t:.5},{}",
+                            "{lab},{group},{truth_name},{},{rate},{side:?},{kind:?},{t:.5},{},{:.4},{speed:.3}",
                             name.replace(',', ";"),
-                            errs.join(",")
+                            errs.join(","),
+                            stride(side)
                         );
                     }
                 }
