@@ -247,6 +247,12 @@ fn main() {
     if let Some(v) = arg(&args, "--ankle-offset") {
         opts.kinematic.ankle_strike_offset_s = v;
     }
+    if let Some(v) = arg(&args, "--impact-after") {
+        opts.kinematic.impact_after_s = v;
+    }
+    if let Some(v) = arg(&args, "--impact-hz") {
+        opts.kinematic.impact_lowpass_hz = v;
+    }
     if let Some(v) = arg(&args, "--touch") {
         opts.kinematic.touch_mm = v;
     }
@@ -344,7 +350,7 @@ fn main() {
             use std::io::Write as _;
             let _ = writeln!(
                 f,
-                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05,velocity,zeni_lift,stride_s,speed_m_s"
+                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05,velocity,zeni_lift,impact,stride_s,speed_m_s"
             );
             f
         });
@@ -520,6 +526,7 @@ fn main() {
                     variant(gait::Method::Desailly, 0.5),
                     variant(gait::Method::Velocity, 0.3),
                     variant(gait::Method::ZeniLift, 0.3),
+                    variant(gait::Method::Impact, 0.3),
                 ];
                 let group = if *corpus == "c3d-samples" {
                     "tuning"

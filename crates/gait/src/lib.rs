@@ -22,6 +22,7 @@ pub mod correlate;
 pub mod cycles;
 pub mod desailly;
 mod error;
+pub mod impact;
 pub mod kinematic;
 pub mod markers;
 pub mod oconnor;
