@@ -54,8 +54,9 @@ pub struct EventOptions {
     pub no_calibrate: bool,
     /// In `auto`, after the calibration, move each kinematic event to where its foot's
     /// markers match their heights at the trial's plate events of its kind
-    /// ([`gait::correlate()`], as Nexus' "Autocorrelate Events"). Off by default: measured
-    /// and not better on the tuning labs' plates nor on the held-out labs' (docs/events.md).
+    /// ([`gait::correlate()`], as Nexus' "Autocorrelate Events"). Off by default: the
+    /// setting chosen on the tuning labs was worse than the median shift alone on the
+    /// held-out labs' plates (docs/events.md).
     pub correlate: Option<gait::CorrelateOptions>,
 }
 

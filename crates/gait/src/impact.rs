@@ -4,6 +4,10 @@
 //! within a few samples, so its vertical acceleration peaks at the contact, whatever the
 //! marker's height above the sole; a position extreme (Zeni) or a minimum of height (the
 //! landing refinement) lies where the marker's placement puts it.
+//!
+//! Measured, not used (docs/events.md): alone it finds too few of the tuning labs' strikes
+//! (the heel's largest acceleration is often its rise at heel-off or noise), and joined to
+//! the shipped strike mean it worsened the tuning labs' 95th percentile.
 
 use crate::kinematic::{KinematicOptions, Prepared};
 use crate::signal::{self, Pass};
