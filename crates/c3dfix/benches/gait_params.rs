@@ -5,36 +5,18 @@
 //!
 //! `cargo bench -p c3dfix --bench gait_params` (C3D_SAMPLES, C3D_MORE as for the tests).
 
+mod trials;
+
 use c3dfix::{gait_parameters, EventOptions, GaitOptions};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use std::path::PathBuf;
-
-fn trials() -> Vec<PathBuf> {
-    let mut v = vec![testkit::workspace_root().join("sample_c3d/walk_truth.c3d")];
-    if let Some(s) = testkit::c3d_samples() {
-        v.push(s.join("sample_11/2198928.c3d"));
-    }
-    if let Some(more) = testkit::c3d_more() {
-        for name in [
-            "HansUniVie__MuscleLength__test.c3d",
-            "tsalemink__C3D-parser__RBWH_bfnd_w1.c3d",
-        ] {
-            v.push(more.join(name));
-        }
-    }
-    v
-}
 
 fn gait(c: &mut Criterion) {
     let mut g = c.benchmark_group("gait_params");
-    for path in trials() {
-        let Ok(trial) = c3dfix::open(&path) else {
-            continue;
-        };
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().to_string())
-            .unwrap_or_default();
+    let more = [
+        "HansUniVie__MuscleLength__test.c3d",
+        "tsalemink__C3D-parser__RBWH_bfnd_w1.c3d",
+    ];
+    for trials::Trial { name, path, c3d } in trials::load(&["sample_11/2198928.c3d"], &more) {
         for (label, opts) in [
             ("file_events", GaitOptions::default()),
             (
@@ -46,10 +28,10 @@ fn gait(c: &mut Criterion) {
             ),
         ] {
             // A trial without a complete cycle is no timing.
-            if gait_parameters(&trial, &opts, &path).is_err() {
+            if gait_parameters(&c3d, &opts, &path).is_err() {
                 continue;
             }
-            g.bench_with_input(BenchmarkId::new(label, &name), &trial, |b, t| {
+            g.bench_with_input(BenchmarkId::new(label, &name), &c3d, |b, t| {
                 b.iter(|| gait_parameters(t, &opts, &path))
             });
         }

@@ -5,6 +5,9 @@
 //! cargo run --release -p c3dfix --example events_eval -- --strike zeni:0.02 --off desailly:-0.012,zeni:-0.015
 //! cargo run --release -p c3dfix --example events_eval -- --misses       # each missed event, where
 //! cargo run --release -p c3dfix --example events_eval -- --dump e.csv   # each method's error per event
+//! cargo run --release -p c3dfix --example events_eval -- --correlate --correlate-strike heel  # auto matched to the plate steps
+//! cargo run --release -p c3dfix --example events_eval -- --truth-check  # the foot's state at each lab event
+//! cargo run --release -p c3dfix --example events_eval -- --without-contradicted  # lab strikes the plates contradict left out
 //! ```
 //!
 //! Every C3D file of `c3d-samples`, `c3d-more`, `c3d-extra` and `c3d-fullbody` whose foot
@@ -244,6 +247,12 @@ fn main() {
     if let Some(v) = arg(&args, "--ankle-offset") {
         opts.kinematic.ankle_strike_offset_s = v;
     }
+    if let Some(v) = arg(&args, "--impact-after") {
+        opts.kinematic.impact_after_s = v;
+    }
+    if let Some(v) = arg(&args, "--impact-hz") {
+        opts.kinematic.impact_lowpass_hz = v;
+    }
     if let Some(v) = arg(&args, "--touch") {
         opts.kinematic.touch_mm = v;
     }
@@ -286,10 +295,46 @@ fn main() {
             }
         }
     }
-    let calib_window = arg(&args, "--calibrate-window").unwrap_or(events::CALIBRATE_WINDOW_S);
     opts.no_calibrate = args.iter().any(|a| a == "--no-calibrate");
+    // --correlate [--correlate-window S] [--correlate-search S] [--correlate-raw]
+    // [--correlate-strike PART] [--correlate-off PART]: auto's kinematic events matched to
+    // the plate steps' marker heights (gait::correlate).
+    let mut corr = gait::CorrelateOptions::default();
+    if let Some(v) = arg(&args, "--correlate-window") {
+        corr.half_window_s = v;
+    }
+    if let Some(v) = arg(&args, "--correlate-search") {
+        corr.search_s = v;
+    }
+    corr.remove_mean = !args.iter().any(|a| a == "--correlate-raw");
+    for (flag, slot) in [
+        ("--correlate-strike", &mut corr.strike_part),
+        ("--correlate-off", &mut corr.off_part),
+    ] {
+        if let Some(v) = args
+            .iter()
+            .position(|a| a == flag)
+            .and_then(|i| args.get(i + 1))
+        {
+            match v.parse() {
+                Ok(p) => *slot = p,
+                Err(e) => {
+                    eprintln!("{flag} {v}: {e}");
+                    std::process::exit(2);
+                }
+            }
+        }
+    }
+    if args.iter().any(|a| a == "--correlate") {
+        opts.correlate = Some(corr);
+    }
     let verbose = args.iter().any(|a| a == "-v");
     let misses = args.iter().any(|a| a == "--misses");
+    // --truth-check: each lab event with the foot's state at it (see `truth_check`).
+    let truth_check = args.iter().any(|a| a == "--truth-check");
+    // --without-contradicted: the lab strikes the trial's plates contradict (`contradicted`)
+    // left out of the lab truth.
+    let without_contradicted = args.iter().any(|a| a == "--without-contradicted");
     // --dump FILE: one CSV row per truth event with each method's signed error (s), for
     // studying combinations offline (choose on tuning, report on held out).
     let mut dump = args
@@ -305,7 +350,7 @@ fn main() {
             use std::io::Write as _;
             let _ = writeln!(
                 f,
-                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05,velocity,zeni_lift"
+                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05,velocity,zeni_lift,impact,stride_s,speed_m_s"
             );
             f
         });
@@ -393,14 +438,13 @@ fn main() {
                 continue;
             }
             let plates = triple(&plates_raw);
-            let window = calib_window * rate;
             // auto as `c3dfix events` gives it: kinematics shifted by the trial's own plate
             // lag, plate events where a foot lands on a plate.
             let auto = kin_raw.as_ref().map(|k| {
                 let k = if opts.no_calibrate {
                     k.clone()
                 } else {
-                    gait::calibrate(&plates_raw, k, window)
+                    events::calibrated(&feet, rate, &plates_raw, k, &opts)
                 };
                 triple(&events::merge_auto(&plates_raw, &k, rate))
             });
@@ -415,17 +459,27 @@ fn main() {
                             .filter(|(j, _)| *j != i)
                             .map(|(_, e)| *e)
                             .collect();
-                        (plates[i], triple(&gait::calibrate(&others, k, window)))
+                        (
+                            plates[i],
+                            triple(&events::calibrated(&feet, rate, &others, k, &opts)),
+                        )
                     })
                     .collect(),
                 _ => Vec::new(),
             };
             rates.entry(lab.clone()).or_default().insert(rate as i64);
-            let lab_events: Vec<(Side, Kind, f64)> = c
+            let mut lab_events: Vec<(Side, Kind, f64)> = c
                 .events()
                 .iter()
                 .filter_map(|e| side_kind(&e.context, &e.label).map(|(s, k)| (s, k, e.time)))
                 .collect();
+            if truth_check && !plates.is_empty() {
+                truth_state(&name, &lab, &c, &feet, &lab_events, &plates, rate);
+            }
+            if without_contradicted {
+                let bad = contradicted(&c, &feet, rate, &lab_events, &plates);
+                lab_events.retain(|e| !bad.contains(e));
+            }
             if verbose {
                 println!(
                     "{name} [{lab}] rate {rate} first frame {} lab events {} plate events {} kinematic {}",
@@ -472,12 +526,39 @@ fn main() {
                     variant(gait::Method::Desailly, 0.5),
                     variant(gait::Method::Velocity, 0.3),
                     variant(gait::Method::ZeniLift, 0.3),
+                    variant(gait::Method::Impact, 0.3),
                 ];
                 let group = if *corpus == "c3d-samples" {
                     "tuning"
                 } else {
                     "held_out"
                 };
+                // The trial's rhythm, from the markers alone: each foot's median interval
+                // between Zeni strikes, and the pelvis' median speed over ±0.5 s.
+                let stride = |side: Side| {
+                    let mut d: Vec<f64> = variants[0]
+                        .iter()
+                        .filter(|e| e.0 == side && e.1 == Kind::FootStrike)
+                        .map(|e| e.2)
+                        .collect::<Vec<_>>()
+                        .windows(2)
+                        .map(|w| w[1] - w[0])
+                        .collect();
+                    d.sort_by(f64::total_cmp);
+                    d.get(d.len() / 2).copied().unwrap_or(f64::NAN)
+                };
+                let h = (0.5 * rate) as usize;
+                let speeds: Vec<f64> = (h..feet.pelvis.len().saturating_sub(h))
+                    .map(|i| {
+                        let (a, b) = (feet.pelvis[i - h], feet.pelvis[i + h]);
+                        ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2))
+                            .sqrt()
+                            / (2.0 * h as f64 / rate)
+                            / 1000.0
+                    })
+                    .filter(|v| v.is_finite() && *v > 0.2)
+                    .collect();
+                let speed = quantile(&speeds, 0.5);
                 for (truth_name, truth) in [("lab", &lab_events), ("plate", &plates)] {
                     for &(side, kind, t) in truth.iter() {
                         let errs: Vec<String> = variants
@@ -493,9 +574,10 @@ fn main() {
                             .collect();
                         let _ = writeln!(
                             f,
-                            "{lab},{group},{truth_name},{},{rate},{side:?},{kind:?},{t:.5},{}",
+                            "{lab},{group},{truth_name},{},{rate},{side:?},{kind:?},{t:.5},{},{:.4},{speed:.3}",
                             name.replace(',', ";"),
-                            errs.join(",")
+                            errs.join(","),
+                            stride(side)
                         );
                     }
                 }
@@ -654,5 +736,137 @@ fn main() {
         for s in &skipped {
             println!("skipped {s}");
         }
+    }
+}
+
+/// A foot's state at time `t` (s): how far its heel and its toe stand above their stance
+/// level and how fast they move up (mm, mm/s: heel height, heel speed, toe height, toe
+/// speed). The stance level is the lowest height over the next 0.5 s for a strike, over the
+/// 0.5 s before for an off. `None` at the trial's edges or where the lab has no vertical.
+fn foot_state(
+    c: &c3d::C3d,
+    feet: &gait::Feet,
+    rate: f64,
+    (side, kind, t): Timed,
+) -> Option<[f64; 4]> {
+    let v = gait::axes::vertical(
+        &feet.pelvis,
+        &[
+            &feet.left_heel,
+            &feet.right_heel,
+            &feet.left_toe,
+            &feet.right_toe,
+        ],
+    )?;
+    let n = feet.frames();
+    let i = ((t - c.frame_time(0)) * rate).round();
+    if i < 1.0 || i as usize + 1 >= n {
+        return None;
+    }
+    let i = i as usize;
+    let (heel, toe) = feet.foot(side);
+    let half = (0.5 * rate) as usize;
+    let state = |x: &[[f64; 3]]| {
+        let h = |j: usize| v.height(x[j]);
+        let (a, b) = if kind == Kind::FootStrike {
+            (i, (i + half).min(n))
+        } else {
+            (i.saturating_sub(half), i + 1)
+        };
+        let level = (a..b)
+            .map(h)
+            .filter(|v| v.is_finite())
+            .fold(f64::NAN, f64::min);
+        (h(i) - level, (h(i + 1) - h(i - 1)) * rate / 2.0)
+    };
+    let (hh, hs) = state(heel);
+    let (th, ts) = state(toe);
+    Some([hh, hs, th, ts])
+}
+
+/// How much higher (mm) than at every plate strike of the trial the landing part must stand
+/// for a lab strike to be contradicted. Over one trial's plate strikes that part's height
+/// spreads by 0–5 mm on most corpus trials, more at 60 Hz where the heel descends 3–7 mm
+/// a frame (sample_04: 8.6 and 16.1 mm; sample_11: 9.9–22.6 mm); what counts is the
+/// excess over the highest (RBWH's two free strikes: 7.2 and 9.5 mm, at 100 Hz with the
+/// heel descending under 1 mm a frame). `--truth-check` prints every plate strike's
+/// heights.
+const CONTRADICTED_MM: f64 = 5.0;
+
+/// The lab's strikes away from the plates whose foot, by the trial's own plate strikes, has
+/// not landed yet. The landing part is the heel or the toe, whichever stands lower above its
+/// stance level at the trial's plate strikes (the heel for a heel striker); a lab strike
+/// where that part stands more than [`CONTRADICTED_MM`] higher than at every plate strike
+/// is contradicted. A strike set by hand (or carried over from the markers by the lab's
+/// software) can be early or late; where the plates show what a contact looks like in this
+/// trial, such a strike is no truth to score against.
+fn contradicted(
+    c: &c3d::C3d,
+    feet: &gait::Feet,
+    rate: f64,
+    lab_events: &[Timed],
+    plates: &[Timed],
+) -> Vec<Timed> {
+    let at_plates: Vec<[f64; 4]> = plates
+        .iter()
+        .filter(|p| p.1 == Kind::FootStrike)
+        .filter_map(|&p| foot_state(c, feet, rate, p))
+        .collect();
+    let highest = |k: usize| at_plates.iter().map(|s| s[k]).fold(f64::NAN, f64::max);
+    let (heel, toe) = (highest(0), highest(2));
+    if !(heel.is_finite() && toe.is_finite()) {
+        return Vec::new();
+    }
+    let (part, level) = if heel <= toe { (0, heel) } else { (2, toe) };
+    lab_events
+        .iter()
+        .filter(|e| e.1 == Kind::FootStrike)
+        .filter(|e| {
+            !plates
+                .iter()
+                .any(|p| p.0 == e.0 && p.1 == e.1 && (p.2 - e.2).abs() <= 0.02)
+        })
+        .filter(|&&e| {
+            foot_state(c, feet, rate, e).is_some_and(|s| s[part] > level + CONTRADICTED_MM)
+        })
+        .copied()
+        .collect()
+}
+
+/// `--truth-check`: each lab event with the foot's state at it ([`foot_state`]), marked
+/// `plate` when a plate event of its foot and kind lies within 20 ms (the lab's event is
+/// then the plate's), `free` otherwise, and `CONTRADICTED` as [`contradicted`] finds.
+fn truth_state(
+    name: &str,
+    lab: &str,
+    c: &c3d::C3d,
+    feet: &gait::Feet,
+    lab_events: &[Timed],
+    plates: &[Timed],
+    rate: f64,
+) {
+    let bad = contradicted(c, feet, rate, lab_events, plates);
+    let short = name.rsplit('/').next().unwrap_or(name);
+    for &p in plates.iter().filter(|p| p.1 == Kind::FootStrike) {
+        if let Some([hh, _, th, _]) = foot_state(c, feet, rate, p) {
+            println!(
+                "plate {lab:<28} {short:<40} {:?} FootStrike {:7.3} heel {hh:5.1} mm toe {th:5.1} mm",
+                p.0, p.2
+            );
+        }
+    }
+    for &e in lab_events {
+        let Some([hh, hs, th, ts]) = foot_state(c, feet, rate, e) else {
+            continue;
+        };
+        let (side, kind, t) = e;
+        let on_plate = plates
+            .iter()
+            .any(|p| p.0 == side && p.1 == kind && (p.2 - t).abs() <= 0.02);
+        println!(
+            "truth {lab:<28} {short:<40} {side:?} {kind:?} {t:7.3} {:<5} heel {hh:5.1} mm {hs:+6.0} mm/s  toe {th:5.1} mm {ts:+6.0} mm/s{}",
+            if on_plate { "plate" } else { "free" },
+            if bad.contains(&e) { "  CONTRADICTED by the trial's plate strikes" } else { "" }
+        );
     }
 }

@@ -52,6 +52,12 @@ pub struct EventOptions {
     /// median lead or lag against the trial's own plate events of the same kind
     /// ([`gait::calibrate()`]).
     pub no_calibrate: bool,
+    /// In `auto`, after the calibration, move each kinematic event to where its foot's
+    /// markers match their heights at the trial's plate events of its kind
+    /// ([`gait::correlate()`], as Nexus' "Autocorrelate Events"). Off by default: the
+    /// setting chosen on the tuning labs was worse than the median shift alone on the
+    /// held-out labs' plates (docs/events.md).
+    pub correlate: Option<gait::CorrelateOptions>,
 }
 
 /// One detected event, as printed and written.
@@ -351,6 +357,23 @@ pub fn merge_auto(
     out
 }
 
+/// `auto`'s kinematic events: shifted by the trial's own median lag against its plates
+/// ([`gait::calibrate()`]), then, with [`EventOptions::correlate`], each moved to the best
+/// match of the plate steps' marker heights ([`gait::correlate()`]).
+pub fn calibrated(
+    feet: &Feet,
+    rate: f64,
+    plates: &[gait::Event],
+    kinematic: &[gait::Event],
+    opts: &EventOptions,
+) -> Vec<gait::Event> {
+    let k = gait::calibrate(plates, kinematic, CALIBRATE_WINDOW_S * rate);
+    match &opts.correlate {
+        Some(c) => gait::correlate(feet, rate, plates, &k, c),
+        None => k,
+    }
+}
+
 /// Detect the gait events of `c` (`path` names it in messages).
 pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<Detected> {
     let mut choice = choose_markers(c, &opts.markers, path)?;
@@ -407,11 +430,7 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
             };
             match gait::kinematic_events(&feet, rate, &opts.kinematic) {
                 Ok(k) if opts.no_calibrate => merge_auto(&plates, &k, rate),
-                Ok(k) => merge_auto(
-                    &plates,
-                    &gait::calibrate(&plates, &k, CALIBRATE_WINDOW_S * rate),
-                    rate,
-                ),
+                Ok(k) => merge_auto(&plates, &calibrated(&feet, rate, &plates, &k, opts), rate),
                 Err(e) if !plates.is_empty() => {
                     warnings.push(format!("markers: {e}; only the plates' events are given"));
                     plates

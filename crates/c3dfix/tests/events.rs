@@ -271,3 +271,47 @@ fn a_very_slow_walkers_strikes_are_found() {
     let dist = distances(&plates, &d.events);
     assert!(dist.iter().all(|x| *x < 0.010), "{dist:?}");
 }
+
+#[test]
+fn matching_the_plate_steps_moves_an_event_only_to_a_match_inside_its_search() {
+    use c3dfix::events::{detect_events, EventOptions};
+    let Some(more) = testkit::c3d_more() else {
+        return;
+    };
+    // RBWH (held out): two of the lab's four strikes are on plates (2.431, 3.075 s), two
+    // off them (3.690, 4.290 s). auto shifts the markers' strikes by the plate steps' lag
+    // (3.738, 4.364 s); matched to the plate steps' heel heights (gait::correlate with the
+    // setting chosen on the tuning labs, measured and off by default) within ±40 ms, the
+    // right one's best match lies at the search's edge (its heel is still 4-5 mm above
+    // where the plate steps' heel lands), so it stays; the left one moves 6 ms later.
+    let path = more.join("tsalemink__C3D-parser__RBWH_bfnd_w1.c3d");
+    let c = c3dfix::open(&path).unwrap();
+    let strikes = |opts: &EventOptions| -> Vec<f64> {
+        detect_events(&c, opts, &path)
+            .unwrap()
+            .events
+            .iter()
+            .filter(|e| e.label == "Foot Strike" && e.source == "kinematics")
+            .map(|e| e.time)
+            .collect()
+    };
+    let shifted = strikes(&EventOptions::default());
+    let heel = c3dfix::gait::correlate::Part::Heel;
+    let matched = strikes(&EventOptions {
+        correlate: Some(c3dfix::gait::CorrelateOptions {
+            strike_part: heel,
+            off_part: heel,
+            half_window_s: 0.15,
+            search_s: 0.04,
+            remove_mean: true,
+        }),
+        ..EventOptions::default()
+    });
+    assert_eq!(shifted.len(), 2, "{shifted:?}");
+    assert_eq!(matched.len(), 2, "{matched:?}");
+    assert!((shifted[0] - 3.738).abs() < 0.001, "{shifted:?}");
+    assert!((shifted[1] - 4.364).abs() < 0.001, "{shifted:?}");
+    assert_eq!(matched[0], shifted[0]);
+    let moved = matched[1] - shifted[1];
+    assert!((0.004..0.008).contains(&moved), "{moved}");
+}

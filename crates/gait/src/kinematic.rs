@@ -44,6 +44,9 @@ pub enum Method {
     /// (off) moving, by speed thresholds scaled to the walking speed (Bonci et al. 2022,
     /// [`crate::velocity`]).
     Velocity,
+    /// Strikes at the peak of the heel's upward acceleration near Zeni's strike, where the
+    /// landing stops its descent ([`crate::impact`]); for offs, Zeni's.
+    Impact,
 }
 
 impl std::str::FromStr for Method {
@@ -56,8 +59,9 @@ impl std::str::FromStr for Method {
             "desailly" => Ok(Method::Desailly),
             "velocity" => Ok(Method::Velocity),
             "zeni-lift" | "zenilift" => Ok(Method::ZeniLift),
+            "impact" => Ok(Method::Impact),
             _ => Err(Error::Input(format!(
-                "method {s}: expected zeni, zeni-landing, zeni-lift, oconnor, desailly or velocity"
+                "method {s}: expected zeni, zeni-landing, zeni-lift, oconnor, desailly, velocity or impact"
             ))),
         }
     }
@@ -124,6 +128,11 @@ pub struct KinematicOptions {
     /// the floor when it rises through, this fraction of the walking speed (Bonci et al.
     /// 2022: 0.8).
     pub velocity_toe_ratio: f64,
+    /// [`Method::Impact`]: low-pass cut-off (Hz) applied to the heel's height before it is
+    /// differentiated twice.
+    pub impact_lowpass_hz: f64,
+    /// [`Method::Impact`]: how far after Zeni's strike (s) the impact is looked for.
+    pub impact_after_s: f64,
 }
 
 impl Default for KinematicOptions {
@@ -150,6 +159,8 @@ impl Default for KinematicOptions {
             lift_mm: 10.0,
             velocity_heel_ratio: 0.5,
             velocity_toe_ratio: 0.8,
+            impact_lowpass_hz: 10.0,
+            impact_after_s: 0.25,
         }
     }
 }
@@ -373,6 +384,7 @@ struct Found {
     desailly: Option<(Vec<f64>, Vec<f64>)>,
     velocity: Option<(Vec<f64>, Vec<f64>)>,
     lift: Option<Vec<f64>>,
+    impact: Option<Vec<f64>>,
 }
 
 impl Found {
@@ -424,6 +436,11 @@ impl Found {
                         })
                         .collect()
                 })
+                .clone(),
+            Method::Impact if !strike => zeni.1,
+            Method::Impact => self
+                .impact
+                .get_or_insert_with(|| crate::impact::strikes(feet, side, prep, &zeni.0, opts))
                 .clone(),
             Method::OConnor => pick(
                 self.oconnor
@@ -762,6 +779,22 @@ mod tests {
         for got in &o {
             let d = got - 0.6 - (got - 0.6).round();
             assert!((0.0..=0.06).contains(&d), "{o:?}");
+        }
+    }
+
+    #[test]
+    fn impact_strikes_where_the_heels_descent_is_stopped() {
+        // The stepping walk's heel comes down as 80 sin²(π s) mm and stands still from the
+        // strike (t = k for the left foot): its upward acceleration is largest at the
+        // landing and zero after it; low-passed at 10 Hz, that edge spreads and the peak
+        // comes 32 ms before the landing (a real landing's stop is sharper: on the corpora
+        // the method's median lag is +11 ms, docs/events.md).
+        let ev = kinematic_events(&stepping(500), 100.0, &only(Method::Impact)).unwrap();
+        let s = times(&ev, Side::Left, Kind::FootStrike);
+        assert!(s.len() >= 3, "{s:?}");
+        for got in &s {
+            let d = got - got.round();
+            assert!((-0.035..=-0.03).contains(&d), "{s:?}");
         }
     }
 

@@ -18,9 +18,11 @@
 
 pub mod axes;
 pub mod calibrate;
+pub mod correlate;
 pub mod cycles;
 pub mod desailly;
 mod error;
+pub mod impact;
 pub mod kinematic;
 pub mod markers;
 pub mod oconnor;
@@ -30,6 +32,7 @@ mod signal;
 pub mod velocity;
 
 pub use calibrate::calibrate;
+pub use correlate::{correlate, CorrelateOptions};
 pub use error::{Error, Result};
 pub use kinematic::{kinematic_events, Estimate, KinematicOptions, Method};
 pub use markers::{find_markers, MarkerChoice, MarkerNames};
