@@ -35,6 +35,7 @@ pub mod error;
 pub mod evaluate;
 pub mod fill;
 pub mod filter;
+pub mod fit;
 pub mod gaps;
 mod linalg;
 pub mod names;

@@ -267,3 +267,80 @@ pub const FILES: &[(&str, &str, &str, &str)] = &[
         "tsalemink__C3D-parser__RBWH_bfnd_w1.c3d",
     ),
 ];
+
+/// Words of a trial's description, in the order they are tried, and the activity each
+/// names: sports first, as "ice-hockey shot, Plug-in Gait + stick" names a marker set
+/// after the gait it was made for.
+const ACTIVITY_WORDS: &[(&str, &str)] = &[
+    ("hockey", "sports"),
+    ("basketball", "sports"),
+    ("punch", "sports"),
+    ("golf", "sports"),
+    ("tennis", "sports"),
+    ("running", "running"),
+    ("landing", "landing"),
+    ("jump", "jumping"),
+    ("squat", "squats"),
+    ("stair", "stairs"),
+    ("dance", "dance"),
+    ("rolling", "rolling on the floor"),
+    ("free", "free movement"),
+    ("walk", "walking"),
+    ("gait", "walking"),
+];
+
+/// The activity of trial `rel` of a corpus, by rule, not by a list of files: the words of
+/// its row in the corpus's README (`readme`: the activity column where the table has one,
+/// else the whole row), else of its file name; a trial neither names is what the corpus
+/// list's `set` says (`walking`) or `other full body`.
+#[allow(dead_code)]
+pub fn activity(readme: Option<&str>, rel: &str, set: &str) -> &'static str {
+    let name = rel.rsplit('/').next().unwrap_or(rel);
+    let stem = name.rsplit_once('.').map_or(name, |s| s.0);
+    let cells = |l: &str| -> Vec<String> {
+        l.trim()
+            .trim_matches('|')
+            .split('|')
+            .map(|c| c.trim().to_lowercase())
+            .collect()
+    };
+    let described = readme.and_then(|text| {
+        let mut column = None;
+        for l in text.lines().filter(|l| l.trim_start().starts_with('|')) {
+            let c = cells(l);
+            if column.is_none() && c.iter().any(|c| c == "file") {
+                column = c.iter().position(|c| c == "activity");
+                continue;
+            }
+            let names_it = c.first().is_some_and(|first| {
+                first.split([',', '/']).map(str::trim).any(|n| {
+                    n == rel.to_lowercase() || n == name.to_lowercase() || n == stem.to_lowercase()
+                })
+            });
+            if names_it {
+                return Some(
+                    column
+                        .and_then(|k| c.get(k).cloned())
+                        .unwrap_or_else(|| c.join(" ")),
+                );
+            }
+        }
+        None
+    });
+    let find = |text: &str| {
+        let text = text.to_lowercase();
+        ACTIVITY_WORDS
+            .iter()
+            .find(|(w, _)| text.contains(w))
+            .map(|a| a.1)
+    };
+    described
+        .as_deref()
+        .and_then(find)
+        .or_else(|| find(stem))
+        .unwrap_or(if set == "walking" {
+            "walking"
+        } else {
+            "other full body"
+        })
+}

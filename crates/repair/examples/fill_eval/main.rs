@@ -23,13 +23,23 @@
 //! ends), and `--held-apart` runs the held-apart labs only; with either, the report closes
 //! with the shipped expected-error model's figures on those gaps (within 2×, over twice,
 //! what `--max-expected-error` leaves), for the CLI's help and docs/fill-evaluation.md.
+//! `--skip-held-apart` runs every lab but those (their records can come from a
+//! `--held-apart` run of the same build). With `--replay`: `--activities` (the expected
+//! errors per activity, each trial's activity read from its corpus's README, labs and
+//! activities held apart) and `--write-coefficients` (every lab's `auto` gaps written into
+//! `repair`'s committed gaps file, `crates/repair/data/expected_error_gaps.txt`, and the
+//! model fitted on that file into the generated
+//! `crates/repair/src/fill/auto/model/coefficients.rs`). `--refit` fits the committed gaps
+//! file again into the generated file, without records (after a change to the fit).
 
+mod activity;
 #[path = "../corpus/mod.rs"]
 mod corpus;
 mod fit;
 mod records;
 mod report;
 
+use activity::per_activity;
 use corpus::{load, load_recorded, FILES};
 use fit::*;
 use records::*;
@@ -73,6 +83,15 @@ struct Args {
     trial_ends: bool,
     /// Only the labs nothing was chosen on.
     held_apart: bool,
+    /// Every lab but those nothing was chosen on (a run whose held-apart records come from
+    /// another run of the same build).
+    skip_held_apart: bool,
+    /// With `--replay`: expected errors per activity, labs and activities held apart.
+    activities: bool,
+    /// With `--replay`: the shipped model's gaps file and coefficients written anew.
+    write_coefficients: bool,
+    /// The coefficients fitted again on the committed gaps file.
+    refit: bool,
 }
 
 fn args() -> Result<Args, String> {
@@ -90,6 +109,10 @@ fn args() -> Result<Args, String> {
         fill: repair::FillOptions::default(),
         trial_ends: false,
         held_apart: false,
+        skip_held_apart: false,
+        activities: false,
+        write_coefficients: false,
+        refit: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(x) = it.next() {
@@ -105,6 +128,10 @@ fn args() -> Result<Args, String> {
             "--ablate" => a.ablate = true,
             "--trial-ends" => a.trial_ends = true,
             "--held-apart" => a.held_apart = true,
+            "--skip-held-apart" => a.skip_held_apart = true,
+            "--activities" => a.activities = true,
+            "--write-coefficients" => a.write_coefficients = true,
+            "--refit" => a.refit = true,
             "--nested" => a.nested = val()?.split(',').map(PathBuf::from).collect(),
             "--lengths" => {
                 a.lengths = val()?
@@ -157,6 +184,17 @@ fn main() {
             std::process::exit(2);
         }
     };
+    if a.refit {
+        if let Err(e) = refit() {
+            eprintln!("fill_eval: --refit: {e}");
+            std::process::exit(2);
+        }
+        return;
+    }
+    if a.write_coefficients && a.replay.is_none() {
+        eprintln!("fill_eval: --write-coefficients needs --replay RECORDS");
+        std::process::exit(2);
+    }
     if !a.nested.is_empty() {
         match a
             .nested
@@ -185,6 +223,16 @@ fn main() {
                 held_apart(&recs);
                 if a.ablate {
                     ablation(&recs);
+                }
+                if a.activities {
+                    per_activity(&recs);
+                }
+                if a.write_coefficients {
+                    let name = path.file_name().unwrap_or_default().to_string_lossy();
+                    if let Err(e) = write_coefficients(&recs, &format!("`{name}`")) {
+                        eprintln!("fill_eval: --write-coefficients: {e}");
+                        std::process::exit(2);
+                    }
                 }
             }
             Err(e) => {
@@ -220,6 +268,7 @@ fn main() {
         if a.set.as_deref().is_some_and(|s| s != set)
             || a.only.as_deref().is_some_and(|o| !rel.contains(o))
             || (a.held_apart && !held)
+            || (a.skip_held_apart && held)
         {
             continue;
         }
