@@ -182,6 +182,49 @@ impl Ctx<'_> {
         Some((z[(k - 1) / 2], z[k / 2]))
     }
 
+    /// How much `m`'s links change across an edge between `inside` and `outside` frames:
+    /// per link, its mean signed length error over the seen frames of each side, the
+    /// difference in units of its tolerance; the lower median over the links seen on both
+    /// sides (above 1 only when a strict majority changed, as [`Ctx::score`]). `None`
+    /// when fewer than two links are seen on both sides.
+    ///
+    /// A label that lands on another point moves the marker by an offset at once, and
+    /// the lengths of its links change at the edge by that offset along each link. A
+    /// strained pose (a bent knee the links, learned from the trial's majority, do not
+    /// keep) breaks the links as much just outside an episode as inside, and a
+    /// reconstruction settling after a gap has come back by the edge: neither changes
+    /// the links across it.
+    fn link_change(
+        &self,
+        m: usize,
+        inside: std::ops::Range<usize>,
+        outside: std::ops::Range<usize>,
+    ) -> Option<f64> {
+        let mean_err = |l: &Link, frames: std::ops::Range<usize>| -> Option<f64> {
+            let (mut sum, mut n) = (0.0, 0usize);
+            for f in frames {
+                if let (Some(p), Some(q)) = (self.pos(m, f, None), self.pos(l.other, f, None)) {
+                    sum += dist(&p, &q) - l.d0_mm;
+                    n += 1;
+                }
+            }
+            (n > 0).then(|| sum / n as f64)
+        };
+        let mut z: Vec<f64> = self.links[m]
+            .iter()
+            .filter_map(|l| {
+                let a = mean_err(l, inside.clone())?;
+                let b = mean_err(l, outside.clone())?;
+                Some((a - b).abs() / l.tol_mm)
+            })
+            .collect();
+        if z.len() < 2 {
+            return None;
+        }
+        z.sort_by(f64::total_cmp);
+        Some(z[(z.len() - 1) / 2])
+    }
+
     /// Links of `m` with both ends seen at `f`.
     fn seen_links(&self, m: usize, f: usize) -> usize {
         if !self.ok[m][f] {
@@ -532,6 +575,14 @@ const NOISY: f64 = 0.5;
 /// Longest span between a jump's two leaps looked for, frames.
 const MAX_LEAP_SPAN: usize = 120;
 
+/// Frames either side of a jump's edge over which its links' change across the edge is
+/// measured ([`Ctx::link_change`]).
+const EDGE_WINDOW: usize = 3;
+
+/// A jump's links must change across its edges by at least twice this (in tolerances, the
+/// lower median over its links) to count in full; below this, not at all.
+const LINK_CHANGE_FLOOR: f64 = 0.5;
+
 /// Frames either side of a jump's edge searched for its leap.
 const EDGE_SEARCH: usize = 3;
 
@@ -842,7 +893,30 @@ fn jump_find(
             }
         }
     }
-    let p_link = 1.0 - (-2.0 * (before - 1.0).max(0.0)).exp();
+    // The links' change across the edges (the larger of the two that can be measured):
+    // the links must break at the edge, not only be broken, for the break to be the
+    // jump's ([`Ctx::link_change`]).
+    let w = EDGE_WINDOW;
+    let change = [
+        (s > 0).then(|| cx.link_change(a, s..(s + w).min(e + 1), s.saturating_sub(w)..s)),
+        (e + 1 < nf).then(|| {
+            cx.link_change(
+                a,
+                (e + 1).saturating_sub(w).max(s)..e + 1,
+                e + 1..(e + 1 + w).min(nf),
+            )
+        }),
+    ]
+    .into_iter()
+    .flatten()
+    .flatten()
+    .fold(None, |acc: Option<f64>, c| {
+        Some(acc.map_or(c, |x| x.max(c)))
+    });
+    let at_edge = change.map_or(1.0, |c| {
+        ((c - LINK_CHANGE_FLOOR) / LINK_CHANGE_FLOOR).clamp(0.0, 1.0)
+    });
+    let p_link = (1.0 - (-2.0 * (before - 1.0).max(0.0)).exp()) * at_edge;
     let inside = decided.iter().filter(|&&f| f >= s && f <= e).count();
     let share = (inside as f64 / (e + 1 - s) as f64).sqrt();
     // A label that lands on another point leaves its path twice, going and coming back;
