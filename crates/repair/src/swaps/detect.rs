@@ -696,17 +696,19 @@ fn swap_runs(cx: &Ctx, a: usize, b: usize, hole: usize) -> Vec<(usize, usize, Ve
         while hi + 1 < nf && hi - d1 < hole && undecided(hi + 1) {
             hi += 1;
         }
-        // A run that the cheapest sequence carries to the trial's last frame (or from its
-        // first) over frames no link contradicts ends there: a swap to the end has no
-        // second edge, and frames that cannot tell (a marker missing, no link seen) are
-        // the swap's as much as its decided ones (exchanging them back is what restores
+        // The run's own edges, where the cheapest sequence put them (links and continuity
+        // together), when no frame between them and the decided frames says the pair is
+        // as labelled: a marker strained in its own place leaves the exchange not quite
+        // mended for a while (undecided, not labelled), and a swap to the trial's end has
+        // no second edge (frames that cannot tell, a marker missing or no link seen, are
+        // the swap's as much as its decided ones: exchanging them back is what restores
         // the recorded labels).
         let no = |g: usize| cx.swap_verdict(a, b, g) == Verdict::No;
-        if e + 1 == nf && !(hi + 1..nf).any(no) {
+        if e > hi && !(hi + 1..=e).any(no) {
             hi = e;
         }
-        if s == 0 && !(0..lo).any(no) {
-            lo = 0;
+        if s < lo && !(s..lo).any(no) {
+            lo = s;
         }
         out.push((lo, hi, decided));
     }
