@@ -177,8 +177,16 @@ impl Ctx<'_> {
         if k == 0 {
             return None;
         }
+        // An insertion sort: a marker has at most a few links, and this runs for every
+        // marker at every frame (the library's sort costs more to set up on so few).
         let z = &mut z[..k];
-        z.sort_by(f64::total_cmp);
+        for i in 1..k {
+            let mut j = i;
+            while j > 0 && z[j - 1].total_cmp(&z[j]).is_gt() {
+                z.swap(j - 1, j);
+                j -= 1;
+            }
+        }
         Some((z[(k - 1) / 2], z[k / 2]))
     }
 
