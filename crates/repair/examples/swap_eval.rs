@@ -13,7 +13,8 @@
 //! cargo run --release -p repair --example swap_eval -- --per 2 --seed 35   # docs/swaps.md
 //! ```
 //! Options: `--per N` (episodes per kind, length and trial, jumps 4 × N; default 1), `--seed S`,
-//! `--only TEXT` (files whose path contains TEXT), `--list` (every injected episode missed).
+//! `--only TEXT` (files whose path contains TEXT), `--list` (every injected episode missed),
+//! `--untouched` (the finds on the untouched trials alone, no episode injected: a quick look).
 
 mod corpus;
 
@@ -34,6 +35,7 @@ struct Args {
     seed: u64,
     only: Option<String>,
     list: bool,
+    untouched: bool,
 }
 
 fn args() -> Result<Args, String> {
@@ -42,6 +44,7 @@ fn args() -> Result<Args, String> {
         seed: 34,
         only: None,
         list: false,
+        untouched: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(k) = it.next() {
@@ -51,6 +54,7 @@ fn args() -> Result<Args, String> {
             "--seed" => a.seed = val()?.parse().map_err(|e| format!("--seed: {e}"))?,
             "--only" => a.only = Some(val()?),
             "--list" => a.list = true,
+            "--untouched" => a.untouched = true,
             _ => return Err(format!("unknown option {k}")),
         }
     }
@@ -439,6 +443,9 @@ fn main() {
                 x.confidence,
                 if x.settled { ", settled" } else { "" }
             );
+        }
+        if a.untouched {
+            continue;
         }
         for e in episodes(&clean, a.per, &mut rng) {
             let mut t = clean.clone();

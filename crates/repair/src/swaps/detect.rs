@@ -177,9 +177,60 @@ impl Ctx<'_> {
         if k == 0 {
             return None;
         }
+        // An insertion sort: a marker has at most a few links, and this runs for every
+        // marker at every frame (the library's sort costs more to set up on so few).
         let z = &mut z[..k];
-        z.sort_by(f64::total_cmp);
+        for i in 1..k {
+            let mut j = i;
+            while j > 0 && z[j - 1].total_cmp(&z[j]).is_gt() {
+                z.swap(j - 1, j);
+                j -= 1;
+            }
+        }
         Some((z[(k - 1) / 2], z[k / 2]))
+    }
+
+    /// How much `m`'s links change across an edge between `inside` and `outside` frames:
+    /// per link, its mean signed length error over the seen frames of each side, the
+    /// difference in units of its tolerance; the lower median over the links seen on both
+    /// sides (above 1 only when a strict majority changed, as [`Ctx::score`]). `None`
+    /// when fewer than two links are seen on both sides.
+    ///
+    /// A label that lands on another point moves the marker by an offset at once, and
+    /// the lengths of its links change at the edge by that offset along each link. A
+    /// strained pose (a bent knee the links, learned from the trial's majority, do not
+    /// keep) breaks the links as much just outside an episode as inside, and a
+    /// reconstruction settling after a gap has come back by the edge: neither changes
+    /// the links across it.
+    fn link_change(
+        &self,
+        m: usize,
+        inside: std::ops::Range<usize>,
+        outside: std::ops::Range<usize>,
+    ) -> Option<f64> {
+        let mean_err = |l: &Link, frames: std::ops::Range<usize>| -> Option<f64> {
+            let (mut sum, mut n) = (0.0, 0usize);
+            for f in frames {
+                if let (Some(p), Some(q)) = (self.pos(m, f, None), self.pos(l.other, f, None)) {
+                    sum += dist(&p, &q) - l.d0_mm;
+                    n += 1;
+                }
+            }
+            (n > 0).then(|| sum / n as f64)
+        };
+        let mut z: Vec<f64> = self.links[m]
+            .iter()
+            .filter_map(|l| {
+                let a = mean_err(l, inside.clone())?;
+                let b = mean_err(l, outside.clone())?;
+                Some((a - b).abs() / l.tol_mm)
+            })
+            .collect();
+        if z.len() < 2 {
+            return None;
+        }
+        z.sort_by(f64::total_cmp);
+        Some(z[(z.len() - 1) / 2])
     }
 
     /// Links of `m` with both ends seen at `f`.
@@ -194,23 +245,40 @@ impl Ctx<'_> {
         !self.links[m].is_empty()
     }
 
-    /// Swap of `a` and `b` at `f`: the sum of their scores as labelled and exchanged.
-    fn pair_scores(&self, a: usize, b: usize, f: usize) -> Option<(f64, f64)> {
-        let sa = self.loose(a, f, None)?;
-        let ta = self.loose(a, f, Some((a, b)))?;
-        let (sb, tb) = if self.has_links(b) {
-            (self.loose(b, f, None)?, self.loose(b, f, Some((a, b)))?)
-        } else {
-            (0.0, 0.0)
-        };
-        Some((sa + sb, ta + tb))
+    /// Swap of `a` and `b` at `f`: the sum of their scores as labelled and exchanged, and
+    /// how many markers the sums hold.
+    ///
+    /// Each marker's links judge the samples its label holds as labelled and exchanged.
+    /// Where one marker's links cannot (a link partner hidden), the other's judge alone;
+    /// where one marker is missing, the other's sample is judged as its own label and as
+    /// the missing one's (through that marker's links). So a swap is followed while one
+    /// of its markers, or a partner of it, is hidden, as near a trial's end. Both only when
+    /// both markers have two links or more: one link cannot say which of its two markers
+    /// strayed.
+    fn pair_scores(&self, a: usize, b: usize, f: usize) -> Option<(f64, f64, f64)> {
+        let sw = Some((a, b));
+        let own = |m: usize| Some((self.loose(m, f, None)?, self.loose(m, f, sw)?));
+        if !self.has_links(b) {
+            return own(a).map(|(x, y)| (x, y, 1.0));
+        }
+        let alone = self.links[a].len() >= 2 && self.links[b].len() >= 2;
+        match (own(a), own(b)) {
+            (Some((sa, ta)), Some((sb, tb))) => Some((sa + sb, ta + tb, 2.0)),
+            (Some((x, y)), None) | (None, Some((x, y))) if alone => Some((x, y, 1.0)),
+            _ if !alone => None,
+            // One marker missing: its partner's sample as its own label and as the other.
+            _ => match (self.ok[a][f], self.ok[b][f]) {
+                (true, false) => Some((self.loose(a, f, None)?, self.loose(b, f, sw)?, 1.0)),
+                (false, true) => Some((self.loose(b, f, None)?, self.loose(a, f, sw)?, 1.0)),
+                _ => None,
+            },
+        }
     }
 
     fn swap_verdict(&self, a: usize, b: usize, f: usize) -> Verdict {
-        let Some((before, after)) = self.pair_scores(a, b, f) else {
+        let Some((before, after, n)) = self.pair_scores(a, b, f) else {
             return Verdict::Undecided;
         };
-        let n = if self.has_links(b) { 2.0 } else { 1.0 };
         if after <= n && before > n && after < 0.5 * before {
             Verdict::Yes
         } else if before <= n && after > before + 1.0 {
@@ -419,7 +487,7 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
                     continue;
                 }
                 if cx.swap_verdict(a, b, f) == Verdict::Yes {
-                    if let Some((_, after)) = cx.pair_scores(a, b, f) {
+                    if let Some((_, after, _)) = cx.pair_scores(a, b, f) {
                         if best.is_none_or(|(s, _)| after < s) {
                             best = Some((after, b));
                         }
@@ -532,6 +600,14 @@ const NOISY: f64 = 0.5;
 /// Longest span between a jump's two leaps looked for, frames.
 const MAX_LEAP_SPAN: usize = 120;
 
+/// Frames either side of a jump's edge over which its links' change across the edge is
+/// measured ([`Ctx::link_change`]).
+const EDGE_WINDOW: usize = 3;
+
+/// A jump's links must change across its edges by at least twice this (in tolerances, the
+/// lower median over its links) to count in full; below this, not at all.
+const LINK_CHANGE_FLOOR: f64 = 0.5;
+
 /// Frames either side of a jump's edge searched for its leap.
 const EDGE_SEARCH: usize = 3;
 
@@ -552,10 +628,9 @@ const CONT_CLIP: f64 = 6.0;
 /// frames for [`swap_find`] to place by continuity.
 fn swap_runs(cx: &Ctx, a: usize, b: usize, hole: usize) -> Vec<(usize, usize, Vec<usize>)> {
     let nf = cx.t.frames();
-    let clip = if cx.has_links(b) { 2.0 * CLIP } else { CLIP };
     let cost: Vec<(f64, f64)> = (0..nf)
         .map(|f| match cx.pair_scores(a, b, f) {
-            Some((x, y)) => (x.min(clip), y.min(clip)),
+            Some((x, y, n)) => (x.min(n * CLIP), y.min(n * CLIP)),
             None => (0.0, 0.0),
         })
         .collect();
@@ -629,7 +704,21 @@ fn swap_runs(cx: &Ctx, a: usize, b: usize, hole: usize) -> Vec<(usize, usize, Ve
         while hi + 1 < nf && hi - d1 < hole && undecided(hi + 1) {
             hi += 1;
         }
-        out.push((lo.min(s).max(lo), hi, decided));
+        // The run's own edges, where the cheapest sequence put them (links and continuity
+        // together), when no frame between them and the decided frames says the pair is
+        // as labelled: a marker strained in its own place leaves the exchange not quite
+        // mended for a while (undecided, not labelled), and a swap to the trial's end has
+        // no second edge (frames that cannot tell, a marker missing or no link seen, are
+        // the swap's as much as its decided ones: exchanging them back is what restores
+        // the recorded labels).
+        let no = |g: usize| cx.swap_verdict(a, b, g) == Verdict::No;
+        if e > hi && !(hi + 1..=e).any(no) {
+            hi = e;
+        }
+        if s < lo && !(s..lo).any(no) {
+            lo = s;
+        }
+        out.push((lo, hi, decided));
     }
     out
 }
@@ -707,15 +796,24 @@ fn swap_find(
     let s = (s0..=first_dec)
         .min_by(|&x, &y| cost(x, e0, x).total_cmp(&cost(y, e0, y)))
         .unwrap_or(first_dec);
-    let e = (last_dec..=e0)
-        .min_by(|&x, &y| cost(s, x, x + 1).total_cmp(&cost(s, y, y + 1)))
-        .unwrap_or(last_dec);
+    // Ties (no continuity to tell, as where the markers are missing) go to the trial's
+    // end for a run that reaches it, to the last decided frame otherwise.
+    let ends = last_dec..=e0;
+    let by_cost = |x: &usize, y: &usize| cost(s, *x, x + 1).total_cmp(&cost(s, *y, y + 1));
+    let e = if e0 + 1 == cx.t.frames() {
+        ends.rev().min_by(by_cost)
+    } else {
+        ends.min_by(by_cost)
+    }
+    .unwrap_or(last_dec);
 
+    // Frames where one marker is missing weigh as both (the sums are of two markers').
+    let full = if cx.has_links(b) { 2.0 } else { 1.0 };
     let (mut before, mut after) = (Vec::new(), Vec::new());
     for &f in &decided {
-        if let Some((x, y)) = cx.pair_scores(a, b, f) {
-            before.push(x);
-            after.push(y);
+        if let Some((x, y, n)) = cx.pair_scores(a, b, f) {
+            before.push(x * full / n);
+            after.push(y * full / n);
         }
     }
     let (before, after) = (median(before), median(after));
@@ -752,7 +850,15 @@ fn swap_find(
     }
     let strength = (before - after).max(0.0);
     let p_link = 1.0 - (-strength / 2.0).exp();
-    let share = (decided.len() as f64 / (e + 1 - s) as f64).sqrt();
+    // The share of the frames the links could judge (both markers, or one, seen with a
+    // link) that they decided: frames where nothing can be judged (both markers missing,
+    // as often near a trial's end) neither confirm a swap nor weaken it.
+    let judged = (s..=e)
+        .filter(|&f| cx.pair_scores(a, b, f).is_some())
+        .count();
+    let share = (decided.len() as f64 / judged.max(1) as f64)
+        .min(1.0)
+        .sqrt();
     let confidence = if decided.is_empty() {
         // Continuity alone: two trajectories leaping into each other's places at every
         // edge is a swap a person would call, but one with no link to confirm it.
@@ -842,7 +948,30 @@ fn jump_find(
             }
         }
     }
-    let p_link = 1.0 - (-2.0 * (before - 1.0).max(0.0)).exp();
+    // The links' change across the edges (the larger of the two that can be measured):
+    // the links must break at the edge, not only be broken, for the break to be the
+    // jump's ([`Ctx::link_change`]).
+    let w = EDGE_WINDOW;
+    let change = [
+        (s > 0).then(|| cx.link_change(a, s..(s + w).min(e + 1), s.saturating_sub(w)..s)),
+        (e + 1 < nf).then(|| {
+            cx.link_change(
+                a,
+                (e + 1).saturating_sub(w).max(s)..e + 1,
+                e + 1..(e + 1 + w).min(nf),
+            )
+        }),
+    ]
+    .into_iter()
+    .flatten()
+    .flatten()
+    .fold(None, |acc: Option<f64>, c| {
+        Some(acc.map_or(c, |x| x.max(c)))
+    });
+    let at_edge = change.map_or(1.0, |c| {
+        ((c - LINK_CHANGE_FLOOR) / LINK_CHANGE_FLOOR).clamp(0.0, 1.0)
+    });
+    let p_link = (1.0 - (-2.0 * (before - 1.0).max(0.0)).exp()) * at_edge;
     let inside = decided.iter().filter(|&&f| f >= s && f <= e).count();
     let share = (inside as f64 / (e + 1 - s) as f64).sqrt();
     // A label that lands on another point leaves its path twice, going and coming back;

@@ -98,8 +98,18 @@ fn cluster(ds: &mut [f64], max_spread_mm: f64, min_support: f64) -> Option<(f64,
     if ds.len() < 20 {
         return None;
     }
+    // Most pairs are no link, and need no sort to say so: a window holding at least half
+    // the distances (`min_support` is at least 0.5) holds the median or the distance just
+    // below it, so all of its distances are within the window's width of one of those two.
+    let m = ds.len() / 2;
+    let (lower, &mut median, _) = ds.select_nth_unstable_by(m, f64::total_cmp);
+    let below = lower.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let w = window_mm(median);
+    let near = |c: f64| ds.iter().filter(|&&d| (d - c).abs() <= w).count();
+    if (near(median).max(near(below)) as f64) < min_support * ds.len() as f64 {
+        return None;
+    }
     ds.sort_unstable_by(f64::total_cmp);
-    let w = window_mm(ds[ds.len() / 2]);
     // Densest window [i, j).
     let (mut best, mut bi, mut j) = (0usize, 0usize, 0usize);
     for i in 0..ds.len() {
