@@ -541,7 +541,10 @@ fn main() {
             } else {
                 lab.clone()
             };
-            rates.entry(session_lab.clone()).or_default().insert(rate as i64);
+            rates
+                .entry(session_lab.clone())
+                .or_default()
+                .insert(rate as i64);
             let mut lab_events: Vec<(Side, Kind, f64)> = c
                 .events()
                 .iter()

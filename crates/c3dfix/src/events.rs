@@ -367,7 +367,8 @@ pub fn merge_auto(
 /// Which kinds (strike, off) the trial's own plates calibrate in `auto`: those with a plate
 /// event paired with a kinematic one ([`gait::calibrate::plate_offsets`]).
 pub fn own_calibration(plates: &[gait::Event], kinematic: &[gait::Event], rate: f64) -> [bool; 2] {
-    gait::calibrate::plate_offsets(plates, kinematic, CALIBRATE_WINDOW_S * rate).map(|o| o.is_some())
+    gait::calibrate::plate_offsets(plates, kinematic, CALIBRATE_WINDOW_S * rate)
+        .map(|o| o.is_some())
 }
 
 /// `auto`'s kinematic events: shifted by the trial's own median lag against its plates

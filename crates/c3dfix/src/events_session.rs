@@ -148,9 +148,13 @@ pub fn session_lags(
         let r = crate::open(p).and_then(|c| reference_lags(&c, p, opts, truth, window_s));
         match r {
             Ok(t) if t.lags.is_empty() => out.skipped.push(format!(
-                "{}: no {} event within {} ms of a kinematic one",
+                "{}: no {} within {} ms of a kinematic event of its foot and kind",
                 p.display(),
-                t.truth,
+                if t.truth == "plates" {
+                    "plate contact"
+                } else {
+                    "Foot Strike or Foot Off event of its own"
+                },
                 window_s * 1000.0
             )),
             Ok(t) => out.trials.push(t),
@@ -241,7 +245,10 @@ impl SessionCalibration {
     /// What the report's readers should know, in words: the kinds left uncalibrated.
     pub fn warnings(&self) -> Vec<String> {
         let mut w = Vec::new();
-        for (name, o) in [("strikes", &self.offsets.strike), ("offs", &self.offsets.off)] {
+        for (name, o) in [
+            ("strikes", &self.offsets.strike),
+            ("offs", &self.offsets.off),
+        ] {
             if o.seconds.iter().all(Option::is_none) {
                 w.push(format!(
                     "session calibration: {} contact(s) for {name} in {} other trial(s), fewer than {}: {name} are left as the markers give them",
