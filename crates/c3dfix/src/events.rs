@@ -441,6 +441,9 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
     // Which kinds the trial's own plates calibrated (auto), so that the report says the
     // session's offset was not used for them.
     let mut own = [false; 2];
+    // Whether kinematic events were given (auto falls back to the plates alone when the
+    // markers show no walking; the session's offsets then moved nothing).
+    let mut kinematic = true;
     let events = match opts.from {
         EventSource::Kinematics => {
             let k = gait::kinematic_events(&feet, rate, &opts.kinematic)
@@ -472,6 +475,7 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
                     merge_auto(&plates, &calibrated(&feet, rate, &plates, &k, opts), rate)
                 }
                 Err(e) if !plates.is_empty() => {
+                    kinematic = false;
                     warnings.push(format!("markers: {e}; only the plates' events are given"));
                     plates
                 }
@@ -480,7 +484,7 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
         }
     };
     let session_calibration = match (&opts.session, opts.from) {
-        (Some(s), EventSource::Kinematics | EventSource::Auto) => {
+        (Some(s), EventSource::Kinematics | EventSource::Auto) if kinematic => {
             warnings.extend(s.warnings());
             Some(s.report(own))
         }
