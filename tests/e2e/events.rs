@@ -433,3 +433,148 @@ fn a_folder_of_trials_is_done_in_parallel_and_each_as_alone() {
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("no C3D files"), "{}", stderr(&out));
 }
+
+/// `--calibrate-from`: markers alone with a session calibration. Qualisys' two gait trials
+/// of c3d-more (one lab, 100 Hz, two plates each): ClinicalGait_Gait1's kinematic events
+/// shifted by the lags FunctionalKnee_GaitFB2's markers showed against its own plates
+/// (strikes +6.7 ms, offs +2.6 ms, two contacts each), and judged by Gait1's own plates.
+#[test]
+fn events_calibrated_from_another_trial_of_the_session() {
+    let Some(more) = testkit::c3d_more() else {
+        eprintln!("skipped: C3D_MORE not set");
+        return;
+    };
+    let gait1 = more.join("qualisys__cgm2-web-report-uploader__ClinicalGait_Gait1.c3d");
+    let fb2 = more.join("qualisys__cgm2-web-report-uploader__FunctionalKnee_GaitFB2.c3d");
+    let json = |args: &[&str]| -> Json {
+        let mut all = vec!["events", "--json"];
+        all.extend_from_slice(args);
+        let out = c3dfix(&all);
+        assert!(out.status.success(), "{}", stderr(&out));
+        serde_json::from_slice(&out.stdout).expect("events --json is JSON")
+    };
+    let raw = json(&["--from", "kinematics", s(&gait1)]);
+    assert!(raw.get("session_calibration").is_none());
+    // The trial itself is among the references: it never calibrates itself.
+    let cal = json(&[
+        "--from",
+        "kinematics",
+        s(&gait1),
+        "--calibrate-from",
+        s(&fb2),
+        "--calibrate-from",
+        s(&gait1),
+    ]);
+    let sc = &cal["session_calibration"];
+    assert_eq!(sc["trials"], 1, "{sc}");
+    assert_eq!(sc["min_contacts"], 1);
+    for (kind, ms) in [("strike", 6.7), ("off", 2.6)] {
+        assert_eq!(sc[kind]["contacts"], 2, "{sc}");
+        assert_eq!(sc[kind]["used"], true);
+        for side in ["left_ms", "right_ms"] {
+            assert!((sc[kind][side].as_f64().unwrap() - ms).abs() < 0.05, "{sc}");
+        }
+    }
+    // Every kinematic event moved by its kind's offset, nothing else changed.
+    let (before, after) = (
+        raw["events"].as_array().unwrap(),
+        cal["events"].as_array().unwrap(),
+    );
+    assert_eq!(before.len(), 13);
+    assert_eq!(after.len(), 13);
+    for (b, a) in before.iter().zip(after) {
+        assert_eq!((&b["context"], &b["label"]), (&a["context"], &a["label"]));
+        let ms = if a["label"] == "Foot Strike" {
+            6.7
+        } else {
+            2.6
+        };
+        let moved = (a["time"].as_f64().unwrap() - b["time"].as_f64().unwrap()) * 1000.0;
+        assert!((moved - ms).abs() < 0.05, "{b} -> {a}");
+    }
+    // Against Gait1's own plates (signed ms, calibrated − plate): the offs come closer
+    // (−19.2 → −16.6, −24.4 → −21.7), the strikes, already within 5 ms, move past them
+    // (−4.2 → +2.5, −1.3 → +5.5).
+    let plates = events_json(&["--from", "plates", s(&gait1)]);
+    let err = |events: &[Json], p: &Json| {
+        events
+            .iter()
+            .filter(|e| e["context"] == p["context"] && e["label"] == p["label"])
+            .map(|e| (e["time"].as_f64().unwrap() - p["time"].as_f64().unwrap()) * 1000.0)
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+            .unwrap()
+    };
+    let got: Vec<(String, f64, f64)> = plates
+        .iter()
+        .map(|p| {
+            (
+                format!(
+                    "{} {}",
+                    p["context"].as_str().unwrap(),
+                    p["label"].as_str().unwrap()
+                ),
+                err(before, p),
+                err(after, p),
+            )
+        })
+        .collect();
+    let want = [
+        ("Right Foot Strike", -4.2, 2.5),
+        ("Left Foot Strike", -1.3, 5.5),
+        ("Right Foot Off", -19.2, -16.6),
+        ("Left Foot Off", -24.4, -21.7),
+    ];
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for ((name, b, a), (wname, wb, wa)) in got.iter().zip(want) {
+        assert_eq!(name, wname);
+        assert!((b - wb).abs() < 0.1 && (a - wa).abs() < 0.1, "{got:?}");
+    }
+    // In auto, the trial's own plates calibrate both kinds: the session's offsets are
+    // reported, not used.
+    let auto = json(&[s(&gait1), "--calibrate-from", s(&fb2)]);
+    assert_eq!(auto["session_calibration"]["strike"]["used"], false);
+    assert_eq!(auto["session_calibration"]["off"]["used"], false);
+    // No other trial: no offset, the events as the markers give them, and a warning.
+    let alone = json(&[
+        "--from",
+        "kinematics",
+        s(&gait1),
+        "--calibrate-from",
+        s(&gait1),
+    ]);
+    assert_eq!(alone["session_calibration"]["trials"], 0);
+    assert_eq!(alone["events"], raw["events"]);
+    let w = alone["warnings"].to_string();
+    assert!(
+        w.contains("0 contact(s) for strikes") && w.contains("offs are left"),
+        "{w}"
+    );
+    // Text output names the offsets; bad references exit 2 with the reason.
+    let out = c3dfix(&[
+        "events",
+        "--from",
+        "kinematics",
+        s(&gait1),
+        "--calibrate-from",
+        s(&fb2),
+    ]);
+    assert!(
+        stdout(&out).contains("session calibration (markers with the offsets of 1 other trial(s)): strikes +6.7 ms from 2 contacts, offs +2.6 ms from 2 contacts"),
+        "{}",
+        stdout(&out)
+    );
+    let missing = more.join("no_such_session");
+    let out = c3dfix(&["events", s(&gait1), "--calibrate-from", s(&missing)]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("no_such_session: no such file or folder (--calibrate-from)"));
+    let out = c3dfix(&[
+        "events",
+        "--from",
+        "plates",
+        s(&gait1),
+        "--calibrate-from",
+        s(&fb2),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("--calibrate-from shifts kinematic events"));
+}

@@ -8,7 +8,15 @@
 //! cargo run --release -p c3dfix --example events_eval -- --correlate --correlate-strike heel  # auto matched to the plate steps
 //! cargo run --release -p c3dfix --example events_eval -- --truth-check  # the foot's state at each lab event
 //! cargo run --release -p c3dfix --example events_eval -- --without-contradicted  # lab strikes the plates contradict left out
+//! cargo run --release -p c3dfix --example events_eval -- --session-per-side --session-min 3 --session-truth plates
 //! ```
+//!
+//! **Session calibration** (`c3dfix events --calibrate-from`): in every lab with two or more
+//! trials whose markers give events, each trial's kinematic events are shifted by the
+//! offsets learned from the lab's OTHER trials (leave one trial out), and, apart, from each
+//! single other trial; both scored against the trial's plates and its lab events beside the
+//! same trials' uncalibrated events ("before"). Here c3d-samples' `sample_00` is four labs
+//! (one per vendor folder), since its trials come from different systems.
 //!
 //! Every C3D file of `c3d-samples`, `c3d-more`, `c3d-extra` and `c3d-fullbody` whose foot
 //! and pelvis markers are found is read once (copies of one trial in other formats are
@@ -35,6 +43,7 @@
 //! their origin (0 ms) or differ by a frame (one frame period).
 
 use c3dfix::events::{self, EventOptions};
+use c3dfix::events_session::CalibrationTruth;
 use gait::{Event, Kind, Side};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -43,6 +52,37 @@ const WINDOW_S: f64 = 0.15;
 
 /// An event as compared: foot, kind, time (s).
 type Timed = (Side, Kind, f64);
+
+/// A trial as the session calibration's leave-one-trial-out sees it.
+struct SessionTrial {
+    /// The session's lab (as [`lab_of`], `sample_00` split by vendor folder).
+    lab: String,
+    name: String,
+    rate: f64,
+    t0: f64,
+    kin: Vec<Event>,
+    plates: Vec<Event>,
+    lab_events: Vec<Event>,
+}
+
+impl SessionTrial {
+    fn timed(&self, v: &[Event]) -> Vec<Timed> {
+        v.iter()
+            .map(|e| (e.side, e.kind, self.t0 + e.index / self.rate))
+            .collect()
+    }
+
+    /// The lags this trial teaches, against the truth `truth` picks.
+    fn lags(&self, truth: CalibrationTruth, window_s: f64) -> Vec<gait::session::Lag> {
+        let known = match truth {
+            CalibrationTruth::Plates => &self.plates,
+            CalibrationTruth::Events => &self.lab_events,
+            CalibrationTruth::PlatesElseEvents if self.plates.is_empty() => &self.lab_events,
+            CalibrationTruth::PlatesElseEvents => &self.plates,
+        };
+        gait::session::trial_lags(known, &self.kin, self.rate, window_s)
+    }
+}
 
 #[derive(Default)]
 struct Tally {
@@ -328,6 +368,28 @@ fn main() {
     if args.iter().any(|a| a == "--correlate") {
         opts.correlate = Some(corr);
     }
+    let mut session_opts = gait::SessionOptions {
+        per_side: args.iter().any(|a| a == "--session-per-side"),
+        ..gait::SessionOptions::default()
+    };
+    if let Some(v) = arg(&args, "--session-min") {
+        session_opts.min_contacts = v as usize;
+    }
+    let session_truth: CalibrationTruth = match args
+        .iter()
+        .position(|a| a == "--session-truth")
+        .and_then(|i| args.get(i + 1))
+    {
+        Some(v) => match v.parse() {
+            Ok(t) => t,
+            Err(e) => {
+                eprintln!("--session-truth {v}: {e}");
+                std::process::exit(2);
+            }
+        },
+        None => CalibrationTruth::default(),
+    };
+    let mut session_trials: Vec<SessionTrial> = Vec::new();
     let verbose = args.iter().any(|a| a == "-v");
     let misses = args.iter().any(|a| a == "--misses");
     // --truth-check: each lab event with the foot's state at it (see `truth_check`).
@@ -468,6 +530,21 @@ fn main() {
                 _ => Vec::new(),
             };
             rates.entry(lab.clone()).or_default().insert(rate as i64);
+            let session_lab = if lab == "c3d-samples/sample_00" {
+                let rel = path.strip_prefix(root).unwrap_or(&path);
+                let vendor = rel
+                    .components()
+                    .nth(1)
+                    .map(|c| c.as_os_str().to_string_lossy().to_string())
+                    .unwrap_or_default();
+                format!("{lab}/{vendor}")
+            } else {
+                lab.clone()
+            };
+            rates
+                .entry(session_lab.clone())
+                .or_default()
+                .insert(rate as i64);
             let mut lab_events: Vec<(Side, Kind, f64)> = c
                 .events()
                 .iter()
@@ -479,6 +556,25 @@ fn main() {
             if without_contradicted {
                 let bad = contradicted(&c, &feet, rate, &lab_events, &plates);
                 lab_events.retain(|e| !bad.contains(e));
+            }
+            if let Some(k) = &kin_raw {
+                let t0 = c.frame_time(0);
+                let as_event = |&(side, kind, t): &Timed| Event {
+                    side,
+                    kind,
+                    index: (t - t0) * rate,
+                    source: gait::Source::Plate,
+                    plate: None,
+                };
+                session_trials.push(SessionTrial {
+                    lab: session_lab,
+                    name: name.clone(),
+                    rate,
+                    t0,
+                    kin: k.clone(),
+                    plates: plates_raw.clone(),
+                    lab_events: lab_events.iter().map(as_event).collect(),
+                });
             }
             if verbose {
                 println!(
@@ -679,6 +775,75 @@ fn main() {
             }
         }
     }
+    // Session calibration, leave one trial out within each lab of two or more trials.
+    const BEFORE: &str = "session: markers alone (before)";
+    const ALL: &str = "session: calibrated on the lab's other trials";
+    const ONE: &str = "session: calibrated on one other trial (each)";
+    let mut session_labs: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
+    // Only trials with a truth (plates or the lab's events) teach or are judged.
+    for (i, t) in session_trials.iter().enumerate() {
+        if !(t.plates.is_empty() && t.lab_events.is_empty()) {
+            session_labs.entry(t.lab.as_str()).or_default().push(i);
+        }
+    }
+    let lags: Vec<Vec<gait::session::Lag>> = session_trials
+        .iter()
+        .map(|t| t.lags(session_truth, session_opts.window_s))
+        .collect();
+    let mut offsets_used: Vec<String> = Vec::new();
+    for (lab, members) in &session_labs {
+        if members.len() < 2 {
+            continue;
+        }
+        for &i in members {
+            let t = &session_trials[i];
+            let mut score = |detector: &'static str, found: &[Event], first: bool| {
+                let found = t.timed(found);
+                for (truth_name, truth) in [("plate", &t.plates), ("lab", &t.lab_events)] {
+                    if truth.is_empty() {
+                        continue;
+                    }
+                    let e = table
+                        .entry((truth_name, detector))
+                        .or_default()
+                        .entry(lab.to_string())
+                        .or_default();
+                    if first {
+                        e.add(&t.timed(truth), &found, truth_name == "lab");
+                    } else {
+                        e.add_events(&t.timed(truth), &found, truth_name == "lab");
+                    }
+                }
+            };
+            score(BEFORE, &t.kin, true);
+            let others: Vec<gait::session::Lag> = members
+                .iter()
+                .filter(|&&j| j != i)
+                .flat_map(|&j| lags[j].iter().copied())
+                .collect();
+            let o = gait::session_offsets(&others, &session_opts);
+            let ms = |k: &gait::session::KindOffset| {
+                k.seconds
+                    .map(|s| s.map_or("none".into(), |v| format!("{:+.1}", v * 1000.0)))
+                    .join("/")
+            };
+            offsets_used.push(format!(
+                "{lab}: strikes {} ms ({} contacts), offs {} ms ({} contacts): {}",
+                ms(&o.strike),
+                o.strike.contacts[0] + o.strike.contacts[1],
+                ms(&o.off),
+                o.off.contacts[0] + o.off.contacts[1],
+                t.name
+            ));
+            score(ALL, &gait::session::apply(&t.kin, &o, t.rate), true);
+            let mut first = true;
+            for &j in members.iter().filter(|&&j| j != i) {
+                let o = gait::session_offsets(&lags[j], &session_opts);
+                score(ONE, &gait::session::apply(&t.kin, &o, t.rate), first);
+                first = false;
+            }
+        }
+    }
     let show = |v: &[gait::Estimate]| {
         v.iter()
             .map(|e| format!("{:?} {:+.4} s", e.method, e.offset_s))
@@ -700,6 +865,13 @@ fn main() {
         opts.kinematic.oconnor_lowpass_hz,
         opts.kinematic.desailly_cutoff_ratio,
         !opts.no_calibrate
+    );
+    println!(
+        "session calibration: from {:?}, at least {} contacts per kind, per side: {}, pairs within {} ms",
+        session_truth,
+        session_opts.min_contacts,
+        session_opts.per_side,
+        session_opts.window_s * 1000.0
     );
     println!(
         "found within ±{} ms; |error| in ms; signed = detected − truth (median)",
@@ -733,6 +905,9 @@ fn main() {
     }
     if verbose {
         println!();
+        for s in &offsets_used {
+            println!("session offsets {s}");
+        }
         for s in &skipped {
             println!("skipped {s}");
         }

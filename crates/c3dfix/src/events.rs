@@ -58,6 +58,10 @@ pub struct EventOptions {
     /// setting chosen on the tuning labs was worse than the median shift alone on the
     /// held-out labs' plates (docs/events.md).
     pub correlate: Option<gait::CorrelateOptions>,
+    /// The offsets learned from other trials of the session
+    /// ([`crate::events_session`]): added to the kinematic events of each kind, except in
+    /// `auto` for a kind the trial's own plates calibrate.
+    pub session: Option<crate::events_session::SessionCalibration>,
 }
 
 /// One detected event, as printed and written.
@@ -87,6 +91,9 @@ pub struct Detected {
     /// What could not be used, in words (e.g. the markers show no walking, so only the
     /// plates' events are given).
     pub warnings: Vec<String>,
+    /// The session calibration applied, when one was given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub session_calibration: Option<crate::events_session::SessionReport>,
 }
 
 /// Half the window (s) within which a plate event replaces a kinematic event of the same
@@ -357,9 +364,18 @@ pub fn merge_auto(
     out
 }
 
+/// Which kinds (strike, off) the trial's own plates calibrate in `auto`: those with a plate
+/// event paired with a kinematic one ([`gait::calibrate::plate_offsets`]).
+pub fn own_calibration(plates: &[gait::Event], kinematic: &[gait::Event], rate: f64) -> [bool; 2] {
+    gait::calibrate::plate_offsets(plates, kinematic, CALIBRATE_WINDOW_S * rate)
+        .map(|o| o.is_some())
+}
+
 /// `auto`'s kinematic events: shifted by the trial's own median lag against its plates
-/// ([`gait::calibrate()`]), then, with [`EventOptions::correlate`], each moved to the best
-/// match of the plate steps' marker heights ([`gait::correlate()`]).
+/// ([`gait::calibrate()`]), a kind without a plate pair by the session's offset where
+/// [`EventOptions::session`] gives one (the trial's own plates know this trial better than
+/// other trials do), then, with [`EventOptions::correlate`], each moved to the best match of
+/// the plate steps' marker heights ([`gait::correlate()`]).
 pub fn calibrated(
     feet: &Feet,
     rate: f64,
@@ -367,6 +383,18 @@ pub fn calibrated(
     kinematic: &[gait::Event],
     opts: &EventOptions,
 ) -> Vec<gait::Event> {
+    let session = opts.session.as_ref().map(|s| {
+        let own = own_calibration(plates, kinematic, rate);
+        let mut o = s.offsets;
+        if own[0] {
+            o.strike.seconds = [None; 2];
+        }
+        if own[1] {
+            o.off.seconds = [None; 2];
+        }
+        gait::session::apply(kinematic, &o, rate)
+    });
+    let kinematic = session.as_deref().unwrap_or(kinematic);
     let k = gait::calibrate(plates, kinematic, CALIBRATE_WINDOW_S * rate);
     match &opts.correlate {
         Some(c) => gait::correlate(feet, rate, plates, &k, c),
@@ -410,9 +438,21 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
             ));
         }
     }
+    // Which kinds the trial's own plates calibrated (auto), so that the report says the
+    // session's offset was not used for them.
+    let mut own = [false; 2];
+    // Whether kinematic events were given (auto falls back to the plates alone when the
+    // markers show no walking; the session's offsets then moved nothing).
+    let mut kinematic = true;
     let events = match opts.from {
-        EventSource::Kinematics => gait::kinematic_events(&feet, rate, &opts.kinematic)
-            .map_err(|e| trial_error(path, e))?,
+        EventSource::Kinematics => {
+            let k = gait::kinematic_events(&feet, rate, &opts.kinematic)
+                .map_err(|e| trial_error(path, e))?;
+            match &opts.session {
+                Some(s) => gait::session::apply(&k, &s.offsets, rate),
+                None => k,
+            }
+        }
         EventSource::Plates => {
             if c.platform_params().plates.is_empty() {
                 return Err(trial_error(
@@ -430,8 +470,12 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
             };
             match gait::kinematic_events(&feet, rate, &opts.kinematic) {
                 Ok(k) if opts.no_calibrate => merge_auto(&plates, &k, rate),
-                Ok(k) => merge_auto(&plates, &calibrated(&feet, rate, &plates, &k, opts), rate),
+                Ok(k) => {
+                    own = own_calibration(&plates, &k, rate);
+                    merge_auto(&plates, &calibrated(&feet, rate, &plates, &k, opts), rate)
+                }
                 Err(e) if !plates.is_empty() => {
+                    kinematic = false;
                     warnings.push(format!("markers: {e}; only the plates' events are given"));
                     plates
                 }
@@ -439,9 +483,17 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
             }
         }
     };
+    let session_calibration = match (&opts.session, opts.from) {
+        (Some(s), EventSource::Kinematics | EventSource::Auto) if kinematic => {
+            warnings.extend(s.warnings());
+            Some(s.report(own))
+        }
+        _ => None,
+    };
     Ok(Detected {
         events: events.iter().map(|e| to_trial_event(c, e)).collect(),
         markers,
         warnings,
+        session_calibration,
     })
 }

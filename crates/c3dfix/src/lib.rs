@@ -28,6 +28,7 @@ mod error;
 pub mod evaluate;
 pub mod event_group;
 pub mod events;
+pub mod events_session;
 pub mod export;
 pub mod files;
 pub mod gait_params;

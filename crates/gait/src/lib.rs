@@ -13,6 +13,9 @@
 //! The markers come from their labels through [`markers`], which knows the common marker
 //! sets and takes names given by a person instead.
 //!
+//! A session's trials with known events calibrate the kinematic events of its other trials
+//! ([`session`]).
+//!
 //! Cycles (foot strike to the next foot strike of the same foot) and signals time-normalised
 //! to 0–100 % of them are in [`cycles`].
 
@@ -28,6 +31,7 @@ pub mod markers;
 pub mod oconnor;
 pub mod params;
 pub mod plates;
+pub mod session;
 mod signal;
 pub mod velocity;
 
@@ -38,6 +42,7 @@ pub use kinematic::{kinematic_events, Estimate, KinematicOptions, Method};
 pub use markers::{find_markers, MarkerChoice, MarkerNames};
 pub use params::{gait_parameters, GaitParameters, TimedEvent, Toes};
 pub use plates::{plate_events, PlateInput, PlateOptions};
+pub use session::{session_offsets, SessionOffsets, SessionOptions};
 
 use serde::Serialize;
 

@@ -5,6 +5,8 @@ use crate::commands::info::read_c3d;
 use crate::console::{errln, outln};
 use anyhow::Result;
 use c3dfix::events::{detect_events, Detected, EventOptions, EventSource};
+use c3dfix::events_session::{session_lags, CalibrationTruth, SessionLags};
+use c3dfix::gait::session::SessionOptions;
 use c3dfix::gait::MarkerNames;
 use std::path::PathBuf;
 
@@ -46,6 +48,23 @@ pub struct Args {
     /// Replace an existing OUT.
     #[arg(long)]
     pub force: bool,
+    /// Shift the kinematic events by the lead or lag the markers showed on OTHER trials of
+    /// the same session (C3D files or folders; repeat the flag for several): the median of
+    /// (truth − kinematic) per kind over their contacts, at least 1 per kind (none: that
+    /// kind is left as the markers give it, with a warning). A trial never calibrates
+    /// itself. In `auto`, a kind the trial's own plates calibrate keeps that calibration.
+    #[arg(long, value_name = "FILE_OR_FOLDER")]
+    pub calibrate_from: Vec<PathBuf>,
+    /// What the --calibrate-from trials' events are learned from: `plates` (one foot alone on
+    /// a plate), `events` (the files' own Foot Strike / Foot Off) or `auto` (a trial's plates
+    /// where it has contacts, else its own events).
+    #[arg(
+        long,
+        value_name = "TRUTH",
+        default_value = "auto",
+        requires = "calibrate_from"
+    )]
+    pub calibrate_truth: String,
 }
 
 /// Where the events go, besides standard output.
@@ -55,7 +74,24 @@ enum Write<'a> {
     InPlace { backup: bool },
 }
 
-fn one(path: &std::path::Path, opts: &EventOptions, write: &Write, a: &Args) -> Result<Detected> {
+fn one(
+    path: &std::path::Path,
+    opts: &EventOptions,
+    session: Option<&SessionLags>,
+    write: &Write,
+    a: &Args,
+) -> Result<Detected> {
+    let with_session;
+    let opts = match session {
+        Some(s) => {
+            with_session = EventOptions {
+                session: Some(s.for_trial(path, &SessionOptions::default())),
+                ..opts.clone()
+            };
+            &with_session
+        }
+        None => opts,
+    };
     if let Write::Nowhere = write {
         let c = read_c3d(path)?;
         return Ok(detect_events(&c, opts, path)?);
@@ -91,12 +127,16 @@ fn as_json(path: &std::path::Path, d: &Detected) -> serde_json::Value {
         .iter()
         .map(|(role, names)| (role.clone(), serde_json::json!(names)))
         .collect();
-    serde_json::json!({
+    let mut doc = serde_json::json!({
         "file": path.display().to_string(),
         "events": d.events,
         "markers": markers,
         "warnings": d.warnings,
-    })
+    });
+    if let (Some(s), Some(o)) = (&d.session_calibration, doc.as_object_mut()) {
+        o.insert("session_calibration".into(), serde_json::json!(s));
+    }
+    doc
 }
 
 pub fn run(mut a: Args) -> Result<i32> {
@@ -108,6 +148,28 @@ pub fn run(mut a: Args) -> Result<i32> {
         markers: MarkerNames::parse(&a.markers)?,
         ..EventOptions::default()
     };
+    let session = if a.calibrate_from.is_empty() {
+        None
+    } else {
+        if from == EventSource::Plates {
+            anyhow::bail!(
+                "--calibrate-from shifts kinematic events: use --from kinematics or auto"
+            );
+        }
+        let truth: CalibrationTruth = a.calibrate_truth.parse()?;
+        for p in &a.calibrate_from {
+            if !p.exists() {
+                anyhow::bail!("{}: no such file or folder (--calibrate-from)", p.display());
+            }
+        }
+        let refs = crate::commands::each::trials(&a.calibrate_from)?;
+        let s = session_lags(&refs, &opts, truth, c3dfix::gait::session::WINDOW_S);
+        for why in &s.skipped {
+            errln!("c3dfix: calibration: skipped {why}");
+        }
+        Some(s)
+    };
+    let session = session.as_ref();
     let write = match (&a.output, a.in_place) {
         (Some(out), _) => {
             if a.files.len() != 1 {
@@ -124,7 +186,7 @@ pub fn run(mut a: Args) -> Result<i32> {
         }
     };
     if named_one_file {
-        let d = one(&a.files[0], &opts, &write, &a)?;
+        let d = one(&a.files[0], &opts, session, &write, &a)?;
         if a.json {
             outln!(
                 "{}",
@@ -139,7 +201,8 @@ pub fn run(mut a: Args) -> Result<i32> {
     // others go on; the exit code says whether any failed.
     let mut failed = 0;
     let mut docs = Vec::new();
-    let results = crate::commands::each::each(&a.files, a.jobs, |f| one(f, &opts, &write, &a))?;
+    let results =
+        crate::commands::each::each(&a.files, a.jobs, |f| one(f, &opts, session, &write, &a))?;
     for (f, r) in a.files.iter().zip(results) {
         match r {
             Ok(d) if a.json => docs.push(as_json(f, &d)),
@@ -163,6 +226,34 @@ fn print_text(path: &std::path::Path, d: &Detected) -> Result<()> {
     outln!("{}: {} events", path.display(), d.events.len())?;
     for w in &d.warnings {
         outln!("  warning: {w}")?;
+    }
+    if let Some(s) = &d.session_calibration {
+        let ms = |k: &c3dfix::events_session::KindReport| match (k.left_ms, k.right_ms) {
+            (Some(l), Some(r)) if l == r => format!("{l:+.1} ms"),
+            (l, r) => {
+                let f = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:+.1} ms"));
+                format!("left {}, right {}", f(l), f(r))
+            }
+        };
+        let used = |k: &c3dfix::events_session::KindReport| {
+            if k.used {
+                ""
+            } else if k.left_ms.is_some() || k.right_ms.is_some() {
+                " (not used: the trial's own plates calibrate them)"
+            } else {
+                " (not used: too few contacts)"
+            }
+        };
+        outln!(
+            "  session calibration (markers with the offsets of {} other trial(s)): strikes {} from {} contacts{}, offs {} from {} contacts{}",
+            s.trials,
+            ms(&s.strike),
+            s.strike.contacts,
+            used(&s.strike),
+            ms(&s.off),
+            s.off.contacts,
+            used(&s.off)
+        )?;
     }
     for e in &d.events {
         let plate = e.plate.map(|p| format!(" (plate {p})")).unwrap_or_default();

@@ -1,0 +1,263 @@
+//! Markers alone with a session calibration: the lead or lag of a trial's kinematic events
+//! learned from OTHER trials of the same session or lab, where their feet land cleanly on a
+//! plate or where the lab has marked its own events ([`gait::session`]).
+//!
+//! The kinematic methods' error is mostly a constant per lab (marker placement; docs/events.md,
+//! "Where the held-out errors come from"), which no constant chosen on other labs removes.
+//! A session usually has trials with plate contacts beside trials without: those tell the
+//! lab's offset for these.
+
+use crate::error::{Error, Result, Setting};
+use crate::events::{self, EventOptions};
+use gait::session::{Lag, SessionOptions};
+use gait::{Event, Kind, SessionOffsets, Side, Source};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// Which known events of a reference trial teach the offset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum CalibrationTruth {
+    /// Plate contacts where one foot alone loads a plate ([`events::plate_events`]).
+    Plates,
+    /// The file's own Foot Strike / Foot Off events (EVENT group, Left/Right).
+    Events,
+    /// A trial's plate contacts where it has any, else its own events: the plates are a
+    /// physical measurement; a lab's events may have been set by hand.
+    #[default]
+    PlatesElseEvents,
+}
+
+impl std::str::FromStr for CalibrationTruth {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "plates" | "plate" => Ok(CalibrationTruth::Plates),
+            "events" | "lab" => Ok(CalibrationTruth::Events),
+            "auto" | "plates-else-events" => Ok(CalibrationTruth::PlatesElseEvents),
+            _ => Err(Error::OutOfRange {
+                setting: Setting::EventSource,
+                value: s.to_string(),
+                limits: "expected plates, events or auto".into(),
+            }),
+        }
+    }
+}
+
+/// One reference trial's lags (truth − kinematic, seconds).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReferenceTrial {
+    pub path: PathBuf,
+    /// "plates" or "events": what its lags were measured against.
+    pub truth: &'static str,
+    pub lags: Vec<Lag>,
+}
+
+/// The lags of a session's reference trials, and the files that gave none (with why).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SessionLags {
+    pub trials: Vec<ReferenceTrial>,
+    pub skipped: Vec<String>,
+}
+
+/// The file's own Foot Strike / Foot Off events of the left and right feet, as fractional
+/// frame indices (from `frame_time(0)` at POINT:RATE).
+pub fn lab_events(c: &c3d::C3d) -> Vec<Event> {
+    let rate = c.point_rate() as f64;
+    if !(rate.is_finite() && rate > 0.0) {
+        return Vec::new();
+    }
+    let t0 = c.frame_time(0);
+    c.events()
+        .iter()
+        .filter_map(|e| {
+            let side = match e.context.trim().to_ascii_lowercase().as_str() {
+                "left" => Side::Left,
+                "right" => Side::Right,
+                _ => return None,
+            };
+            let kind = match e.label.trim().to_ascii_lowercase().as_str() {
+                "foot strike" => Kind::FootStrike,
+                "foot off" => Kind::FootOff,
+                _ => return None,
+            };
+            let index = (e.time - t0) * rate;
+            index.is_finite().then_some(Event {
+                side,
+                kind,
+                index,
+                source: Source::Plate,
+                plate: None,
+            })
+        })
+        .collect()
+}
+
+/// One reference trial's lags: its kinematic events (as `opts` detects them, uncalibrated)
+/// against its plate contacts or its own events, as `truth` says.
+pub fn reference_lags(
+    c: &c3d::C3d,
+    path: &Path,
+    opts: &EventOptions,
+    truth: CalibrationTruth,
+    window_s: f64,
+) -> Result<ReferenceTrial> {
+    let mut choice = events::choose_markers(c, &opts.markers, path)?;
+    let feet = events::feet(c, &mut choice, path)?;
+    let rate = c.point_rate() as f64;
+    let kin = gait::kinematic_events(&feet, rate, &opts.kinematic).map_err(|e| Error::Trial {
+        path: path.to_path_buf(),
+        what: e.to_string(),
+    })?;
+    let plates = || -> Result<Vec<Event>> {
+        if c.platform_params().plates.is_empty() {
+            Ok(Vec::new())
+        } else {
+            events::plate_events(c, &feet, &opts.plate)
+        }
+    };
+    let (name, known) = match truth {
+        CalibrationTruth::Plates => ("plates", plates()?),
+        CalibrationTruth::Events => ("events", lab_events(c)),
+        CalibrationTruth::PlatesElseEvents => {
+            let p = plates()?;
+            if p.is_empty() {
+                ("events", lab_events(c))
+            } else {
+                ("plates", p)
+            }
+        }
+    };
+    Ok(ReferenceTrial {
+        path: path.to_path_buf(),
+        truth: name,
+        lags: gait::session::trial_lags(&known, &kin, rate, window_s),
+    })
+}
+
+/// The lags of each of `paths` (a file that cannot be read, or whose markers give no
+/// events, is listed in [`SessionLags::skipped`] with the reason; it is no error, since a
+/// session's folder also holds static and calibration trials).
+pub fn session_lags(
+    paths: &[PathBuf],
+    opts: &EventOptions,
+    truth: CalibrationTruth,
+    window_s: f64,
+) -> SessionLags {
+    let mut out = SessionLags::default();
+    for p in paths {
+        let r = crate::open(p).and_then(|c| reference_lags(&c, p, opts, truth, window_s));
+        match r {
+            Ok(t) if t.lags.is_empty() => out.skipped.push(format!(
+                "{}: no {} within {} ms of a kinematic event of its foot and kind",
+                p.display(),
+                if t.truth == "plates" {
+                    "plate contact"
+                } else {
+                    "Foot Strike or Foot Off event of its own"
+                },
+                window_s * 1000.0
+            )),
+            Ok(t) => out.trials.push(t),
+            Err(e) => out.skipped.push(e.to_string()),
+        }
+    }
+    out
+}
+
+/// Whether two paths name one file (a trial never calibrates itself).
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => a == b,
+    }
+}
+
+/// A session's offsets as applied to one trial.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SessionCalibration {
+    pub offsets: SessionOffsets,
+    /// Reference trials that gave lags (the trial itself excluded).
+    pub trials: usize,
+    pub min_contacts: usize,
+}
+
+impl SessionLags {
+    /// The offsets learned from every reference trial but `trial` itself.
+    pub fn for_trial(&self, trial: &Path, opts: &SessionOptions) -> SessionCalibration {
+        let used: Vec<&ReferenceTrial> = self
+            .trials
+            .iter()
+            .filter(|t| !same_file(&t.path, trial))
+            .collect();
+        let lags: Vec<Lag> = used.iter().flat_map(|t| t.lags.iter().copied()).collect();
+        SessionCalibration {
+            offsets: gait::session_offsets(&lags, opts),
+            trials: used.len(),
+            min_contacts: opts.min_contacts,
+        }
+    }
+}
+
+/// One kind's session offset as reported with a trial's events.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct KindReport {
+    /// The offset added to the left and the right foot's kinematic events, ms (null: none).
+    pub left_ms: Option<f64>,
+    pub right_ms: Option<f64>,
+    /// The contacts it was learned from.
+    pub contacts: usize,
+    /// Whether it moved this trial's events: not when too few contacts were found, nor in
+    /// `auto` where the trial's own plates calibrate this kind.
+    pub used: bool,
+}
+
+/// The session calibration as reported with a trial's events.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SessionReport {
+    /// The reference trials that gave contacts (the trial itself never counts).
+    pub trials: usize,
+    pub min_contacts: usize,
+    pub strike: KindReport,
+    pub off: KindReport,
+}
+
+impl SessionCalibration {
+    /// The report, with `own` saying which kinds (strike, off) the trial's own plates
+    /// calibrated instead.
+    pub fn report(&self, own: [bool; 2]) -> SessionReport {
+        let k = |o: &gait::session::KindOffset, own: bool| {
+            let ms = |s: Option<f64>| s.map(|v| (v * 10_000.0).round() / 10.0);
+            KindReport {
+                left_ms: ms(o.seconds[0]),
+                right_ms: ms(o.seconds[1]),
+                contacts: o.contacts[0] + o.contacts[1],
+                used: !own && o.seconds.iter().any(Option::is_some),
+            }
+        };
+        SessionReport {
+            trials: self.trials,
+            min_contacts: self.min_contacts,
+            strike: k(&self.offsets.strike, own[0]),
+            off: k(&self.offsets.off, own[1]),
+        }
+    }
+
+    /// What the report's readers should know, in words: the kinds left uncalibrated.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = Vec::new();
+        for (name, o) in [
+            ("strikes", &self.offsets.strike),
+            ("offs", &self.offsets.off),
+        ] {
+            if o.seconds.iter().all(Option::is_none) {
+                w.push(format!(
+                    "session calibration: {} contact(s) for {name} in {} other trial(s), fewer than {}: {name} are left as the markers give them",
+                    o.contacts[0] + o.contacts[1],
+                    self.trials,
+                    self.min_contacts
+                ));
+            }
+        }
+        w
+    }
+}
