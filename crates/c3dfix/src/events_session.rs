@@ -164,6 +164,34 @@ pub fn session_lags(
     out
 }
 
+/// The lags of the trials named (files, or folders walked as `batch` walks them): what the
+/// command line's `--calibrate-from` and Python's `calibrate_from=` read, so both fronts take
+/// the same trials. A name that is neither a file nor a folder, or a folder without a C3D
+/// file, is an error (a typo must not leave a trial silently uncalibrated); a trial that
+/// gives no lag is skipped with why ([`session_lags`]).
+pub fn session_from(
+    named: &[PathBuf],
+    opts: &EventOptions,
+    truth: CalibrationTruth,
+) -> Result<SessionLags> {
+    let mut refs = Vec::new();
+    for p in named {
+        let found = crate::targets::plan(
+            std::slice::from_ref(p),
+            crate::targets::Destination::InPlace,
+            None,
+        )?;
+        if found.targets.is_empty() {
+            return Err(Error::Trial {
+                path: p.clone(),
+                what: "no C3D files in this folder".into(),
+            });
+        }
+        refs.extend(found.targets.into_iter().map(|t| t.input));
+    }
+    Ok(session_lags(&refs, opts, truth, gait::session::WINDOW_S))
+}
+
 /// Whether two paths name one file (a trial never calibrates itself).
 fn same_file(a: &Path, b: &Path) -> bool {
     match (a.canonicalize(), b.canonicalize()) {

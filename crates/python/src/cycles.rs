@@ -8,6 +8,8 @@ use pyo3::types::{PyDict, PyList};
 
 use crate::{err, PyC3d};
 use c3dfix::events::{EventOptions, EventSource};
+use c3dfix::events_session::{session_from, CalibrationTruth, SessionReport};
+use c3dfix::gait::session::SessionOptions;
 use c3dfix::gait::{cycles::SAMPLES, MarkerNames, Side};
 
 /// Each warning as a Python `UserWarning` naming the file.
@@ -43,16 +45,44 @@ fn event_options(source: &str, markers: Option<Vec<String>>) -> PyResult<EventOp
 /// markers names markers the search does not find, as ["lheel=LHEEL", "pelvis=LPSI+RPSI"].
 /// What could not be used is raised as a UserWarning; no walking or no foot markers raise
 /// C3dError.
+///
+/// calibrate_from (files or folders of the same session, as `c3dfix events
+/// --calibrate-from`): the kinematic events are shifted by the median lead or lag the
+/// markers showed at those trials' plate contacts or own events (calibrate_truth "plates",
+/// "events" or "auto": plates where a trial has contacts, else its events); the trial
+/// itself never counts, and reference trials that give nothing are named in a UserWarning.
+/// Each event then carries shift_ms: the offset added to it (None where none was: plate
+/// events, and in "auto" a kind the trial's own plates calibrate).
 #[pyfunction]
-#[pyo3(signature = (c3d, source="auto", markers=None))]
+#[pyo3(signature = (c3d, source="auto", markers=None, calibrate_from=None, calibrate_truth="auto"))]
 pub fn detect_events(
     py: Python<'_>,
     c3d: &PyC3d,
     source: &str,
     markers: Option<Vec<String>>,
+    calibrate_from: Option<Vec<std::path::PathBuf>>,
+    calibrate_truth: &str,
 ) -> PyResult<PyObject> {
-    let opts = event_options(source, markers)?;
+    let mut opts = event_options(source, markers)?;
     let name = c3d.name();
+    if let Some(refs) = &calibrate_from {
+        if opts.from == EventSource::Plates {
+            return Err(err(
+                "calibrate_from shifts kinematic events: use source=\"kinematics\" or \"auto\"",
+            ));
+        }
+        let truth: CalibrationTruth = calibrate_truth.parse().map_err(err)?;
+        let lags = py
+            .allow_threads(|| session_from(refs, &opts, truth))
+            .map_err(err)?;
+        let skipped: Vec<String> = lags
+            .skipped
+            .iter()
+            .map(|why| format!("calibration: skipped {why}"))
+            .collect();
+        warn_all(py, &name.display().to_string(), &skipped)?;
+        opts.session = Some(lags.for_trial(&name, &SessionOptions::default()));
+    }
     let d = py
         .allow_threads(|| c3dfix::detect_events(&c3d.inner, &opts, &name))
         .map_err(err)?;
@@ -66,9 +96,32 @@ pub fn detect_events(
         dict.set_item("frame", e.frame)?;
         dict.set_item("source", e.source)?;
         dict.set_item("plate", e.plate)?;
+        if let Some(r) = &d.session_calibration {
+            dict.set_item("shift_ms", shift_ms(r, e))?;
+        }
         out.append(dict)?;
     }
     Ok(out.into_any().unbind())
+}
+
+/// The session offset added to one detected event, as the report says it was used.
+fn shift_ms(r: &SessionReport, e: &c3dfix::events::TrialEvent) -> Option<f64> {
+    if e.source != "kinematics" {
+        return None;
+    }
+    let kind = if e.label == "Foot Strike" {
+        &r.strike
+    } else {
+        &r.off
+    };
+    if !kind.used {
+        return None;
+    }
+    if e.context == "Left" {
+        kind.left_ms
+    } else {
+        kind.right_ms
+    }
 }
 
 /// cycles(c3d, side="both", markers=None, analog=None, forces=False, detect=False,

@@ -179,3 +179,40 @@ def test_detected_cycles_and_clear_errors():
     squat = c3dfix.read(more("keenon__nimblephysics__squat.c3d"))
     with pytest.raises(c3dfix.C3dError, match="no complete gait cycle.*Left 0, Right 0"):
         c3dfix.cycles(squat)
+
+
+def test_detect_events_calibrated_from_the_sessions_other_trial():
+    """calibrate_from as `c3dfix events --calibrate-from`: qualisys' ClinicalGait_Gait1
+    (c3d-more) shifted by the lags FunctionalKnee_GaitFB2's markers showed at its own plates
+    (strikes +6.7 ms, offs +2.6 ms), the same events as the command line's, each carrying
+    the shift it got."""
+    gait1 = more("qualisys__cgm2-web-report-uploader__ClinicalGait_Gait1.c3d")
+    fb2 = more("qualisys__cgm2-web-report-uploader__FunctionalKnee_GaitFB2.c3d")
+    c = c3dfix.read(gait1)
+    raw = c3dfix.detect_events(c, source="kinematics")
+    assert all("shift_ms" not in e for e in raw)
+    # The trial itself among the references never counts.
+    got = c3dfix.detect_events(c, source="kinematics", calibrate_from=[fb2, gait1])
+    out = subprocess.run(
+        [str(cli()), "events", "--json", "--from", "kinematics", str(gait1),
+         "--calibrate-from", str(fb2)],
+        capture_output=True,
+        check=True,
+    )
+    want = json.loads(out.stdout)["events"]
+    assert len(got) == len(want) == len(raw) == 13
+    for b, g, w in zip(raw, got, want):
+        assert (g["context"], g["label"], g["frame"]) == (w["context"], w["label"], w["frame"])
+        assert g["time"] == pytest.approx(w["time"], abs=1e-9)
+        shift = 6.7 if g["label"] == "Foot Strike" else 2.6
+        assert g["shift_ms"] == pytest.approx(shift, abs=0.05)
+        assert (g["time"] - b["time"]) * 1000 == pytest.approx(shift, abs=0.05)
+    # In auto the trial's own plates calibrate both kinds: nothing is shifted by the session.
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        auto = c3dfix.detect_events(c, calibrate_from=[fb2])
+    assert all(e["shift_ms"] is None for e in auto)
+    with pytest.raises(c3dfix.C3dError, match="no such file or folder"):
+        c3dfix.detect_events(c, source="kinematics", calibrate_from=[gait1.parent / "nope"])
+    with pytest.raises(c3dfix.C3dError, match="calibrate_from shifts kinematic events"):
+        c3dfix.detect_events(c, source="plates", calibrate_from=[fb2])

@@ -5,7 +5,7 @@ use crate::commands::info::read_c3d;
 use crate::console::{errln, outln};
 use anyhow::Result;
 use c3dfix::events::{detect_events, Detected, EventOptions, EventSource};
-use c3dfix::events_session::{session_lags, CalibrationTruth, SessionLags};
+use c3dfix::events_session::{session_from, CalibrationTruth, SessionLags};
 use c3dfix::gait::session::SessionOptions;
 use c3dfix::gait::MarkerNames;
 use std::path::PathBuf;
@@ -157,13 +157,8 @@ pub fn run(mut a: Args) -> Result<i32> {
             );
         }
         let truth: CalibrationTruth = a.calibrate_truth.parse()?;
-        for p in &a.calibrate_from {
-            if !p.exists() {
-                anyhow::bail!("{}: no such file or folder (--calibrate-from)", p.display());
-            }
-        }
-        let refs = crate::commands::each::trials(&a.calibrate_from)?;
-        let s = session_lags(&refs, &opts, truth, c3dfix::gait::session::WINDOW_S);
+        let s = session_from(&a.calibrate_from, &opts, truth)
+            .map_err(|e| anyhow::anyhow!("{e} (--calibrate-from)"))?;
         for why in &s.skipped {
             errln!("c3dfix: calibration: skipped {why}");
         }

@@ -207,11 +207,17 @@ def detect_events(
     c3d: C3d,
     source: str = "auto",
     markers: Optional[Sequence[str]] = None,
+    calibrate_from: Optional[Sequence[_Path]] = None,
+    calibrate_truth: str = "auto",
 ) -> List[Dict[str, Any]]:
     """Foot strikes and foot offs as `c3dfix events --json` finds them: context, label,
     time (s on the EVENT group's base), frame (the file's numbering), source ("plate" or
     "kinematics") and plate. source: "plates", "kinematics" or "auto"; markers as
-    ["lheel=LHEEL", "pelvis=LPSI+RPSI"]. Raises C3dError without walking or foot markers."""
+    ["lheel=LHEEL", "pelvis=LPSI+RPSI"]. Raises C3dError without walking or foot markers.
+    calibrate_from: files or folders of the same session (`--calibrate-from`): kinematic
+    events shifted by the median lag their markers showed at those trials' plate contacts
+    or own events (calibrate_truth "plates", "events" or "auto"); each event then carries
+    shift_ms, the offset added to it (None where none was)."""
 
 def cycles(
     c3d: C3d,
