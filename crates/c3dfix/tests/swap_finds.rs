@@ -3,6 +3,31 @@
 
 use c3dfix::repair_lib::swaps::{FindKind, SwapOptions};
 
+/// A c3d-more trial and what the finding reports on it with the default options (None, with
+/// the skip message, where the corpus is absent).
+fn more_trial(name: &str) -> Option<(c3dfix::c3d::C3d, c3dfix::Swaps)> {
+    let Some(dir) = testkit::c3d_more() else {
+        testkit::skipped("C3D_MORE absent");
+        return None;
+    };
+    let path = dir.join(name);
+    let c = c3dfix::c3d::read_file(&path).unwrap();
+    let found = c3dfix::swaps(&c, &path, &SwapOptions::default()).unwrap();
+    Some((c, found))
+}
+
+/// No find names `marker`.
+fn assert_not_reported(found: &c3dfix::Swaps, marker: &str) {
+    assert!(
+        found
+            .swaps
+            .iter()
+            .all(|x| !x.markers.iter().any(|m| m == marker)),
+        "{:?}",
+        found.swaps
+    );
+}
+
 /// `hockey_wristshot009.c3d` (c3d-more, PhilD001): from frame 575 to the trial's end the
 /// label Reed:LFHD holds one sample repeated, its x and y frozen at the last measured ones
 /// and its z at 0 — on the floor, 1.87 m under the head, whose four other markers go on
@@ -10,13 +35,9 @@ use c3dfix::repair_lib::swaps::{FindKind, SwapOptions};
 /// those frames, and `repair --swaps fix` makes them a gap.
 #[test]
 fn hockey_forehead_marker_dropped_to_the_floor_is_a_settled_jump() {
-    let Some(dir) = testkit::c3d_more() else {
-        testkit::skipped("C3D_MORE absent");
+    let Some((c, found)) = more_trial("PhilD001__biomechZoo__hockey_wristshot009.c3d") else {
         return;
     };
-    let path = dir.join("PhilD001__biomechZoo__hockey_wristshot009.c3d");
-    let c = c3dfix::c3d::read_file(&path).unwrap();
-    let found = c3dfix::swaps(&c, &path, &SwapOptions::default()).unwrap();
     let lfhd: Vec<_> = found
         .swaps
         .iter()
@@ -52,21 +73,10 @@ fn hockey_forehead_marker_dropped_to_the_floor_is_a_settled_jump() {
 /// that point as smoothly as any marker: leaps amid leaps are noise, and not reported.
 #[test]
 fn fast_arm_marker_that_leaps_in_every_frame_is_not_a_jump() {
-    let Some(dir) = testkit::c3d_more() else {
-        testkit::skipped("C3D_MORE absent");
+    let Some((c, found)) = more_trial("keenon__nimblephysics__JA1Gait35.c3d") else {
         return;
     };
-    let path = dir.join("keenon__nimblephysics__JA1Gait35.c3d");
-    let c = c3dfix::c3d::read_file(&path).unwrap();
-    let found = c3dfix::swaps(&c, &path, &SwapOptions::default()).unwrap();
-    assert!(
-        found
-            .swaps
-            .iter()
-            .all(|x| !x.markers.iter().any(|m| m == "LARM")),
-        "{:?}",
-        found.swaps
-    );
+    assert_not_reported(&found, "LARM");
     // The leaps are there: LARM's third difference in 941–949 is above 8 mm in most frames.
     let i = c.point_labels().iter().position(|l| l == "LARM").unwrap();
     let t = c.points().trajectory(i);
@@ -91,13 +101,9 @@ fn fast_arm_marker_that_leaps_in_every_frame_is_not_a_jump() {
 /// it settled over those frames, and `repair --swaps fix` exchanges them back.
 #[test]
 fn wrist_and_hand_labels_exchanged_until_a_gap_are_a_settled_swap() {
-    let Some(dir) = testkit::c3d_more() else {
-        testkit::skipped("C3D_MORE absent");
+    let Some((c, found)) = more_trial("keenon__nimblephysics__nick_freeform_001.c3d") else {
         return;
     };
-    let path = dir.join("keenon__nimblephysics__nick_freeform_001.c3d");
-    let c = c3dfix::c3d::read_file(&path).unwrap();
-    let found = c3dfix::swaps(&c, &path, &SwapOptions::default()).unwrap();
     let x = found
         .swaps
         .iter()
@@ -152,21 +158,10 @@ fn wrist_and_hand_labels_exchanged_until_a_gap_are_a_settled_swap() {
 /// and it is not reported.
 #[test]
 fn bent_knee_of_a_squat_is_not_a_jump() {
-    let Some(dir) = testkit::c3d_more() else {
-        testkit::skipped("C3D_MORE absent");
+    let Some((c, found)) = more_trial("keenon__nimblephysics__squat.c3d") else {
         return;
     };
-    let path = dir.join("keenon__nimblephysics__squat.c3d");
-    let c = c3dfix::c3d::read_file(&path).unwrap();
-    let found = c3dfix::swaps(&c, &path, &SwapOptions::default()).unwrap();
-    assert!(
-        found
-            .swaps
-            .iter()
-            .all(|x| !x.markers.iter().any(|m| m == "SehoonVSK35:RKNI")),
-        "{:?}",
-        found.swaps
-    );
+    assert_not_reported(&found, "SehoonVSK35:RKNI");
     // The strain: the knees' distance far from the trial's median, before and inside alike.
     let idx = |l: &str| c.point_labels().iter().position(|p| p == l).unwrap();
     let p = c.points();

@@ -15,7 +15,7 @@ use crate::{Event, Kind};
 /// `window` frames (the nearest), `None` for a kind without such a pair.
 pub fn plate_offsets(plates: &[Event], kinematic: &[Event], window: f64) -> [Option<f64>; 2] {
     [Kind::FootStrike, Kind::FootOff].map(|kind| {
-        let mut d: Vec<f64> = plates
+        let d: Vec<f64> = plates
             .iter()
             .filter(|p| p.kind == kind)
             .filter_map(|p| {
@@ -27,16 +27,7 @@ pub fn plate_offsets(plates: &[Event], kinematic: &[Event], window: f64) -> [Opt
                     .min_by(|a, b| a.abs().total_cmp(&b.abs()))
             })
             .collect();
-        if d.is_empty() {
-            return None;
-        }
-        d.sort_by(f64::total_cmp);
-        let m = d.len() / 2;
-        Some(if d.len() % 2 == 1 {
-            d[m]
-        } else {
-            (d[m - 1] + d[m]) / 2.0
-        })
+        crate::session::median(d)
     })
 }
 

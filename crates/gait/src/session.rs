@@ -101,7 +101,9 @@ fn side_index(side: Side) -> usize {
     }
 }
 
-fn median(mut d: Vec<f64>) -> Option<f64> {
+/// The median (the mean of the middle two for an even count); None for none: the one rule
+/// both the trial's own calibration and the session's use.
+pub(crate) fn median(mut d: Vec<f64>) -> Option<f64> {
     if d.is_empty() {
         return None;
     }

@@ -22,7 +22,6 @@ use corpus::{load, load_recorded, FILES};
 use repair::swaps::{find_swaps, undo, Find, FindKind, SwapOptions};
 use repair::{repair_trial, FillOptions, RepairConfig, Trial};
 use std::collections::BTreeMap;
-use std::path::PathBuf;
 
 /// The corpora every constant of the detector was chosen on.
 const TUNED: [&str; 3] = ["samples", "extra", "fullbody"];
@@ -372,14 +371,7 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let roots: BTreeMap<&str, Option<PathBuf>> = [
-        ("samples", testkit::c3d_samples()),
-        ("extra", testkit::c3d_extra()),
-        ("fullbody", testkit::c3d_fullbody()),
-        ("more", testkit::c3d_more()),
-    ]
-    .into_iter()
-    .collect();
+    let roots = corpus::roots();
     let tuned_labs: Vec<&str> = FILES
         .iter()
         .filter(|f| TUNED.contains(&f.2))

@@ -3,6 +3,20 @@
 
 use repair::Trial;
 
+/// Each corpus's folder on this machine, by the short name the file lists use ("samples",
+/// "extra", "fullbody", "more"); None for a corpus not found.
+#[allow(dead_code)]
+pub fn roots() -> std::collections::BTreeMap<&'static str, Option<std::path::PathBuf>> {
+    [
+        ("samples", testkit::c3d_samples()),
+        ("extra", testkit::c3d_extra()),
+        ("fullbody", testkit::c3d_fullbody()),
+        ("more", testkit::c3d_more()),
+    ]
+    .into_iter()
+    .collect()
+}
+
 /// The file's markers (points that are not model outputs) as a trial in mm.
 ///
 /// A sample at exactly (0, 0, 0) counts as missing here, whatever its residual says: no

@@ -7,14 +7,7 @@ use super::*;
 /// Each record's activity, by its trial (see `corpus::activity`). A corpus not on this
 /// machine gives its trials the activity its list's set names.
 pub(crate) fn activities_of(recs: &[Rec]) -> HashMap<String, &'static str> {
-    let roots: HashMap<&str, Option<PathBuf>> = [
-        ("samples", testkit::c3d_samples()),
-        ("extra", testkit::c3d_extra()),
-        ("fullbody", testkit::c3d_fullbody()),
-        ("more", testkit::c3d_more()),
-    ]
-    .into_iter()
-    .collect();
+    let roots = corpus::roots();
     let mut out = HashMap::new();
     for r in recs {
         if out.contains_key(&r.file) {

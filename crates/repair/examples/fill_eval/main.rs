@@ -242,14 +242,7 @@ fn main() {
         }
         return;
     }
-    let roots: BTreeMap<&str, Option<PathBuf>> = [
-        ("samples", testkit::c3d_samples()),
-        ("extra", testkit::c3d_extra()),
-        ("fullbody", testkit::c3d_fullbody()),
-        ("more", testkit::c3d_more()),
-    ]
-    .into_iter()
-    .collect();
+    let roots = corpus::roots();
     let methods = a.methods.clone().unwrap_or_else(|| {
         let mut m = SINGLES.to_vec();
         m.push(FillMethod::Gloersen);
