@@ -343,6 +343,21 @@ fn param_diff(a: &C3d, b: &C3d, d: &mut Diff, data: bool) {
         a: x,
         b: y,
     };
+    // A group and a parameter are both locked or not and carry a description, compared alike:
+    // (locked, description) of the record in `a`, then in `b`.
+    let flags = |out: &mut Vec<ParamChange>, name: &str, x: (bool, &str), y: (bool, &str)| {
+        if x.0 != y.0 {
+            out.push(ch(
+                name,
+                "locked",
+                Some(x.0.to_string()),
+                Some(y.0.to_string()),
+            ));
+        }
+        if text(x.1) != text(y.1) {
+            out.push(ch(name, "description", Some(x.1.into()), Some(y.1.into())));
+        }
+    };
     for (i, (name, ra)) in ka.iter().enumerate() {
         let Some(rb) = pairs[i].map(|j| kb[j].1) else {
             d.parameters.push(ch(name, "removed", None, None));
@@ -350,22 +365,12 @@ fn param_diff(a: &C3d, b: &C3d, d: &mut Diff, data: bool) {
         };
         match (ra, rb) {
             (Record::Group(x), Record::Group(y)) => {
-                if x.locked != y.locked {
-                    d.parameters.push(ch(
-                        name,
-                        "locked",
-                        Some(x.locked.to_string()),
-                        Some(y.locked.to_string()),
-                    ));
-                }
-                if text(&x.description) != text(&y.description) {
-                    d.parameters.push(ch(
-                        name,
-                        "description",
-                        Some(x.description.clone()),
-                        Some(y.description.clone()),
-                    ));
-                }
+                flags(
+                    &mut d.parameters,
+                    name,
+                    (x.locked, &x.description),
+                    (y.locked, &y.description),
+                );
             }
             (Record::Parameter(x), Record::Parameter(y)) => {
                 let numeric =
@@ -404,22 +409,12 @@ fn param_diff(a: &C3d, b: &C3d, d: &mut Diff, data: bool) {
                     d.parameters
                         .push(ch(name, "value", Some(show_value(x)), Some(show_value(y))));
                 }
-                if x.locked != y.locked {
-                    d.parameters.push(ch(
-                        name,
-                        "locked",
-                        Some(x.locked.to_string()),
-                        Some(y.locked.to_string()),
-                    ));
-                }
-                if text(&x.description) != text(&y.description) {
-                    d.parameters.push(ch(
-                        name,
-                        "description",
-                        Some(x.description.clone()),
-                        Some(y.description.clone()),
-                    ));
-                }
+                flags(
+                    &mut d.parameters,
+                    name,
+                    (x.locked, &x.description),
+                    (y.locked, &y.description),
+                );
             }
             _ => d.parameters.push(ch(name, "type", None, None)),
         }
