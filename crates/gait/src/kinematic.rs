@@ -17,7 +17,7 @@
 //! Gaps: an extremum counts only with valid samples on both sides of it, so no event is
 //! placed at the edge of a gap.
 
-use crate::axes::{self, Vertical};
+use crate::axes::Vertical;
 use crate::error::{Error, Result};
 use crate::signal;
 use crate::{Event, Feet, Kind, Side, Source};
@@ -291,16 +291,9 @@ pub fn prepare(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Result<Prepar
     {
         return Err(Error::AllMissing("foot".into()));
     }
-    let vertical = axes::vertical(
-        &feet.pelvis,
-        &[
-            &feet.left_heel,
-            &feet.right_heel,
-            &feet.left_toe,
-            &feet.right_toe,
-        ],
-    )
-    .ok_or_else(|| Error::AllMissing("foot (in frames with the pelvis)".into()))?;
+    let vertical = feet
+        .vertical()
+        .ok_or_else(|| Error::AllMissing("foot (in frames with the pelvis)".into()))?;
     let mut pelvis = feet.pelvis.clone();
     signal::fill_short(&mut pelvis, (0.5 * rate).round() as usize);
     let dir = walking_direction(&pelvis, vertical, rate, opts);

@@ -161,6 +161,20 @@ impl Feet {
         }
     }
 
+    /// The lab's vertical from the pelvis and all four foot markers (see [`axes::vertical`]);
+    /// `None` when no frame has the pelvis with a foot marker. Every detector finds it so.
+    pub(crate) fn vertical(&self) -> Option<axes::Vertical> {
+        axes::vertical(
+            &self.pelvis,
+            &[
+                &self.left_heel,
+                &self.right_heel,
+                &self.left_toe,
+                &self.right_toe,
+            ],
+        )
+    }
+
     /// An error unless every trajectory has the pelvis' length.
     pub fn check(&self) -> Result<()> {
         let n = self.frames();
