@@ -124,6 +124,20 @@ pub fn sort_events(events: &mut [Event]) {
     });
 }
 
+/// `events` each moved by `shift(event)` frames, sorted by time: what a calibration does to a
+/// trial's kinematic events, whichever offsets it has found.
+pub(crate) fn shifted(events: &[Event], shift: impl Fn(&Event) -> f64) -> Vec<Event> {
+    let mut out: Vec<Event> = events
+        .iter()
+        .map(|e| Event {
+            index: e.index + shift(e),
+            ..*e
+        })
+        .collect();
+    sort_events(&mut out);
+    out
+}
+
 /// The trajectories the detectors read, each one `[x, y, z]` per frame in millimetres in
 /// the lab frame, NaN where missing; all of the same length.
 #[derive(Debug, Clone, PartialEq, Default)]
