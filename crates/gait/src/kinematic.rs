@@ -19,7 +19,7 @@
 //! ([`KinematicOptions::cut_min_fall`]): a foot that lands just after the capture starts or
 //! just before its markers drop out is found, a marker's last sample before a gap is not.
 
-use crate::axes::{self, Vertical};
+use crate::axes::Vertical;
 use crate::error::{Error, Result};
 use crate::signal;
 use crate::{Event, Feet, Kind, Side, Source};
@@ -334,16 +334,9 @@ pub fn prepare(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Result<Prepar
     {
         return Err(Error::AllMissing("foot".into()));
     }
-    let vertical = axes::vertical(
-        &feet.pelvis,
-        &[
-            &feet.left_heel,
-            &feet.right_heel,
-            &feet.left_toe,
-            &feet.right_toe,
-        ],
-    )
-    .ok_or_else(|| Error::AllMissing("foot (in frames with the pelvis)".into()))?;
+    let vertical = feet
+        .vertical()
+        .ok_or_else(|| Error::AllMissing("foot (in frames with the pelvis)".into()))?;
     let mut pelvis = feet.pelvis.clone();
     signal::fill_short(&mut pelvis, (0.5 * rate).round() as usize);
     signal::extend_ends(
