@@ -1028,7 +1028,12 @@ fn judge(
                     "  missed [{group}] {rel}: {:?} {:?}{} {}–{} links {:?} weak finds {near:?}",
                     e.kind,
                     e.markers,
-                    e.onto.map(|b| format!(" onto {b}")).unwrap_or_default(),
+                    e.onto
+                        .map(|b| {
+                            let n = |m: usize| w.labels.get(m).cloned().unwrap_or_default();
+                            format!(" ({}) onto {b} ({})", n(e.markers[0]), n(b))
+                        })
+                        .unwrap_or_default(),
                     e.first,
                     e.last,
                     e.markers
@@ -1036,6 +1041,26 @@ fn judge(
                         .map(|&m| links[m].len())
                         .collect::<Vec<_>>()
                 );
+                if a.explain && e.onto.is_some() {
+                    let as_found = Find {
+                        kind: FindKind::Jump,
+                        markers: e.markers.clone(),
+                        first: e.first,
+                        last: e.last,
+                        confidence: 0.0,
+                        settled: false,
+                        evidence: repair::swaps::Evidence {
+                            links: 0,
+                            frames_decided: 0,
+                            link_error: 0.0,
+                            link_error_undone: 0.0,
+                            edges_smoother: 0,
+                            edges_checked: 0,
+                            edge_step_mm: 0.0,
+                        },
+                    };
+                    explain(t, w, &as_found, opts);
+                }
             }
         }
     }
