@@ -2,7 +2,9 @@
 //! 34): episodes injected one at a time into each trial, with the trial's own gaps left in:
 //! swaps between two markers of one segment and between near markers of different
 //! segments, 1, 5, 20 and 100 frames and to the end of the trial; jumps of 20–50 mm for
-//! 5–40 frames. Reports recall per kind and length, precision, the share of swaps undone
+//! 5–40 frames; and jumps onto recorded points: a marker's samples over 5–40 frames
+//! replaced whole (coordinates, residual, camera mask) by those of a marker 15–60 mm away,
+//! which keeps its own or is missing there. Reports recall per kind and length, precision, the share of swaps undone
 //! exactly, the jumped samples' error once refilled by the fill stage, and every find on the
 //! untouched trials (per 10 000 frames). Constants were chosen on the corpora `samples`,
 //! `extra` and `fullbody` (the "tuned" labs); the labs of `c3d-more` other than CMU chose
@@ -14,7 +16,10 @@
 //! ```
 //! Options: `--per N` (episodes per kind, length and trial, jumps 4 × N; default 1), `--seed S`,
 //! `--only TEXT` (files whose path contains TEXT), `--list` (every injected episode missed),
-//! `--untouched` (the finds on the untouched trials alone, no episode injected: a quick look).
+//! `--untouched` (the finds on the untouched trials alone, no episode injected: a quick look),
+//! `--explain` (with each untouched find, and each missed jump onto a recorded point under
+//! `--list`, the samples it rests on), `--residual res|cam|both FLOOR` (the residual-witness
+//! experiment of docs/swaps.md, not the detector's rule).
 
 mod corpus;
 
