@@ -215,15 +215,15 @@ impl Model {
         crate::profile::count(crate::profile::Count::GloersenModel);
         let d = t.data;
         let (n, markers) = (d.frames, d.xyz.len());
-        let in_hole = |f: usize| holes.iter().any(|&(a, b)| f >= a && f <= b);
-        let ok = |j: usize, f: usize| {
-            if j == t.m {
-                t.ok(f) && !in_hole(f)
-            } else {
-                d.ok(j, f)
-            }
-        };
-        let complete: Vec<bool> = (0..markers).map(|j| (0..n).all(|f| ok(j, f))).collect();
+        // Each marker's validity as this model reads it: the target's without the holes.
+        // Read as slices, so the scans below are plain loops over memory.
+        let target_ok: Vec<bool> = (0..n)
+            .map(|f| t.ok(f) && !holes.iter().any(|&(a, b)| f >= a && f <= b))
+            .collect();
+        let valid: Vec<&[bool]> = (0..markers)
+            .map(|j| if j == t.m { &target_ok[..] } else { d.row(j) })
+            .collect();
+        let complete: Vec<bool> = valid.iter().map(|v| v.iter().all(|&o| o)).collect();
         // 1. The mean trajectory of the markers recorded throughout.
         let whole: Vec<usize> = (0..markers).filter(|&j| complete[j] && j != t.m).collect();
         if whole.is_empty() {
@@ -233,55 +233,41 @@ impl Model {
             .map(|f| {
                 let mut s = [0.0; 3];
                 for &j in &whole {
-                    let p = d.at(j, f);
+                    let p = d.xyz[j][f];
                     (0..3).for_each(|k| s[k] += p[k]);
                 }
                 s.map(|v| v / whole.len() as f64)
             })
             .collect();
-        let at = |j: usize, f: usize| {
-            let p = d.at(j, f);
-            [0, 1, 2].map(|k| p[k] - mean_trj[f][k])
+        // A marker's coordinates at a frame with the mean trajectory's subtracted.
+        let centred = |j: usize, f: usize| {
+            let p = d.xyz[j][f];
+            let m = mean_trj[f];
+            [p[0] - m[0], p[1] - m[1], p[2] - m[2]]
         };
-        let dist = |a: [f64; 3], b: [f64; 3]| {
-            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-        };
+        let target: Vec<[f64; 3]> = (0..n).map(|f| centred(t.m, f)).collect();
         // Mean distance of each marker to the target over the frames both are recorded.
-        let mean_dist = |j: usize, frames: &mut dyn Iterator<Item = usize>| -> Option<f64> {
-            let (mut s, mut c) = (0.0, 0usize);
-            for f in frames {
-                if ok(j, f) && ok(t.m, f) {
-                    s += dist(at(j, f), at(t.m, f));
-                    c += 1;
-                }
-            }
-            (c > 0).then(|| s / c as f64)
-        };
-        let dists: Vec<Option<f64>> = (0..markers)
-            .map(|j| {
-                if j == t.m {
-                    Some(0.0)
-                } else {
-                    mean_dist(j, &mut (0..n))
-                }
-            })
-            .collect();
+        let dists = mean_distances(d.xyz, &valid, t.m, &mean_trj, &target, &target_ok);
         let known: Vec<f64> = dists.iter().flatten().copied().collect();
         let thresh = DISTAL_THRESHOLD * known.iter().sum::<f64>() / known.len().max(1) as f64;
         // 2. The markers kept: the target, and every other marker that is near or recorded
         // throughout, and recorded on each of the target's missing frames.
-        let missing: Vec<usize> = (0..n).filter(|&f| !ok(t.m, f)).collect();
+        let missing: Vec<usize> = (0..n).filter(|&f| !target_ok[f]).collect();
         let kept: Vec<usize> = (0..markers)
             .filter(|&j| {
                 j == t.m
                     || (dists[j].is_some_and(|x| x <= thresh || complete[j])
-                        && missing.iter().all(|&f| ok(j, f)))
+                        && missing.iter().all(|&f| valid[j][f]))
             })
             .collect();
         if kept.len() < 2 {
             return Err(SkipReason::NoDonors);
         }
-        let rows: Vec<usize> = (0..n).filter(|&f| kept.iter().all(|&j| ok(j, f))).collect();
+        let mut on_all = vec![true; n];
+        for &j in &kept {
+            on_all.iter_mut().zip(valid[j]).for_each(|(a, &v)| *a &= v);
+        }
+        let rows: Vec<usize> = (0..n).filter(|&f| on_all[f]).collect();
         if rows.len() < 2 {
             return Err(SkipReason::NoContext);
         }
@@ -299,14 +285,16 @@ impl Model {
             .collect();
         let cols = 3 * kept.len();
         let ti = kept.iter().position(|&j| j == t.m).unwrap_or(0);
-        // The kept markers' coordinates on `rows`, a column per coordinate (each marker's
-        // samples lie together, so each column is read and written in order).
+        // The kept markers' coordinates on `rows`, a column per coordinate, each column
+        // written in order.
         let rn = rows.len();
         let mut x = DMatrix::<f64>::zeros(rn, cols);
         for (i, &j) in kept.iter().enumerate() {
-            for (r, &f) in rows.iter().enumerate() {
-                let p = at(j, f);
-                (0..3).for_each(|ax| x[(r, 3 * i + ax)] = p[ax]);
+            for ax in 0..3 {
+                let mut col = x.column_mut(3 * i + ax);
+                for (v, &f) in col.iter_mut().zip(&rows) {
+                    *v = d.xyz[j][f][ax] - mean_trj[f][ax];
+                }
             }
         }
         let mut mean = vec![0.0; cols];
@@ -493,6 +481,51 @@ fn components(x: &DMatrix<f64>, ti: usize) -> (Components, Components) {
     let mut zeroed = x.clone();
     zeroed.columns_mut(3 * ti, 3).fill(0.0);
     (from_frames(x), from_frames(&zeroed))
+}
+
+/// Markers whose distances to the target [`mean_distances`] sums side by side: each its own
+/// sum, in frame order, so the sums are the one-marker-at-a-time loop's to the bit, but
+/// independent, so the processor overlaps them (on 03_rolling this loop was the model's
+/// largest cost after the covariance).
+const DIST_LANES: usize = 8;
+
+/// Each marker's mean distance to the target (`target`: its centred coordinates) over the
+/// frames both are recorded (`target_ok` the target's validity), after subtracting the mean
+/// trajectory `mean_trj`; the target's own is 0, and a marker never recorded with it has
+/// none.
+fn mean_distances(
+    xyz: &[Vec<[f64; 3]>],
+    valid: &[&[bool]],
+    m: usize,
+    mean_trj: &[[f64; 3]],
+    target: &[[f64; 3]],
+    target_ok: &[bool],
+) -> Vec<Option<f64>> {
+    let n = target.len();
+    let others: Vec<usize> = (0..xyz.len()).filter(|&j| j != m).collect();
+    let mut out = vec![None; xyz.len()];
+    out[m] = Some(0.0);
+    for block in others.chunks(DIST_LANES) {
+        let mut s = [0.0f64; DIST_LANES];
+        let mut c = [0usize; DIST_LANES];
+        for f in (0..n).filter(|&f| target_ok[f]) {
+            let (mt, q) = (mean_trj[f], target[f]);
+            for (l, &j) in block.iter().enumerate() {
+                let p = xyz[j][f];
+                let a = [p[0] - mt[0], p[1] - mt[1], p[2] - mt[2]];
+                let dd =
+                    ((a[0] - q[0]).powi(2) + (a[1] - q[1]).powi(2) + (a[2] - q[2]).powi(2)).sqrt();
+                // Adding +0 leaves a sum of non-negative terms as it was, bit for bit.
+                let v = valid[j][f];
+                s[l] += if v { dd } else { 0.0 };
+                c[l] += usize::from(v);
+            }
+        }
+        for (l, &j) in block.iter().enumerate() {
+            out[j] = (c[l] > 0).then(|| s[l] / c[l] as f64);
+        }
+    }
+    out
 }
 
 /// The kept markers' centred coordinates at frame `f`, the target's set to zero (it is
