@@ -29,13 +29,16 @@
 //! It differs from `pca`, which fits the nearest markers over a window around the gap and
 //! ties the prediction to the gap's anchors.
 
-use super::data::TrialModels;
+use super::data::{Data, TrialModels};
 use super::donors::Donors;
 use super::{SkipReason, Span, Target};
 use crate::linalg::symmetric_eigen;
 use nalgebra::DMatrix;
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
+use sums::Sums;
+
+mod sums;
 
 /// σ of the distance weighting, in mm (the paper's default).
 const WEIGHT_SCALE_MM: f64 = 200.0;
@@ -71,7 +74,7 @@ fn fill_without(
     crate::profile::count(crate::profile::Count::Gloersen);
     match t.data.gloersen {
         Some(cache) => cache.fill(t, span, holes, mm_per_unit),
-        None => Model::build(t, holes, mm_per_unit)?.fill(t, span),
+        None => Model::build(t, holes, mm_per_unit, &Sums::new(&t.data))?.fill(t, span),
     }
 }
 
@@ -163,6 +166,8 @@ pub(super) struct Model {
 #[derive(Default)]
 pub(crate) struct Cache {
     models: Mutex<HashMap<Key, Arc<Built>>>,
+    /// The pass's sums the models' covariances are downdated from, made for the first.
+    sums: OnceLock<Sums>,
 }
 
 type Key = (Option<usize>, usize, Vec<(usize, usize)>);
@@ -197,7 +202,8 @@ impl Cache {
             return m;
         }
         // Built outside the lock: two threads may build the same model, never a wrong one.
-        let m = Arc::new(Model::build(t, holes, mm_per_unit));
+        let sums = self.sums.get_or_init(|| Sums::new(&t.data));
+        let m = Arc::new(Model::build(t, holes, mm_per_unit, sums));
         if let Ok(mut c) = self.models.lock() {
             if c.len() >= CACHE_MODELS {
                 c.clear();
@@ -210,8 +216,14 @@ impl Cache {
 
 impl Model {
     /// The model of `t` trained without `holes` (which hold `t.hole`, if any) as well as
-    /// without its missing frames.
-    fn build(t: &Target, holes: &[(usize, usize)], mm_per_unit: f64) -> Result<Model, SkipReason> {
+    /// without its missing frames, its covariance downdated from `sums` (the pass's) where
+    /// that costs less than the product over its rows.
+    fn build(
+        t: &Target,
+        holes: &[(usize, usize)],
+        mm_per_unit: f64,
+        sums: &Sums,
+    ) -> Result<Model, SkipReason> {
         crate::profile::count(crate::profile::Count::GloersenModel);
         let d = t.data;
         let (n, markers) = (d.frames, d.xyz.len());
@@ -285,32 +297,30 @@ impl Model {
             .collect();
         let cols = 3 * kept.len();
         let ti = kept.iter().position(|&j| j == t.m).unwrap_or(0);
-        // The kept markers' coordinates on `rows`, a column per coordinate, each column
-        // written in order.
         let rn = rows.len();
-        let mut x = DMatrix::<f64>::zeros(rn, cols);
-        for (i, &j) in kept.iter().enumerate() {
-            for ax in 0..3 {
-                let mut col = x.column_mut(3 * i + ax);
-                for (v, &f) in col.iter_mut().zip(&rows) {
-                    *v = d.xyz[j][f][ax] - mean_trj[f][ax];
-                }
-            }
-        }
-        let mut mean = vec![0.0; cols];
-        let mut sd = vec![0.0; cols];
-        for (c, col) in x.column_iter().enumerate() {
-            mean[c] = col.iter().sum::<f64>() / rn as f64;
-            let s = (col.iter().map(|v| (v - mean[c]).powi(2)).sum::<f64>() / rn as f64).sqrt();
-            sd[c] = if s == 0.0 { 1.0 } else { s };
-        }
         let wc = |c: usize| w[c / 3];
-        // 4. Principal components by the eigenvectors of YᵀY, Y = X / √(n − 1): its singular
-        // values are the square roots of the eigenvalues (see `components`).
-        for (c, mut col) in x.column_iter_mut().enumerate() {
-            col.iter_mut()
-                .for_each(|v| *v = (*v - mean[c]) / sd[c] * wc(c));
-        }
+        let scale = (rn as f64 - 1.0).max(1.0);
+        // 4. Principal components by the eigenvectors of YᵀY / (n − 1), Y the normalised,
+        // weighted coordinates on the rows: its singular values are the square roots of the
+        // eigenvalues (see `components`). From the pass's sums where they apply, else from Y.
+        let moments = if rn >= cols {
+            sums.covariance(&kept, &whole, &on_all)
+        } else {
+            None
+        };
+        let (mean, sd, (no, zero)) = match moments {
+            Some(m) => {
+                let cov = DMatrix::from_fn(cols, cols, |a, b| {
+                    m.cross[b * cols + a] / (m.sd[a] * m.sd[b]) * wc(a) * wc(b) / scale
+                });
+                let parts = from_covariance(cov, ti);
+                (m.mean, m.sd, parts)
+            }
+            None => {
+                let (mean, sd, x) = normalised(d, &kept, &rows, &mean_trj, &w);
+                (mean, sd, components(&x, ti))
+            }
+        };
         let pca = |(vals, mut vecs): (Vec<f64>, DMatrix<f64>)| {
             // The published product (step 4) changes with the components' signs, which the
             // decomposition leaves arbitrary: each is turned so that its largest coordinate is
@@ -336,7 +346,6 @@ impl Model {
                 .unwrap_or(sv.len().saturating_sub(1));
             (vecs, k)
         };
-        let (no, zero) = components(&x, ti);
         let (p_no, k1) = pca(no);
         let (p_zero, k2) = pca(zero);
         let k = k1.max(k2) + 1;
@@ -450,18 +459,7 @@ fn components(x: &DMatrix<f64>, ti: usize) -> (Components, Components) {
     let (rn, cols) = x.shape();
     let scale = (rn as f64 - 1.0).max(1.0);
     if rn >= cols {
-        let cov_no = (x.transpose() * x) / scale;
-        let mut cov_zero = cov_no.clone();
-        for c in 3 * ti..3 * ti + 3 {
-            cov_zero.row_mut(c).fill(0.0);
-            cov_zero.column_mut(c).fill(0.0);
-        }
-        // Symmetric (to rounding; the decomposition reads one triangle), so their
-        // column-major slices serve as row-major ones.
-        return (
-            symmetric_eigen(cov_no.as_slice(), cols),
-            symmetric_eigen(cov_zero.as_slice(), cols),
-        );
+        return from_covariance((x.transpose() * x) / scale, ti);
     }
     let from_frames = |x: &DMatrix<f64>| {
         let gram = (x * x.transpose()) / scale;
@@ -526,6 +524,57 @@ fn mean_distances(
         }
     }
     out
+}
+
+/// [`components`] from the covariance XᵀX / (n − 1) itself.
+fn from_covariance(cov_no: DMatrix<f64>, ti: usize) -> (Components, Components) {
+    let cols = cov_no.nrows();
+    let mut cov_zero = cov_no.clone();
+    for c in 3 * ti..3 * ti + 3 {
+        cov_zero.row_mut(c).fill(0.0);
+        cov_zero.column_mut(c).fill(0.0);
+    }
+    // Symmetric (to rounding; the decomposition reads one triangle), so their column-major
+    // slices serve as row-major ones.
+    (
+        symmetric_eigen(cov_no.as_slice(), cols),
+        symmetric_eigen(cov_zero.as_slice(), cols),
+    )
+}
+
+/// The `kept` markers' coordinates on `rows` less the mean trajectory, a column per
+/// coordinate, normalised to zero mean and unit variance and weighted by `w` (one weight
+/// per marker); with the columns' means and standard deviations (1 for a constant column).
+fn normalised(
+    d: Data,
+    kept: &[usize],
+    rows: &[usize],
+    mean_trj: &[[f64; 3]],
+    w: &[f64],
+) -> (Vec<f64>, Vec<f64>, DMatrix<f64>) {
+    let (rn, cols) = (rows.len(), 3 * kept.len());
+    // Each column written in order.
+    let mut x = DMatrix::<f64>::zeros(rn, cols);
+    for (i, &j) in kept.iter().enumerate() {
+        for ax in 0..3 {
+            let mut col = x.column_mut(3 * i + ax);
+            for (v, &f) in col.iter_mut().zip(rows) {
+                *v = d.xyz[j][f][ax] - mean_trj[f][ax];
+            }
+        }
+    }
+    let mut mean = vec![0.0; cols];
+    let mut sd = vec![0.0; cols];
+    for (c, col) in x.column_iter().enumerate() {
+        mean[c] = col.iter().sum::<f64>() / rn as f64;
+        let s = (col.iter().map(|v| (v - mean[c]).powi(2)).sum::<f64>() / rn as f64).sqrt();
+        sd[c] = if s == 0.0 { 1.0 } else { s };
+    }
+    for (c, mut col) in x.column_iter_mut().enumerate() {
+        col.iter_mut()
+            .for_each(|v| *v = (*v - mean[c]) / sd[c] * w[c / 3]);
+    }
+    (mean, sd, x)
 }
 
 /// The kept markers' centred coordinates at frame `f`, the target's set to zero (it is
