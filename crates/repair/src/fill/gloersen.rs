@@ -555,12 +555,10 @@ fn normalised(
     let (rn, cols) = (rows.len(), 3 * kept.len());
     // Each column written in order.
     let mut x = DMatrix::<f64>::zeros(rn, cols);
-    for (i, &j) in kept.iter().enumerate() {
-        for ax in 0..3 {
-            let mut col = x.column_mut(3 * i + ax);
-            for (v, &f) in col.iter_mut().zip(rows) {
-                *v = d.xyz[j][f][ax] - mean_trj[f][ax];
-            }
+    for (c, mut col) in x.column_iter_mut().enumerate() {
+        let (j, ax) = (kept[c / 3], c % 3);
+        for (v, &f) in col.iter_mut().zip(rows) {
+            *v = d.xyz[j][f][ax] - mean_trj[f][ax];
         }
     }
     let mut mean = vec![0.0; cols];
