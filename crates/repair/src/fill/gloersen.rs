@@ -26,6 +26,10 @@
 //! implementation with the same sign rule, agrees to 1e-6 mm on four real trials (the test
 //! `matches_independent_reference`).
 //!
+//! Step 3's statistics and the covariance of step 4 are computed from sums over every frame
+//! of the pass, shared by its models, less the frames each model leaves out (`sums`); the
+//! same to rounding as over the model's frames directly (`docs/price.md`).
+//!
 //! It differs from `pca`, which fits the nearest markers over a window around the gap and
 //! ties the prediction to the gap's anchors.
 
