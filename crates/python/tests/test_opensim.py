@@ -92,6 +92,11 @@ def marker_columns(c):
             outputs |= {s for s in v if s}
         elif isinstance(v, str) and v:
             outputs.add(v)
+    # Points stored after the first listed output are outputs too (Plug-in Gait's bones,
+    # virtual points, centre of mass, muscle lengths), unless the first point is itself one.
+    first = next((i for i, l in enumerate(c.labels) if l in outputs), None)
+    if first is not None and first > 0:
+        return [i for i in range(first) if c.labels[i] not in outputs]
     return [i for i, l in enumerate(c.labels) if l not in outputs]
 
 
