@@ -255,8 +255,15 @@ impl Model {
                 s.map(|v| v / whole.len() as f64)
             })
             .collect();
+        // A marker's coordinates at a frame with the mean trajectory's subtracted.
+        let centred = |j: usize, f: usize| {
+            let p = d.xyz[j][f];
+            let m = mean_trj[f];
+            [p[0] - m[0], p[1] - m[1], p[2] - m[2]]
+        };
+        let target: Vec<[f64; 3]> = (0..n).map(|f| centred(t.m, f)).collect();
         // Mean distance of each marker to the target over the frames both are recorded.
-        let dists = sums.distances(&d, t.m, &valid);
+        let dists = mean_distances(d.xyz, &valid, t.m, &mean_trj, &target, &target_ok);
         let known: Vec<f64> = dists.iter().flatten().copied().collect();
         let thresh = DISTAL_THRESHOLD * known.iter().sum::<f64>() / known.len().max(1) as f64;
         // 2. The markers kept: the target, and every other marker that is near or recorded
@@ -476,6 +483,51 @@ fn components(x: &DMatrix<f64>, ti: usize) -> (Components, Components) {
     let mut zeroed = x.clone();
     zeroed.columns_mut(3 * ti, 3).fill(0.0);
     (from_frames(x), from_frames(&zeroed))
+}
+
+/// Markers whose distances to the target [`mean_distances`] sums side by side: each its own
+/// sum, in frame order, so the sums are the one-marker-at-a-time loop's to the bit, but
+/// independent, so the processor overlaps them (on 03_rolling this loop was the model's
+/// largest cost after the covariance).
+const DIST_LANES: usize = 8;
+
+/// Each marker's mean distance to the target (`target`: its centred coordinates) over the
+/// frames both are recorded (`target_ok` the target's validity), after subtracting the mean
+/// trajectory `mean_trj`; the target's own is 0, and a marker never recorded with it has
+/// none.
+fn mean_distances(
+    xyz: &[Vec<[f64; 3]>],
+    valid: &[&[bool]],
+    m: usize,
+    mean_trj: &[[f64; 3]],
+    target: &[[f64; 3]],
+    target_ok: &[bool],
+) -> Vec<Option<f64>> {
+    let n = target.len();
+    let others: Vec<usize> = (0..xyz.len()).filter(|&j| j != m).collect();
+    let mut out = vec![None; xyz.len()];
+    out[m] = Some(0.0);
+    for block in others.chunks(DIST_LANES) {
+        let mut s = [0.0f64; DIST_LANES];
+        let mut c = [0usize; DIST_LANES];
+        for f in (0..n).filter(|&f| target_ok[f]) {
+            let (mt, q) = (mean_trj[f], target[f]);
+            for (l, &j) in block.iter().enumerate() {
+                let p = xyz[j][f];
+                let a = [p[0] - mt[0], p[1] - mt[1], p[2] - mt[2]];
+                let dd =
+                    ((a[0] - q[0]).powi(2) + (a[1] - q[1]).powi(2) + (a[2] - q[2]).powi(2)).sqrt();
+                // Adding +0 leaves a sum of non-negative terms as it was, bit for bit.
+                let v = valid[j][f];
+                s[l] += if v { dd } else { 0.0 };
+                c[l] += usize::from(v);
+            }
+        }
+        for (l, &j) in block.iter().enumerate() {
+            out[j] = (c[l] > 0).then(|| s[l] / c[l] as f64);
+        }
+    }
+    out
 }
 
 /// [`components`] from the covariance XᵀX / (n − 1) itself.

@@ -40,10 +40,6 @@ pub(super) struct Sums {
     /// row-major), made when a model first needs it: a model reads the pairs of its kept
     /// markers, seldom all of a trial's.
     pairs: Vec<OnceLock<[f64; 9]>>,
-    /// Per target marker, each marker's summed distance to it and the count of frames, over
-    /// the frames both are recorded on by the pass's validity, made for the target's first
-    /// model (see [`Sums::distances`]).
-    dists: Vec<OnceLock<Vec<(f64, usize)>>>,
 }
 
 /// One model's column statistics and covariance from [`Sums::covariance`].
@@ -115,64 +111,7 @@ impl Sums {
             shift,
             z1,
             pairs: (0..markers * markers).map(|_| OnceLock::new()).collect(),
-            dists: (0..markers).map(|_| OnceLock::new()).collect(),
         }
-    }
-
-    /// Each marker's mean distance to target `m` over the frames both are recorded on as the
-    /// model reads them (`valid`, per marker: the target's without its holes, the second
-    /// pass's own marker as recorded), the target's own 0, none for a marker never recorded
-    /// with it. The mean trajectory, subtracted from both, cancels from a distance, so the
-    /// distances are the pass's for every model of the target; their sums over the pass's
-    /// frames are made once per target, less the target's frames the model leaves out. On
-    /// 03_rolling (68 markers, 2 305 frames, 541 models) the sums over every frame were 45 % of
-    /// the models' time.
-    pub(super) fn distances(&self, d: &Data, m: usize, valid: &[&[bool]]) -> Vec<Option<f64>> {
-        let (n, markers) = (d.frames, d.xyz.len());
-        let dist = |j: usize, f: usize| {
-            let (p, q) = (d.xyz[j][f], d.xyz[m][f]);
-            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
-        };
-        let full = self.dists[m].get_or_init(|| {
-            let vm = &d.valid[m];
-            (0..markers)
-                .map(|j| {
-                    let vj = &d.valid[j];
-                    let (mut s, mut c) = (0.0, 0usize);
-                    for f in (0..n).filter(|&f| vj[f] && vm[f]) {
-                        s += dist(j, f);
-                        c += 1;
-                    }
-                    (s, c)
-                })
-                .collect()
-        });
-        // The target's frames recorded in the pass's data that the model leaves out.
-        let out: Vec<usize> = (0..n).filter(|&f| d.valid[m][f] && !valid[m][f]).collect();
-        (0..markers)
-            .map(|j| {
-                if j == m {
-                    return Some(0.0);
-                }
-                let (s, c) = if std::ptr::eq(valid[j], &d.valid[j][..]) {
-                    let (mut s, mut c) = full[j];
-                    for &f in out.iter().filter(|&&f| valid[j][f]) {
-                        s -= dist(j, f);
-                        c -= 1;
-                    }
-                    (s, c)
-                } else {
-                    // A marker read otherwise than the pass reads it: summed afresh.
-                    let (mut s, mut c) = (0.0, 0usize);
-                    for f in (0..n).filter(|&f| valid[j][f] && valid[m][f]) {
-                        s += dist(j, f);
-                        c += 1;
-                    }
-                    (s, c)
-                };
-                (c > 0).then(|| s.max(0.0) / c as f64)
-            })
-            .collect()
     }
 
     /// Σ z_a z_bᵀ over every frame for markers `a` and `b` (3 × 3, row-major).
