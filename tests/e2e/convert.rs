@@ -1,7 +1,7 @@
 //! `convert` and `batch` over many files: in place on real trials, each file once however it
 //! was named, lists and shards, and an in-place run killed at random moments.
 
-use super::{c3dfix, s, sample, stderr, stdout};
+use super::{c3dfix, killed_after, s, sample, stderr, stdout};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -390,15 +390,7 @@ fn killing_an_in_place_convert_leaves_each_file_original_or_fully_converted() {
         let folder = dir.path().join(format!("round{round}"));
         fill(&folder);
         let delay_ms = random_u64() % (run_ms + 1);
-        let mut child = Command::new(env!("CARGO_BIN_EXE_c3dfix"))
-            .args(args(&folder))
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        std::thread::sleep(std::time::Duration::from_millis(delay_ms));
-        let _ = child.kill();
-        let _ = child.wait();
+        killed_after(args(&folder), delay_ms);
         let mut done = 0;
         for e in std::fs::read_dir(&folder).unwrap().flatten() {
             let name = e.file_name().to_string_lossy().into_owned();

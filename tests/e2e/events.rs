@@ -480,8 +480,11 @@ fn events_calibrated_from_another_trial_of_the_session() {
         raw["events"].as_array().unwrap(),
         cal["events"].as_array().unwrap(),
     );
-    assert_eq!(before.len(), 13);
-    assert_eq!(after.len(), 13);
+    // 14: the left off at 7.214 s, 0.14 s before the trial's last frame, is found since an
+    // extreme cut by the trial's end needs only a tenth of its fall there; it keeps the
+    // trial's rhythm (left offs at 4.212, 5.232, 6.237 s).
+    assert_eq!(before.len(), 14);
+    assert_eq!(after.len(), 14);
     for (b, a) in before.iter().zip(after) {
         assert_eq!((&b["context"], &b["label"]), (&a["context"], &a["label"]));
         let ms = if a["label"] == "Foot Strike" {

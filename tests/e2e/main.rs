@@ -33,6 +33,20 @@ fn c3dfix(args: &[&str]) -> Output {
     Command::new(bin()).args(args).output().expect("run c3dfix")
 }
 
+/// Start the binary with `args` (output discarded), kill it after `delay_ms` and wait for it:
+/// how the interruption tests stop a run at a random moment.
+fn killed_after<S: AsRef<std::ffi::OsStr>>(args: impl IntoIterator<Item = S>, delay_ms: u64) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_c3dfix"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(delay_ms));
+    let _ = child.kill();
+    let _ = child.wait();
+}
+
 fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }

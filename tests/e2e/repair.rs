@@ -1,7 +1,7 @@
 //! `gaps`, `repair`, `batch` and `evaluate` end to end, on the generated walk (which has a
 //! clean truth beside it) and on real files.
 
-use super::{c3dfix, s, sample, stderr, stdout};
+use super::{c3dfix, killed_after, s, sample, stderr, stdout};
 
 #[test]
 fn gaps_lists_every_gap() {
@@ -466,15 +466,7 @@ fn killing_a_batch_leaves_each_file_original_or_fully_repaired() {
         for i in 0..40 {
             std::fs::write(folder.join(format!("t{i:02}.c3d")), &original).unwrap();
         }
-        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_c3dfix"))
-            .args(["batch", s(&folder), "--in-place", "--jobs", "2"])
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .unwrap();
-        std::thread::sleep(std::time::Duration::from_millis(delay_ms));
-        let _ = child.kill();
-        let _ = child.wait();
+        killed_after(["batch", s(&folder), "--in-place", "--jobs", "2"], delay_ms);
         let mut done = 0;
         for e in std::fs::read_dir(&folder).unwrap().flatten() {
             let name = e.file_name().to_string_lossy().into_owned();

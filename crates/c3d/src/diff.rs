@@ -343,6 +343,21 @@ fn param_diff(a: &C3d, b: &C3d, d: &mut Diff, data: bool) {
         a: x,
         b: y,
     };
+    // A group and a parameter are both locked or not and carry a description, compared alike:
+    // (locked, description) of the record in `a`, then in `b`.
+    let flags = |out: &mut Vec<ParamChange>, name: &str, x: (bool, &str), y: (bool, &str)| {
+        if x.0 != y.0 {
+            out.push(ch(
+                name,
+                "locked",
+                Some(x.0.to_string()),
+                Some(y.0.to_string()),
+            ));
+        }
+        if text(x.1) != text(y.1) {
+            out.push(ch(name, "description", Some(x.1.into()), Some(y.1.into())));
+        }
+    };
     for (i, (name, ra)) in ka.iter().enumerate() {
         let Some(rb) = pairs[i].map(|j| kb[j].1) else {
             d.parameters.push(ch(name, "removed", None, None));
@@ -350,22 +365,12 @@ fn param_diff(a: &C3d, b: &C3d, d: &mut Diff, data: bool) {
         };
         match (ra, rb) {
             (Record::Group(x), Record::Group(y)) => {
-                if x.locked != y.locked {
-                    d.parameters.push(ch(
-                        name,
-                        "locked",
-                        Some(x.locked.to_string()),
-                        Some(y.locked.to_string()),
-                    ));
-                }
-                if text(&x.description) != text(&y.description) {
-                    d.parameters.push(ch(
-                        name,
-                        "description",
-                        Some(x.description.clone()),
-                        Some(y.description.clone()),
-                    ));
-                }
+                flags(
+                    &mut d.parameters,
+                    name,
+                    (x.locked, &x.description),
+                    (y.locked, &y.description),
+                );
             }
             (Record::Parameter(x), Record::Parameter(y)) => {
                 let numeric =
@@ -404,22 +409,12 @@ fn param_diff(a: &C3d, b: &C3d, d: &mut Diff, data: bool) {
                     d.parameters
                         .push(ch(name, "value", Some(show_value(x)), Some(show_value(y))));
                 }
-                if x.locked != y.locked {
-                    d.parameters.push(ch(
-                        name,
-                        "locked",
-                        Some(x.locked.to_string()),
-                        Some(y.locked.to_string()),
-                    ));
-                }
-                if text(&x.description) != text(&y.description) {
-                    d.parameters.push(ch(
-                        name,
-                        "description",
-                        Some(x.description.clone()),
-                        Some(y.description.clone()),
-                    ));
-                }
+                flags(
+                    &mut d.parameters,
+                    name,
+                    (x.locked, &x.description),
+                    (y.locked, &y.description),
+                );
             }
             _ => d.parameters.push(ch(name, "type", None, None)),
         }
@@ -440,12 +435,7 @@ fn points_diff(a: &C3d, b: &C3d, tol: f64) -> PointsDiff {
     }
     let (la, lb) = (a.point_labels(), b.point_labels());
     let frames = pa.frames().min(pb.frames());
-    let pairs = match_labels(&la, &lb);
-    for (i, label) in la.iter().enumerate() {
-        let Some(j) = pairs[i] else {
-            out.only_in_a.push(label.clone());
-            continue;
-        };
+    let found = per_label(&la, &lb, |i, j, label| {
         let mut m = MarkerDiff {
             label: label.clone(),
             frames_changed: 0,
@@ -490,12 +480,31 @@ fn points_diff(a: &C3d, b: &C3d, tol: f64) -> PointsDiff {
                 m.last_frame = Some(a.frame_number(f));
             }
         }
-        if m.frames_changed > 0 {
-            out.markers.push(m);
+        (m.frames_changed > 0).then_some(m)
+    });
+    (out.only_in_a, out.markers, out.only_in_b) = found;
+    out
+}
+
+/// The labels of `a` paired with those of `b` (see [`match_labels`]), as points and analog
+/// channels are compared alike: `compare(i, j, label)` judges the pair of `a`'s i-th and
+/// `b`'s j-th and says what changed, if anything. Returns the labels only in `a`, the
+/// changes (both in `a`'s order) and the labels only in `b`.
+fn per_label<T>(
+    la: &[String],
+    lb: &[String],
+    mut compare: impl FnMut(usize, usize, &String) -> Option<T>,
+) -> (Vec<String>, Vec<T>, Vec<String>) {
+    let pairs = match_labels(la, lb);
+    let mut only_in_a = Vec::new();
+    let mut changed = Vec::new();
+    for (i, label) in la.iter().enumerate() {
+        match pairs[i] {
+            None => only_in_a.push(label.clone()),
+            Some(j) => changed.extend(compare(i, j, label)),
         }
     }
-    out.only_in_b = unmatched(&lb, &pairs);
-    out
+    (only_in_a, changed, unmatched(lb, &pairs))
 }
 
 /// Pair labels of `a` with labels of `b`: the k-th occurrence of a label in `a` with its k-th
@@ -530,12 +539,7 @@ fn analog_diff(a: &C3d, b: &C3d) -> AnalogDiff {
     let (la, lb) = (a.analog_labels(), b.analog_labels());
     let (ca, cb) = (a.analog_calibration(), b.analog_calibration());
     let n = aa.samples().min(ab.samples());
-    let pairs = match_labels(&la, &lb);
-    for (i, label) in la.iter().enumerate() {
-        let Some(j) = pairs[i] else {
-            out.only_in_a.push(label.clone());
-            continue;
-        };
+    let found = per_label(&la, &lb, |i, j, label| {
         let mut c = ChannelDiff {
             label: label.clone(),
             samples_changed: 0,
@@ -549,10 +553,8 @@ fn analog_diff(a: &C3d, b: &C3d) -> AnalogDiff {
                 c.max_difference = c.max_difference.max((x - y).abs());
             }
         }
-        if c.samples_changed > 0 {
-            out.channels.push(c);
-        }
-    }
-    out.only_in_b = unmatched(&lb, &pairs);
+        (c.samples_changed > 0).then_some(c)
+    });
+    (out.only_in_a, out.channels, out.only_in_b) = found;
     out
 }

@@ -114,55 +114,46 @@ pub struct Dec;
 #[derive(Debug, Clone, Copy)]
 pub struct Sgi;
 
-impl Codec for Intel {
-    #[inline(always)]
-    fn read_i16(b: [u8; 2]) -> i16 {
-        i16::from_le_bytes(b)
-    }
-    #[inline(always)]
-    fn write_i16(v: i16) -> [u8; 2] {
-        v.to_le_bytes()
-    }
-    #[inline(always)]
-    fn read_f32(b: [u8; 4]) -> f32 {
-        f32::from_le_bytes(b)
-    }
-    #[inline(always)]
-    fn write_f32(v: f32) -> [u8; 4] {
-        v.to_le_bytes()
-    }
+/// A codec storing integers and IEEE floats in one byte order: Intel's (little-endian) and
+/// SGI's (big-endian) differ only in that order, so one definition serves both.
+macro_rules! ieee_codec {
+    ($codec:ty, $from:ident, $to:ident) => {
+        impl Codec for $codec {
+            #[inline(always)]
+            fn read_i16(b: [u8; 2]) -> i16 {
+                i16::$from(b)
+            }
+            #[inline(always)]
+            fn write_i16(v: i16) -> [u8; 2] {
+                v.$to()
+            }
+            #[inline(always)]
+            fn read_f32(b: [u8; 4]) -> f32 {
+                f32::$from(b)
+            }
+            #[inline(always)]
+            fn write_f32(v: f32) -> [u8; 4] {
+                v.$to()
+            }
+        }
+    };
 }
 
-impl Codec for Sgi {
-    #[inline(always)]
-    fn read_i16(b: [u8; 2]) -> i16 {
-        i16::from_be_bytes(b)
-    }
-    #[inline(always)]
-    fn write_i16(v: i16) -> [u8; 2] {
-        v.to_be_bytes()
-    }
-    #[inline(always)]
-    fn read_f32(b: [u8; 4]) -> f32 {
-        f32::from_be_bytes(b)
-    }
-    #[inline(always)]
-    fn write_f32(v: f32) -> [u8; 4] {
-        v.to_be_bytes()
-    }
-}
+ieee_codec!(Intel, from_le_bytes, to_le_bytes);
+ieee_codec!(Sgi, from_be_bytes, to_be_bytes);
 
 /// VAX F-floating: the two 16-bit halves are swapped relative to IEEE, the exponent bias is
 /// 128 instead of 127 and the hidden bit stands for 0.5 — so the IEEE reading of the swapped
 /// bytes is four times the value. An exponent of zero is zero (whatever the other bits).
+/// Its integers are Intel's.
 impl Codec for Dec {
     #[inline(always)]
     fn read_i16(b: [u8; 2]) -> i16 {
-        i16::from_le_bytes(b)
+        Intel::read_i16(b)
     }
     #[inline(always)]
     fn write_i16(v: i16) -> [u8; 2] {
-        v.to_le_bytes()
+        Intel::write_i16(v)
     }
     #[inline(always)]
     fn read_f32(b: [u8; 4]) -> f32 {

@@ -3,7 +3,9 @@
 //! ```sh
 //! cargo run --release -p c3dfix --example events_eval            # the constants as shipped
 //! cargo run --release -p c3dfix --example events_eval -- --strike zeni:0.02 --off desailly:-0.012,zeni:-0.015
-//! cargo run --release -p c3dfix --example events_eval -- --misses       # each missed event, where
+//! cargo run --release -p c3dfix --example events_eval -- --misses       # each missed event, where, and where its markers are seen
+//! cargo run --release -p c3dfix --example events_eval -- --strike landing:0 --landing-height 0 --landing-speed 0.15  # landing as a fraction of the swing
+//! cargo run --release -p c3dfix --example events_eval -- --cut-min-fall 1 --pelvis-extend 0.25  # extremes at a cut as before; the pelvis carried past its ends
 //! cargo run --release -p c3dfix --example events_eval -- --dump e.csv   # each method's error per event
 //! cargo run --release -p c3dfix --example events_eval -- --correlate --correlate-strike heel  # auto matched to the plate steps
 //! cargo run --release -p c3dfix --example events_eval -- --truth-check  # the foot's state at each lab event
@@ -292,6 +294,27 @@ fn main() {
     }
     if let Some(v) = arg(&args, "--impact-hz") {
         opts.kinematic.impact_lowpass_hz = v;
+    }
+    if let Some(v) = arg(&args, "--pelvis-extend") {
+        opts.kinematic.pelvis_extend_s = v;
+    }
+    if let Some(v) = arg(&args, "--cut-min-fall") {
+        opts.kinematic.cut_min_fall = v;
+    }
+    if let Some(v) = arg(&args, "--landing-height") {
+        opts.kinematic.landing_height_frac = v;
+    }
+    if let Some(v) = arg(&args, "--landing-speed") {
+        opts.kinematic.landing_speed_frac = v;
+    }
+    if let Some(v) = arg(&args, "--landing-vspeed") {
+        opts.kinematic.landing_vspeed_frac = v;
+    }
+    if let Some(v) = arg(&args, "--lift-height") {
+        opts.kinematic.lift_height_frac = v;
+    }
+    if let Some(v) = arg(&args, "--lift-speed") {
+        opts.kinematic.lift_speed_frac = v;
     }
     if let Some(v) = arg(&args, "--touch") {
         opts.kinematic.touch_mm = v;
@@ -716,6 +739,38 @@ fn main() {
                                 valid(heel),
                                 valid(toe),
                                 valid(&feet.pelvis),
+                            );
+                            // Where each marker is seen, ±0.6 s around the event (s from
+                            // the event), so a gap's edge or the trial's tells itself.
+                            let w = (0.6 * rate) as usize;
+                            let (lo, hi) = (i.saturating_sub(w), (i + w + 1).min(n));
+                            let runs = |x: &[[f64; 3]]| {
+                                let v: Vec<f64> = x[lo.min(n)..hi.max(lo.min(n))]
+                                    .iter()
+                                    .map(|p| p[0])
+                                    .collect();
+                                let mut spans: Vec<(usize, usize)> = Vec::new();
+                                for (k, x) in v.iter().enumerate() {
+                                    match spans.last_mut() {
+                                        Some(r) if x.is_finite() && r.1 == k => r.1 = k + 1,
+                                        _ if x.is_finite() => spans.push((k, k + 1)),
+                                        _ => {}
+                                    }
+                                }
+                                spans
+                                    .iter()
+                                    .map(|&(a, b)| {
+                                        let at = |k: usize| (lo + k) as f64 / rate + t0 - t;
+                                        format!("{:+.2}..{:+.2}", at(a), at(b - 1))
+                                    })
+                                    .collect::<Vec<_>>()
+                                    .join(" ")
+                            };
+                            println!(
+                                "    seen (s from the event): heel {} | toe {} | pelvis {}",
+                                runs(heel),
+                                runs(toe),
+                                runs(&feet.pelvis)
                             );
                         }
                     }

@@ -194,3 +194,66 @@ fn bent_knee_of_a_squat_is_not_a_jump() {
     );
     assert!((before - inside).abs() < 10.0, "{before} {inside}");
 }
+
+/// `Eb015pr.c3d` (c3d-samples, sample_01; a tuned lab): from the trial's first frame to
+/// frame 43 the label LFT3 sits 20–23 mm from LFT1 (where LFT1 is seen, from frame 26)
+/// and 40–42 mm from LFT2, which it keeps
+/// 68 and 78 mm from over the rest of the trial; from frame 44 it is back, after a leap of
+/// 71 mm in one frame, and its three links come back at once. A label on another point of
+/// the foot, from the start of the trial (issue 34, item 3): the finding calls it a settled
+/// jump over exactly those frames.
+#[test]
+fn foot_label_on_another_point_from_the_first_frame_is_a_settled_jump() {
+    let Some(dir) = testkit::c3d_samples() else {
+        testkit::skipped("C3D_SAMPLES absent");
+        return;
+    };
+    let path = dir.join("sample_01/Eb015pr.c3d");
+    let c = c3dfix::c3d::read_file(&path).unwrap();
+    let found = c3dfix::swaps(&c, &path, &SwapOptions::default()).unwrap();
+    let x = found
+        .swaps
+        .iter()
+        .find(|x| x.markers == ["LFT3"])
+        .unwrap_or_else(|| panic!("{:?}", found.swaps));
+    assert_eq!(x.kind, FindKind::Jump);
+    assert!(x.settled && x.confidence > 0.95, "{x:?}");
+    assert_eq!((x.first_frame, x.last_frame), (c.frame_number(0), 43));
+
+    // The samples: LFT3's distance to LFT1, frame by frame, inside and after.
+    let idx = |l: &str| c.point_labels().iter().position(|p| p == l).unwrap();
+    let p = c.points();
+    let (a, b) = (idx("LFT3"), idx("LFT1"));
+    let (ta, tb) = (p.trajectory(a), p.trajectory(b));
+    let at = |frame: usize| frame - c.frame_number(0);
+    let d = |frame: usize| -> Option<f64> {
+        let f = at(frame);
+        (p.is_valid(f, a) && p.is_valid(f, b)).then(|| {
+            (0..3)
+                .map(|k| f64::from(ta[f][k] - tb[f][k]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+    };
+    let inside: Vec<f64> = (c.frame_number(0)..=43).filter_map(d).collect();
+    let after: Vec<f64> = (44..=52).filter_map(d).collect();
+    // LFT1 is first seen at frame 26.
+    assert!(
+        inside.len() >= 15 && after.len() >= 8,
+        "{inside:?} {after:?}"
+    );
+    assert!(
+        inside.iter().all(|&v| (18.0..25.0).contains(&v)),
+        "{inside:?}"
+    );
+    assert!(
+        after.iter().all(|&v| (66.0..77.0).contains(&v)),
+        "{after:?}"
+    );
+    // The leap: LFT3 moves 71 mm between frames 43 and 44.
+    let step: f64 = (0..3)
+        .map(|k| f64::from(ta[at(44)][k] - ta[at(43)][k]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    assert!((65.0..80.0).contains(&step), "{step}");
+}

@@ -35,21 +35,13 @@ pub fn plate_offsets(plates: &[Event], kinematic: &[Event], window: f64) -> [Opt
 /// events stay sorted by time.
 pub fn calibrate(plates: &[Event], kinematic: &[Event], window: f64) -> Vec<Event> {
     let offsets = plate_offsets(plates, kinematic, window);
-    let mut out: Vec<Event> = kinematic
-        .iter()
-        .map(|k| {
-            let shift = match k.kind {
-                Kind::FootStrike => offsets[0],
-                Kind::FootOff => offsets[1],
-            };
-            Event {
-                index: k.index + shift.unwrap_or(0.0),
-                ..*k
-            }
-        })
-        .collect();
-    crate::sort_events(&mut out);
-    out
+    crate::shifted(kinematic, |k| {
+        match k.kind {
+            Kind::FootStrike => offsets[0],
+            Kind::FootOff => offsets[1],
+        }
+        .unwrap_or(0.0)
+    })
 }
 
 #[cfg(test)]

@@ -15,7 +15,7 @@
 //! was no worse there than the median shift alone, but worse on the held-out labs' plates
 //! (leave-one-out strikes 4.1 / 29.4 → 6.5 / 38.7 ms, median / p95).
 
-use crate::axes::{self, Vertical};
+use crate::axes::Vertical;
 use crate::{Event, Feet, Kind, Side};
 
 /// Which marker's height is matched.
@@ -140,15 +140,7 @@ pub fn correlate(
     kinematic: &[Event],
     opts: &CorrelateOptions,
 ) -> Vec<Event> {
-    let Some(v) = axes::vertical(
-        &feet.pelvis,
-        &[
-            &feet.left_heel,
-            &feet.right_heel,
-            &feet.left_toe,
-            &feet.right_toe,
-        ],
-    ) else {
+    let Some(v) = feet.vertical() else {
         return kinematic.to_vec();
     };
     let half = ((opts.half_window_s * rate).round() as usize).max(1);

@@ -27,6 +27,7 @@ pub mod desailly;
 mod error;
 pub mod impact;
 pub mod kinematic;
+pub mod landing;
 pub mod markers;
 pub mod oconnor;
 pub mod params;
@@ -124,6 +125,20 @@ pub fn sort_events(events: &mut [Event]) {
     });
 }
 
+/// `events` each moved by `shift(event)` frames, sorted by time: what a calibration does to a
+/// trial's kinematic events, whichever offsets it has found.
+pub(crate) fn shifted(events: &[Event], shift: impl Fn(&Event) -> f64) -> Vec<Event> {
+    let mut out: Vec<Event> = events
+        .iter()
+        .map(|e| Event {
+            index: e.index + shift(e),
+            ..*e
+        })
+        .collect();
+    sort_events(&mut out);
+    out
+}
+
 /// The trajectories the detectors read, each one `[x, y, z]` per frame in millimetres in
 /// the lab frame, NaN where missing; all of the same length.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -159,6 +174,20 @@ impl Feet {
             Side::Left => (&self.left_heel, &self.left_toe),
             Side::Right => (&self.right_heel, &self.right_toe),
         }
+    }
+
+    /// The lab's vertical from the pelvis and all four foot markers (see [`axes::vertical`]);
+    /// `None` when no frame has the pelvis with a foot marker. Every detector finds it so.
+    pub(crate) fn vertical(&self) -> Option<axes::Vertical> {
+        axes::vertical(
+            &self.pelvis,
+            &[
+                &self.left_heel,
+                &self.right_heel,
+                &self.left_toe,
+                &self.right_toe,
+            ],
+        )
     }
 
     /// An error unless every trajectory has the pelvis' length.

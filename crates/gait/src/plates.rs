@@ -74,15 +74,7 @@ pub fn plate_events(
     if feet.check().is_err() || !(analog_rate.is_finite() && analog_rate > 0.0) {
         return Vec::new();
     }
-    let Some(vertical) = axes::vertical(
-        &feet.pelvis,
-        &[
-            &feet.left_heel,
-            &feet.right_heel,
-            &feet.left_toe,
-            &feet.right_toe,
-        ],
-    ) else {
+    let Some(vertical) = feet.vertical() else {
         return Vec::new();
     };
     let frames = feet.frames();

@@ -186,15 +186,9 @@ pub fn session_offsets(lags: &[Lag], opts: &SessionOptions) -> SessionOffsets {
 /// `kinematic` (a trial at `rate` frames per second) with each event moved by its side's
 /// and kind's offset (none: left as it is), sorted by time.
 pub fn apply(kinematic: &[Event], offsets: &SessionOffsets, rate: f64) -> Vec<Event> {
-    let mut out: Vec<Event> = kinematic
-        .iter()
-        .map(|k| Event {
-            index: k.index + offsets.get(k.side, k.kind).unwrap_or(0.0) * rate,
-            ..*k
-        })
-        .collect();
-    crate::sort_events(&mut out);
-    out
+    crate::shifted(kinematic, |k| {
+        offsets.get(k.side, k.kind).unwrap_or(0.0) * rate
+    })
 }
 
 #[cfg(test)]

@@ -30,6 +30,39 @@ pub fn fill_short(x: &mut [[f64; 3]], max: usize) {
     }
 }
 
+/// Extend `x` past its first and last known samples by up to `max` samples each, along
+/// the straight line through the known sample at the end and the one `fit` samples
+/// inwards (constant velocity). Used for the pelvis, which moves steadily over a quarter
+/// of a stride, where it is captured later than (or lost before) the feet.
+pub fn extend_ends(x: &mut [[f64; 3]], max: usize, fit: usize) {
+    let ok = |p: &[f64; 3]| p.iter().all(|v| v.is_finite());
+    let n = x.len();
+    let (Some(first), Some(last)) = (x.iter().position(ok), x.iter().rposition(ok)) else {
+        return;
+    };
+    let fit = fit.max(1);
+    if first + fit < n && ok(&x[first + fit]) {
+        let (a, b) = (x[first], x[first + fit]);
+        let start = first.saturating_sub(max);
+        for (k, slot) in x[start..first].iter_mut().enumerate() {
+            let t = (first - start - k) as f64 / fit as f64;
+            for d in 0..3 {
+                slot[d] = a[d] - (b[d] - a[d]) * t;
+            }
+        }
+    }
+    if last >= fit && ok(&x[last - fit]) {
+        let (a, b) = (x[last], x[last - fit]);
+        let end = (last + 1 + max).min(n);
+        for (k, slot) in x[last + 1..end].iter_mut().enumerate() {
+            let t = (k + 1) as f64 / fit as f64;
+            for d in 0..3 {
+                slot[d] = a[d] - (b[d] - a[d]) * t;
+            }
+        }
+    }
+}
+
 /// Zero-phase smoothing by a centred moving average of `2 * half + 1` samples over the
 /// finite samples in reach (NaN stays NaN).
 pub fn smooth(x: &[f64], half: usize) -> Vec<f64> {
@@ -78,6 +111,31 @@ pub fn parabolic(y0: f64, y1: f64, y2: f64) -> f64 {
 /// least `prominence` above the lowest sample within `reach` on each side. Returns
 /// fractional positions (parabolic interpolation).
 pub fn maxima(x: &[f64], half: usize, reach: usize, prominence: f64) -> Vec<f64> {
+    maxima_cut(x, half, reach, prominence, None)
+}
+
+/// What a maximum needs on a side that a gap or the trial's edge cuts short of `reach`
+/// ([`maxima_cut`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cut {
+    /// Known samples after (or before) the peak, up to the cut, at least.
+    pub min_samples: usize,
+    /// The fall over those samples, as a fraction of the full prominence, at least.
+    pub min_fall: f64,
+}
+
+/// As [`maxima`], and with `cut`, a peak next to a gap or the trial's edge: a side that
+/// ends within `reach` (a missing sample or the end of `x`) needs only `cut`'s fall over
+/// `cut`'s samples, while the other side still needs the full `prominence`. A foot that
+/// lands just after the capture starts, or just before its markers drop out, peaks
+/// there as anywhere; what the cut hides is how far it falls after.
+pub fn maxima_cut(
+    x: &[f64],
+    half: usize,
+    reach: usize,
+    prominence: f64,
+    cut: Option<Cut>,
+) -> Vec<f64> {
     let n = x.len();
     let mut out = Vec::new();
     for i in 1..n.saturating_sub(1) {
@@ -91,20 +149,30 @@ pub fn maxima(x: &[f64], half: usize, reach: usize, prominence: f64) -> Vec<f64>
         if !is_max {
             continue;
         }
-        // Prominence on each side, within the finite run around the peak.
-        let side_min = |range: &mut dyn Iterator<Item = usize>| {
+        // Prominence on each side, within the finite run around the peak: (the lowest
+        // sample, how many samples were seen, whether the run ended before `reach`).
+        let side = |range: &mut dyn Iterator<Item = usize>, avail: usize| {
             let mut m = f64::INFINITY;
+            let mut seen = 0;
             for j in range {
                 if !x[j].is_finite() {
-                    break;
+                    return (m, seen, true);
                 }
                 m = m.min(x[j]);
+                seen += 1;
             }
-            m
+            (m, seen, avail < reach)
         };
-        let left = side_min(&mut (i.saturating_sub(reach)..i).rev());
-        let right = side_min(&mut (i + 1..(i + reach + 1).min(n)));
-        if v - left >= prominence && v - right >= prominence {
+        let left = side(&mut (i.saturating_sub(reach)..i).rev(), i);
+        let right = side(&mut (i + 1..(i + reach + 1).min(n)), n - 1 - i);
+        let full = |s: (f64, usize, bool)| v - s.0 >= prominence;
+        let partial = |s: (f64, usize, bool)| {
+            cut.is_some_and(|c| s.2 && s.1 >= c.min_samples && v - s.0 >= c.min_fall * prominence)
+        };
+        let ok = (full(left) && full(right))
+            || (full(left) && partial(right))
+            || (partial(left) && full(right));
+        if ok {
             out.push(i as f64 + parabolic(x[i - 1], v, x[i + 1]));
         }
     }
@@ -305,6 +373,52 @@ mod tests {
         assert!((m[0] - 15.708).abs() < 0.05, "{m:?}");
         assert!((m[2] - 141.372).abs() < 0.05, "{m:?}");
         assert_eq!(quantile(&[3.0, f64::NAN, 1.0, 2.0], 0.5), Some(2.0));
+    }
+
+    #[test]
+    fn a_peak_at_a_cut_needs_its_fall_there() {
+        // A cosine of 100 peaking at samples 5 and 65: the first is cut on its left by the
+        // trial's start, 5 samples falling 13.4 before it.
+        let s: Vec<f64> = (0..120)
+            .map(|i| 100.0 * (2.0 * std::f64::consts::PI * (i as f64 - 5.0) / 60.0).cos())
+            .collect();
+        assert_eq!(maxima(&s, 10, 20, 50.0), vec![65.0]);
+        let cut = |min_fall| {
+            Some(Cut {
+                min_samples: 2,
+                min_fall,
+            })
+        };
+        let m = maxima_cut(&s, 10, 20, 50.0, cut(0.1));
+        assert_eq!(m.len(), 2, "{m:?}");
+        assert!(
+            (m[0] - 5.0).abs() < 0.05 && (m[1] - 65.0).abs() < 0.05,
+            "{m:?}"
+        );
+        // 13.4 is less than 0.3 × 50.
+        assert_eq!(maxima_cut(&s, 10, 20, 50.0, cut(0.3)), vec![65.0]);
+        // A gap 3 samples after a peak cuts it as the edge does (the fall there 4.9, one
+        // tenth of 50 needs 5; 0.05 takes it).
+        let mut g = s.clone();
+        for v in g.iter_mut().skip(69).take(30) {
+            *v = f64::NAN;
+        }
+        assert_eq!(maxima(&g, 10, 20, 50.0), Vec::<f64>::new());
+        assert_eq!(maxima_cut(&g, 10, 20, 50.0, cut(0.1)).len(), 1);
+        assert_eq!(maxima_cut(&g, 10, 20, 50.0, cut(0.05)).len(), 2);
+    }
+
+    #[test]
+    fn ends_are_carried_at_constant_velocity() {
+        let mut x: Vec<[f64; 3]> = (0..10).map(|i| [10.0 * i as f64, 5.0, 900.0]).collect();
+        for i in [0, 1, 2, 3, 8, 9] {
+            x[i] = [f64::NAN; 3];
+        }
+        extend_ends(&mut x, 3, 2);
+        assert!(x[0][0].is_nan());
+        assert_eq!(x[1], [10.0, 5.0, 900.0]);
+        assert_eq!(x[3], [30.0, 5.0, 900.0]);
+        assert_eq!(x[9], [90.0, 5.0, 900.0]);
     }
 
     /// Amplitude of a sine of `f` Hz after the filter, away from the ends.

@@ -73,11 +73,7 @@ pub fn export_mot(
     force: bool,
 ) -> PyResult<()> {
     let rotation = self::axes(axes)?.unwrap_or_default();
-    let opts = c3dfix::ForceOptions {
-        threshold,
-        zero_baseline,
-        lowpass: lowpass.map(str::parse).transpose().map_err(err)?,
-    };
+    let opts = crate::options::force_options(threshold, zero_baseline, lowpass)?;
     let name = c3d.name();
     py.allow_threads(|| {
         let fp = c3dfix::force_platforms(&c3d.inner, &opts)?;
@@ -112,11 +108,7 @@ pub fn export_opensim(
     let opts = OpenSimOptions {
         points: selection(markers, all_points)?,
         axes: self::axes(axes)?,
-        forces: c3dfix::ForceOptions {
-            threshold,
-            zero_baseline,
-            lowpass: lowpass.map(str::parse).transpose().map_err(err)?,
-        },
+        forces: crate::options::force_options(threshold, zero_baseline, lowpass)?,
         force,
     };
     let name = c3d.name();

@@ -304,11 +304,7 @@ impl PyC3d {
         zero_baseline: bool,
         lowpass: Option<&str>,
     ) -> PyResult<PyObject> {
-        let opts = c3dfix::ForceOptions {
-            threshold,
-            zero_baseline,
-            lowpass: lowpass.map(str::parse).transpose().map_err(err)?,
-        };
+        let opts = options::force_options(threshold, zero_baseline, lowpass)?;
         platforms::force_platforms(py, &self.inner, &self.name().display().to_string(), &opts)
     }
 

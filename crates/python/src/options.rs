@@ -3,10 +3,26 @@
 //! the names the command line does. The keywords' defaults in the pyo3 signatures and the
 //! stub are checked against [`c3dfix::RepairOptions::default`] by a test
 //! (`test_repair_defaults_agree_everywhere`), which reads them from [`repair_defaults`].
+//! The force plate keywords (threshold, zero_baseline, lowpass) are read once here too, by
+//! [`force_options`], for every function that takes them.
 
 use crate::{err, to_python};
 use c3dfix::RepairOptions;
 use pyo3::prelude::*;
+
+/// The force plate keywords as given to a Python function, as the library's options; a
+/// misspelt lowpass spec is the library's error, raised as C3dError.
+pub(crate) fn force_options(
+    threshold: f64,
+    zero_baseline: bool,
+    lowpass: Option<&str>,
+) -> PyResult<c3dfix::ForceOptions> {
+    Ok(c3dfix::ForceOptions {
+        threshold,
+        zero_baseline,
+        lowpass: lowpass.map(str::parse).transpose().map_err(err)?,
+    })
+}
 
 /// The repair keywords as given to a Python function.
 pub(crate) struct RepairKeywords<'a> {

@@ -79,11 +79,7 @@ pub fn plot_forces(
     force: bool,
 ) -> PyResult<Vec<String>> {
     let format = show::plot::Format::from_path(&path).map_err(show_err)?;
-    let opts = c3dfix::ForceOptions {
-        threshold,
-        zero_baseline,
-        lowpass: lowpass.map(str::parse).transpose().map_err(err)?,
-    };
+    let opts = crate::options::force_options(threshold, zero_baseline, lowpass)?;
     let (c, cpath) = c3d.open(py)?;
     refuse_inputs(&path, &cpath, None)?;
     let (c, name): (&c3d::C3d, String) = (&c, file_name(&cpath));

@@ -200,7 +200,8 @@ def test_detect_events_calibrated_from_the_sessions_other_trial():
         check=True,
     )
     want = json.loads(out.stdout)["events"]
-    assert len(got) == len(want) == len(raw) == 13
+    # 14 since the left off 0.14 s before the trial's last frame is found (docs/events.md).
+    assert len(got) == len(want) == len(raw) == 14
     for b, g, w in zip(raw, got, want):
         assert (g["context"], g["label"], g["frame"]) == (w["context"], w["label"], w["frame"])
         assert g["time"] == pytest.approx(w["time"], abs=1e-9)

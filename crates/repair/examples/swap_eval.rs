@@ -2,7 +2,9 @@
 //! 34): episodes injected one at a time into each trial, with the trial's own gaps left in:
 //! swaps between two markers of one segment and between near markers of different
 //! segments, 1, 5, 20 and 100 frames and to the end of the trial; jumps of 20–50 mm for
-//! 5–40 frames. Reports recall per kind and length, precision, the share of swaps undone
+//! 5–40 frames; and jumps onto recorded points: a marker's samples over 5–40 frames
+//! replaced whole (coordinates, residual, camera mask) by those of a marker 15–60 mm away,
+//! which keeps its own or is missing there. Reports recall per kind and length, precision, the share of swaps undone
 //! exactly, the jumped samples' error once refilled by the fill stage, and every find on the
 //! untouched trials (per 10 000 frames). Constants were chosen on the corpora `samples`,
 //! `extra` and `fullbody` (the "tuned" labs); the labs of `c3d-more` other than CMU chose
@@ -14,7 +16,10 @@
 //! ```
 //! Options: `--per N` (episodes per kind, length and trial, jumps 4 × N; default 1), `--seed S`,
 //! `--only TEXT` (files whose path contains TEXT), `--list` (every injected episode missed),
-//! `--untouched` (the finds on the untouched trials alone, no episode injected: a quick look).
+//! `--untouched` (the finds on the untouched trials alone, no episode injected: a quick look),
+//! `--explain` (with each untouched find, and each missed jump onto a recorded point under
+//! `--list`, the samples it rests on), `--residual res|cam|both FLOOR` (the residual-witness
+//! experiment of docs/swaps.md, not the detector's rule).
 
 mod corpus;
 
@@ -35,6 +40,18 @@ struct Args {
     only: Option<String>,
     list: bool,
     untouched: bool,
+    /// With the untouched finds, each one's samples: its links inside and around it.
+    explain: bool,
+    /// The residual experiment: which word witnesses a jump, and from what confidence.
+    residual: Option<(Witness, f64)>,
+}
+
+/// The recorded word a jump's residual witness reads (`--residual res|cam|both FLOOR`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Witness {
+    Residual,
+    Cameras,
+    Both,
 }
 
 fn args() -> Result<Args, String> {
@@ -44,6 +61,8 @@ fn args() -> Result<Args, String> {
         only: None,
         list: false,
         untouched: false,
+        explain: false,
+        residual: None,
     };
     let mut it = std::env::args().skip(1);
     while let Some(k) = it.next() {
@@ -54,6 +73,21 @@ fn args() -> Result<Args, String> {
             "--only" => a.only = Some(val()?),
             "--list" => a.list = true,
             "--untouched" => a.untouched = true,
+            "--explain" => a.explain = true,
+            "--residual" => {
+                let w = match val()?.as_str() {
+                    "res" => Witness::Residual,
+                    "cam" => Witness::Cameras,
+                    "both" => Witness::Both,
+                    o => return Err(format!("--residual: res, cam or both, not {o}")),
+                };
+                let floor = it
+                    .next()
+                    .ok_or("--residual needs a floor")?
+                    .parse()
+                    .map_err(|e| format!("--residual floor: {e}"))?;
+                a.residual = Some((w, floor));
+            }
             _ => return Err(format!("unknown option {k}")),
         }
     }
@@ -83,32 +117,56 @@ impl Rng {
     }
 }
 
-/// Marker labels in the order `corpus::load` keeps them (non-output points with a valid
-/// sample off the origin; with `recorded`, residual-0 samples count as missing where the
-/// file has recorded residuals).
-fn labels(path: &std::path::Path, recorded: bool) -> Vec<String> {
+/// What `corpus::load` leaves out of a trial, per marker in its order: the labels, the
+/// residuals (−1 missing) and the camera masks as recorded, so that an episode can move a
+/// sample whole (coordinates, residual word and camera mask from the same frame).
+#[derive(Clone, Default)]
+struct Side {
+    labels: Vec<String>,
+    residual: Vec<Vec<f32>>,
+    mask: Vec<Vec<u8>>,
+    /// Whether the file carries measured residuals (some valid sample above 0).
+    measured: bool,
+}
+
+/// [`Side`] of the markers `corpus::load` keeps (non-output points with a valid sample off
+/// the origin; with `recorded`, residual-0 samples count as missing where the file has
+/// recorded residuals).
+fn side(path: &std::path::Path, recorded: bool) -> Side {
     let Ok(c) = c3d::read_file(path) else {
-        return Vec::new();
+        return Side::default();
     };
     let outputs = c.model_output_labels();
     let p = c.points();
     let markers: Vec<usize> = (0..c.point_labels().len())
         .filter(|&i| !outputs.contains(&c.point_labels()[i]))
         .collect();
-    let drop = recorded
-        && markers.iter().any(|&i| {
-            let r = p.residuals(i);
-            (0..p.frames()).any(|f| p.is_valid(f, i) && r[f] > 0.0)
-        });
-    markers
+    let measured = markers.iter().any(|&i| {
+        let r = p.residuals(i);
+        (0..p.frames()).any(|f| p.is_valid(f, i) && r[f] > 0.0)
+    });
+    let drop = recorded && measured;
+    let kept: Vec<usize> = markers
         .into_iter()
         .filter(|&i| {
             let r = p.residuals(i);
             let t = p.trajectory(i);
             (0..p.frames()).any(|f| p.is_valid(f, i) && !(drop && r[f] == 0.0) && t[f] != [0.0; 3])
         })
-        .map(|i| c.point_labels()[i].clone())
-        .collect()
+        .collect();
+    Side {
+        labels: kept.iter().map(|&i| c.point_labels()[i].clone()).collect(),
+        residual: kept.iter().map(|&i| p.residuals(i)).collect(),
+        mask: kept
+            .iter()
+            .map(|&i| {
+                (0..p.frames())
+                    .map(|f| p.camera_mask[p.index(f, i)])
+                    .collect()
+            })
+            .collect(),
+        measured,
+    }
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Debug)]
@@ -119,6 +177,12 @@ enum Kind {
     /// swapped around the frame they are closest.
     SwapNear,
     Jump,
+    /// A label on a near marker's recorded point, that marker keeping its own: the point
+    /// twice in the frame (coordinates, residual and cameras of one sample).
+    JumpOntoKept,
+    /// A label on a near marker's recorded point, that marker missing over the span: the
+    /// point's label left it for the other's.
+    JumpOntoTaken,
 }
 
 /// One injected episode.
@@ -133,6 +197,8 @@ struct Episode {
     /// Whether the episode is injected and counted (an episode too long for its pair is
     /// drawn and left out).
     counted: bool,
+    /// For a jump onto a recorded point, the marker whose samples the label takes.
+    onto: Option<usize>,
 }
 
 fn dist(p: &[f64; 3], q: &[f64; 3]) -> f64 {
@@ -257,6 +323,7 @@ fn episodes(t: &Trial, per: usize, rng: &mut Rng) -> Vec<Episode> {
                         last: first + l - 1,
                         len,
                         counted: swapped * 20 <= seen * 9,
+                        onto: None,
                     });
                     break;
                 }
@@ -281,6 +348,7 @@ fn episodes(t: &Trial, per: usize, rng: &mut Rng) -> Vec<Episode> {
                 last: first + l - 1,
                 len: l,
                 counted: true,
+                onto: None,
             });
             break;
         }
@@ -288,17 +356,132 @@ fn episodes(t: &Trial, per: usize, rng: &mut Rng) -> Vec<Episode> {
     out
 }
 
+/// For each marker, the markers whose median distance to it (over up to 400 evenly spaced
+/// frames where both are seen, at least 20) is 15–60 mm, the issue's "typically 15–60 mm
+/// away"; a marker with none takes its nearest if that is within 60 mm.
+fn near_points(t: &Trial) -> Vec<Vec<usize>> {
+    let (nm, nf) = (t.markers(), t.frames());
+    let step = nf.div_ceil(400).max(1);
+    let median = |a: usize, b: usize| {
+        let mut ds: Vec<f64> = (0..nf)
+            .step_by(step)
+            .filter(|&f| a != b && t.valid[a][f] && t.valid[b][f])
+            .map(|f| dist(&t.xyz[a][f], &t.xyz[b][f]))
+            .collect();
+        if ds.len() < 20 {
+            return f64::INFINITY;
+        }
+        ds.sort_by(f64::total_cmp);
+        ds[ds.len() / 2]
+    };
+    let med: Vec<Vec<f64>> = (0..nm)
+        .map(|a| (0..nm).map(|b| median(a, b)).collect())
+        .collect();
+    (0..nm)
+        .map(|a| {
+            let within: Vec<usize> = (0..nm)
+                .filter(|&b| (15.0..=60.0).contains(&med[a][b]))
+                .collect();
+            if !within.is_empty() {
+                return within;
+            }
+            (0..nm)
+                .filter(|&b| b != a && med[a][b] < 60.0)
+                .min_by(|&x, &y| med[a][x].total_cmp(&med[a][y]))
+                .into_iter()
+                .collect()
+        })
+        .collect()
+}
+
+/// Jumps onto recorded points, both variants, `per * 4` of each for one trial: marker A's
+/// samples over 5–40 frames replaced by a near marker B's recorded samples of the same
+/// frames, A and B both seen at the span's first and last frames. Drawn from their own
+/// generator, so that the other episodes stay as they were.
+fn episodes_onto(t: &Trial, per: usize, rng: &mut Rng) -> Vec<Episode> {
+    let nf = t.frames();
+    let near = near_points(t);
+    let from: Vec<usize> = (0..t.markers()).filter(|&a| !near[a].is_empty()).collect();
+    let mut out = Vec::new();
+    if from.is_empty() {
+        return out;
+    }
+    for kind in [Kind::JumpOntoKept, Kind::JumpOntoTaken] {
+        for _ in 0..per * 4 {
+            for _ in 0..20 {
+                let a = from[rng.range(0, from.len())];
+                let b = near[a][rng.range(0, near[a].len())];
+                let l = rng.range(5, 41);
+                if l + 40 > nf {
+                    break;
+                }
+                let first = rng.range(10, nf - l - 10);
+                let last = first + l - 1;
+                let seen = |m: usize| t.valid[m][first] && t.valid[m][last];
+                if !seen(a) || !seen(b) {
+                    continue;
+                }
+                out.push(Episode {
+                    kind,
+                    markers: vec![a],
+                    first,
+                    last,
+                    len: l,
+                    counted: true,
+                    onto: Some(b),
+                });
+                break;
+            }
+        }
+    }
+    out
+}
+
+/// Inject a jump onto a recorded point: A takes B's samples whole over the span (B's
+/// coordinates, validity, residual and camera mask); for [`Kind::JumpOntoTaken`] B is
+/// missing there (residual −1, no cameras).
+fn inject_onto(t: &mut Trial, w: &mut Side, e: &Episode) {
+    let (a, Some(b)) = (e.markers[0], e.onto) else {
+        return;
+    };
+    let words = w.residual.len() > a.max(b);
+    for f in e.first..=e.last {
+        t.xyz[a][f] = t.xyz[b][f];
+        t.valid[a][f] = t.valid[b][f];
+        if words {
+            w.residual[a][f] = w.residual[b][f];
+            w.mask[a][f] = w.mask[b][f];
+        }
+        if e.kind == Kind::JumpOntoTaken {
+            t.valid[b][f] = false;
+            if words {
+                w.residual[b][f] = -1.0;
+                w.mask[b][f] = 0;
+            }
+        }
+    }
+}
+
 fn overlaps(x: &Find, e: &Episode) -> bool {
     x.first <= e.last && e.first <= x.last
 }
 
-/// The find that answers `e`: same kind and markers, overlapping its frames.
+/// The find that answers `e`: same kind and markers, overlapping its frames. A label that
+/// left its point for another's is answered by a jump of that label, and by a swap of the
+/// two (undone, the point goes back to its label and the other becomes a gap, as a jump).
 fn answers(x: &Find, e: &Episode) -> bool {
-    let kind = match e.kind {
-        Kind::Jump => FindKind::Jump,
-        _ => FindKind::Swap,
-    };
-    x.kind == kind && x.markers == e.markers && overlaps(x, e)
+    if !overlaps(x, e) {
+        return false;
+    }
+    match (e.kind, e.onto) {
+        (Kind::Jump | Kind::JumpOntoKept, _) => x.kind == FindKind::Jump && x.markers == e.markers,
+        (Kind::JumpOntoTaken, Some(b)) => {
+            let a = e.markers[0];
+            (x.kind == FindKind::Jump && x.markers == e.markers)
+                || (x.kind == FindKind::Swap && x.markers == [a.min(b), a.max(b)])
+        }
+        _ => x.kind == FindKind::Swap && x.markers == e.markers,
+    }
 }
 
 /// A find of the injected trial that the untouched trial had too (same kind, markers and
@@ -315,17 +498,27 @@ struct Cell {
     found: usize,
     settled: usize,
     exact: usize,
+    /// Jumps onto recorded points: settled finds after whose undoing the other marker
+    /// holds its recorded samples (kept, or given back by a swap).
+    given_back: usize,
 }
 
+/// New finds (not in the untouched trial) that answer an episode / that do not, and the
+/// refilled jumped samples' errors.
 #[derive(Default)]
-struct Tally {
-    cells: BTreeMap<(Kind, usize), Cell>,
-    /// New finds (not in the untouched trial) that answer an episode / that do not.
+struct Prec {
     true_finds: usize,
     false_finds: usize,
     true_settled: usize,
     false_settled: usize,
     refill_err: Vec<f64>,
+}
+
+#[derive(Default)]
+struct Tally {
+    cells: BTreeMap<(Kind, usize), Cell>,
+    /// The injected swaps and offset jumps; the jumps onto recorded points apart.
+    prec: [Prec; 2],
     frames_untouched: usize,
     untouched_finds: usize,
     untouched_settled: usize,
@@ -380,6 +573,9 @@ fn main() {
     let opts = SwapOptions::default();
     let mut tallies: BTreeMap<&str, Tally> = BTreeMap::new();
     let mut rng = Rng(a.seed);
+    // The jumps onto recorded points draw from their own generator: the other episodes
+    // are the ones drawn before they were added.
+    let mut rng_onto = Rng(a.seed ^ 0x6f6e_746f);
     let t0 = std::time::Instant::now();
     println!("## finds on the untouched trials\n");
     for &(_set, lab, corpus, rel) in FILES {
@@ -411,10 +607,25 @@ fn main() {
                 continue;
             }
         };
-        let names = labels(&path, recorded);
-        let name = |m: usize| names.get(m).cloned().unwrap_or_else(|| format!("#{m}"));
+        let words = side(&path, recorded);
+        let name = |m: usize| {
+            words
+                .labels
+                .get(m)
+                .cloned()
+                .unwrap_or_else(|| format!("#{m}"))
+        };
+        eprintln!(
+            "{rel}: residuals {}, camera masks {}",
+            if words.measured { "measured" } else { "all 0" },
+            if words.mask.iter().flatten().any(|&m| m != 0) {
+                "recorded"
+            } else {
+                "all 0"
+            }
+        );
         let tally = tallies.entry(group).or_default();
-        let base = match find_swaps(&clean, &opts) {
+        let base = match finds_of(&clean, &words, &opts, &a) {
             Ok(b) => b,
             Err(e) => {
                 eprintln!("{rel}: {e}");
@@ -435,6 +646,9 @@ fn main() {
                 x.confidence,
                 if x.settled { ", settled" } else { "" }
             );
+            if a.explain {
+                explain(&clean, &words, x, &opts);
+            }
         }
         if a.untouched {
             continue;
@@ -455,116 +669,405 @@ fn main() {
                 continue;
             }
             inject(&mut t, &e, off);
-            let finds = match find_swaps(&t, &opts) {
-                Ok(f) => f,
-                Err(err) => {
-                    eprintln!("{rel}: {err}");
-                    continue;
-                }
-            };
-            let new: Vec<&Find> = finds.iter().filter(|x| !known(x, &base)).collect();
-            let hit = new.iter().find(|x| answers(x, &e));
-            let key = (
-                e.kind,
-                if e.kind == Kind::Jump {
-                    jump_bin(e.len)
-                } else {
-                    e.len
-                },
-            );
-            let cell = tally.cells.entry(key).or_default();
-            cell.n += 1;
-            for x in &new {
-                let ok = answers(x, &e);
-                match (ok, x.settled) {
-                    (true, s) => {
-                        tally.true_finds += 1;
-                        tally.true_settled += s as usize;
-                    }
-                    (false, s) => {
-                        tally.false_finds += 1;
-                        tally.false_settled += s as usize;
-                        if a.list {
-                            println!(
-                                "  false find [{group}] {rel}: {:?} {:?} {}–{} conf {:.2} (episode {:?} {:?} {}–{})",
-                                x.kind, x.markers, x.first, x.last, x.confidence, e.kind, e.markers, e.first, e.last
-                            );
-                        }
+            let mut w = words.clone();
+            if let [m, n] = e.markers[..] {
+                if w.residual.len() > m.max(n) {
+                    for f in e.first..=e.last {
+                        let (r, k) = (w.residual[m][f], w.mask[m][f]);
+                        w.residual[m][f] = w.residual[n][f];
+                        w.mask[m][f] = w.mask[n][f];
+                        w.residual[n][f] = r;
+                        w.mask[n][f] = k;
                     }
                 }
             }
-            match hit {
-                Some(x) => {
-                    cell.found += 1;
-                    if x.settled {
-                        cell.settled += 1;
-                        let mut u = t.clone();
-                        let settled: Vec<Find> = new
-                            .iter()
-                            .filter(|y| answers(y, &e))
-                            .map(|y| (*y).clone())
-                            .collect();
-                        undo(&mut u, &settled);
-                        if e.kind == Kind::Jump {
-                            if let Some(errs) = refill(&u, &clean, &e) {
-                                tally.refill_err.extend(errs);
-                            }
-                            cell.exact += 1;
-                        } else if e
-                            .markers
-                            .iter()
-                            .all(|&m| u.xyz[m] == clean.xyz[m] && u.valid[m] == clean.valid[m])
-                        {
-                            cell.exact += 1;
-                        } else if a.list {
-                            println!(
-                                "  inexact [{group}] {rel}: {:?} {:?} {}–{} found {}–{}",
-                                e.kind, e.markers, e.first, e.last, x.first, x.last
-                            );
-                        }
-                    }
-                }
-                None => {
-                    if a.list {
-                        let links = repair::swaps::learn_links(
-                            &t,
-                            opts.max_link_spread_mm,
-                            opts.min_link_support,
-                            opts.max_links,
-                        );
-                        let weak = SwapOptions {
-                            min_report: 0.0,
-                            ..opts.clone()
-                        };
-                        let all = find_swaps(&t, &weak).unwrap_or_default();
-                        let near: Vec<String> = all
-                            .iter()
-                            .filter(|x| {
-                                overlaps(x, &e) && x.markers.iter().any(|m| e.markers.contains(m))
-                            })
-                            .map(|x| {
-                                format!(
-                                    "{:?}{:?} {}–{} {:.2} {:?}",
-                                    x.kind, x.markers, x.first, x.last, x.confidence, x.evidence
-                                )
-                            })
-                            .collect();
-                        println!(
-                            "  missed [{group}] {rel}: {:?} {:?} {}–{} links {:?} weak finds {near:?}",
-                            e.kind,
-                            e.markers,
-                            e.first,
-                            e.last,
-                            e.markers.iter().map(|&m| links[m].len()).collect::<Vec<_>>()
-                        );
-                    }
-                }
-            }
+            judge(&t, &w, &clean, &base, &e, &opts, tally, &a, group, rel);
+        }
+        for e in episodes_onto(&clean, a.per, &mut rng_onto) {
+            let (mut t, mut w) = (clean.clone(), words.clone());
+            inject_onto(&mut t, &mut w, &e);
+            judge(&t, &w, &clean, &base, &e, &opts, tally, &a, group, rel);
         }
         eprintln!("{rel}: done at {:.0} s", t0.elapsed().as_secs_f64());
     }
     for (group, t) in &tallies {
         report(group, t);
+    }
+}
+
+/// The detector's finds; under `--residual W FLOOR`, a jump found with a confidence from
+/// FLOOR up takes the recorded words' step at its edges as a second witness beside its
+/// links (as a swap's edges do): c' = 1 − (1 − c)(1 − g / 2), g the share of the span's
+/// samples whose word lies outside the range of the 10 samples either side.
+fn finds_of(
+    t: &Trial,
+    w: &Side,
+    opts: &SwapOptions,
+    a: &Args,
+) -> Result<Vec<Find>, repair::RepairError> {
+    let Some((witness, floor)) = a.residual else {
+        return find_swaps(t, opts);
+    };
+    let low = SwapOptions {
+        min_report: floor.min(opts.min_report),
+        ..opts.clone()
+    };
+    let mut out = Vec::new();
+    for mut x in find_swaps(t, &low)? {
+        if x.kind == FindKind::Jump && x.confidence < opts.min_confidence {
+            let g = word_step(t, w, x.markers[0], x.first, x.last, witness);
+            x.confidence = 1.0 - (1.0 - x.confidence) * (1.0 - g / 2.0);
+            x.settled = x.confidence >= opts.min_confidence;
+        }
+        if x.confidence >= opts.min_report {
+            out.push(x);
+        }
+    }
+    Ok(out)
+}
+
+/// The share of marker `m`'s valid samples in `first..=last` whose residual (or camera
+/// count) lies outside the range of its valid samples in the 10 frames either side; 0
+/// with fewer than 3 inside or 6 outside, or when the file records no such word.
+fn word_step(t: &Trial, w: &Side, m: usize, first: usize, last: usize, which: Witness) -> f64 {
+    if w.residual.len() <= m {
+        return 0.0;
+    }
+    let nf = t.frames();
+    let share = |word: &dyn Fn(usize) -> f64| {
+        let inside: Vec<f64> = (first..=last)
+            .filter(|&f| t.valid[m][f])
+            .map(word)
+            .collect();
+        let outside: Vec<f64> = (first.saturating_sub(10)..first)
+            .chain(last + 1..(last + 11).min(nf))
+            .filter(|&f| t.valid[m][f])
+            .map(word)
+            .collect();
+        if inside.len() < 3 || outside.len() < 6 {
+            return 0.0;
+        }
+        let lo = outside.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = outside.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        inside.iter().filter(|&&v| v < lo || v > hi).count() as f64 / inside.len() as f64
+    };
+    let res = || {
+        if w.measured {
+            share(&|f| w.residual[m][f] as f64)
+        } else {
+            0.0
+        }
+    };
+    let cam = || share(&|f| w.mask[m][f].count_ones() as f64);
+    match which {
+        Witness::Residual => res(),
+        Witness::Cameras => cam(),
+        Witness::Both => res().max(cam()),
+    }
+}
+
+/// Print what a find rests on, to read it: for each of its markers and each link, the
+/// median distance over the 20 frames before, the find's frames and the 20 after (mm, and
+/// the learned distance ± tolerance); the marker's median step (mm per frame) there and
+/// the largest step at each edge; its residuals and camera counts (medians) there.
+fn explain(t: &Trial, w: &Side, x: &Find, opts: &SwapOptions) {
+    let links = repair::swaps::learn_links(
+        t,
+        opts.max_link_spread_mm,
+        opts.min_link_support,
+        opts.max_links,
+    );
+    println!("    {:?}", x.evidence);
+    let nf = t.frames();
+    let name = |m: usize| w.labels.get(m).cloned().unwrap_or_else(|| format!("#{m}"));
+    let med = |mut v: Vec<f64>| -> String {
+        if v.is_empty() {
+            return "–".into();
+        }
+        v.sort_by(f64::total_cmp);
+        format!("{:.1}", v[v.len() / 2])
+    };
+    let spans = [
+        (x.first.saturating_sub(20), x.first),
+        (x.first, x.last + 1),
+        (x.last + 1, (x.last + 21).min(nf)),
+    ];
+    for &m in &x.markers {
+        println!("    {} ({} links):", name(m), links[m].len());
+        for l in &links[m] {
+            let d: Vec<String> = spans
+                .iter()
+                .map(|&(lo, hi)| {
+                    med((lo..hi)
+                        .filter(|&f| t.valid[m][f] && t.valid[l.other][f])
+                        .map(|f| dist(&t.xyz[m][f], &t.xyz[l.other][f]))
+                        .collect())
+                })
+                .collect();
+            println!(
+                "      to {:<24} {:.1} ± {:.1} mm: before {}, inside {}, after {}",
+                name(l.other),
+                l.d0_mm,
+                l.tol_mm,
+                d[0],
+                d[1],
+                d[2]
+            );
+            // Frame by frame over 5 frames either side of each edge ('|' at the edge).
+            let series = |lo: usize, at: usize, hi: usize| {
+                (lo..hi.min(nf))
+                    .map(|f| {
+                        let v = if t.valid[m][f] && t.valid[l.other][f] {
+                            format!("{:.0}", dist(&t.xyz[m][f], &t.xyz[l.other][f]))
+                        } else {
+                            "–".into()
+                        };
+                        if f == at {
+                            format!("| {v}")
+                        } else {
+                            v
+                        }
+                    })
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            };
+            println!(
+                "        first edge: {}; last edge: {}",
+                series(x.first.saturating_sub(5), x.first, x.first + 5),
+                series(x.last.saturating_sub(4), x.last + 1, x.last + 6)
+            );
+        }
+        // The nearest other marker: a label on another labelled point sits on it.
+        let nearest = |f: usize| {
+            (0..t.markers())
+                .filter(|&o| o != m && t.valid[o][f] && t.valid[m][f])
+                .map(|o| (dist(&t.xyz[m][f], &t.xyz[o][f]), o))
+                .min_by(|p, q| p.0.total_cmp(&q.0))
+        };
+        let near: Vec<String> = spans
+            .iter()
+            .map(|&(lo, hi)| {
+                let mut v: Vec<(f64, usize)> = (lo..hi).filter_map(nearest).collect();
+                v.sort_by(|p, q| p.0.total_cmp(&q.0));
+                v.get(v.len() / 2)
+                    .map(|&(d, o)| format!("{d:.1} mm ({})", name(o)))
+                    .unwrap_or_else(|| "–".into())
+            })
+            .collect();
+        println!(
+            "      nearest marker (median) before {}, inside {}, after {}",
+            near[0], near[1], near[2]
+        );
+        let step = |f: usize| {
+            (f > 0 && t.valid[m][f] && t.valid[m][f - 1])
+                .then(|| dist(&t.xyz[m][f], &t.xyz[m][f - 1]))
+        };
+        let steps: Vec<String> = spans
+            .iter()
+            .map(|&(lo, hi)| med((lo.max(1)..hi).filter_map(step).collect()))
+            .collect();
+        let edge = |f: usize| {
+            (f.saturating_sub(2)..(f + 3).min(nf))
+                .filter_map(step)
+                .fold(0.0f64, f64::max)
+        };
+        println!(
+            "      step before {}, inside {}, after {} mm/frame; largest at the edges {:.1} and {:.1}",
+            steps[0],
+            steps[1],
+            steps[2],
+            edge(x.first),
+            edge(x.last + 1)
+        );
+        if w.residual.len() > m {
+            let words: Vec<String> = spans
+                .iter()
+                .map(|&(lo, hi)| {
+                    let ok: Vec<usize> = (lo..hi).filter(|&f| t.valid[m][f]).collect();
+                    format!(
+                        "{} / {}",
+                        med(ok.iter().map(|&f| w.residual[m][f] as f64).collect()),
+                        med(ok
+                            .iter()
+                            .map(|&f| w.mask[m][f].count_ones() as f64)
+                            .collect())
+                    )
+                })
+                .collect();
+            println!(
+                "      residual / cameras before {}, inside {}, after {}",
+                words[0], words[1], words[2]
+            );
+        }
+    }
+}
+
+/// Find swaps in the injected trial `t` and score the finds against episode `e`.
+#[allow(clippy::too_many_arguments)]
+fn judge(
+    t: &Trial,
+    w: &Side,
+    clean: &Trial,
+    base: &[Find],
+    e: &Episode,
+    opts: &SwapOptions,
+    tally: &mut Tally,
+    a: &Args,
+    group: &str,
+    rel: &str,
+) {
+    let finds = match finds_of(t, w, opts, a) {
+        Ok(f) => f,
+        Err(err) => {
+            eprintln!("{rel}: {err}");
+            return;
+        }
+    };
+    let new: Vec<&Find> = finds.iter().filter(|x| !known(x, base)).collect();
+    let hit = new.iter().find(|x| answers(x, e));
+    let onto = e.onto.is_some();
+    let key = (
+        e.kind,
+        if e.kind == Kind::Jump || onto {
+            jump_bin(e.len)
+        } else {
+            e.len
+        },
+    );
+    let cell = tally.cells.entry(key).or_default();
+    cell.n += 1;
+    let prec = &mut tally.prec[onto as usize];
+    for x in &new {
+        let ok = answers(x, e);
+        match (ok, x.settled) {
+            (true, s) => {
+                prec.true_finds += 1;
+                prec.true_settled += s as usize;
+            }
+            (false, s) => {
+                prec.false_finds += 1;
+                prec.false_settled += s as usize;
+                if a.list {
+                    println!(
+                        "  false find [{group}] {rel}: {:?} {:?} {}–{} conf {:.2} (episode {:?} {:?} {}–{})",
+                        x.kind, x.markers, x.first, x.last, x.confidence, e.kind, e.markers, e.first, e.last
+                    );
+                }
+            }
+        }
+    }
+    match hit {
+        Some(x) => {
+            cell.found += 1;
+            if x.settled {
+                cell.settled += 1;
+                let mut u = t.clone();
+                let settled: Vec<Find> = new
+                    .iter()
+                    .filter(|y| answers(y, e))
+                    .map(|y| (*y).clone())
+                    .collect();
+                undo(&mut u, &settled);
+                if let (true, Some(b)) = (onto, e.onto) {
+                    // Undone when the label is off the other's point over the whole span
+                    // (a gap for the fill stage); the other marker holding its recorded
+                    // samples again (a swap found where it was missing) is counted apart.
+                    let m = e.markers[0];
+                    if u.xyz[b] == clean.xyz[b] && u.valid[b] == clean.valid[b] {
+                        cell.given_back += 1;
+                    }
+                    if (e.first..=e.last).all(|f| !u.valid[m][f]) {
+                        cell.exact += 1;
+                    } else if a.list {
+                        println!(
+                            "  inexact [{group}] {rel}: {:?} {:?} onto {b} {}–{} found {:?} {}–{}",
+                            e.kind, e.markers, e.first, e.last, x.kind, x.first, x.last
+                        );
+                    }
+                    if let Some(errs) = refill(&u, clean, e) {
+                        prec.refill_err.extend(errs);
+                    }
+                } else if e.kind == Kind::Jump {
+                    if let Some(errs) = refill(&u, clean, e) {
+                        prec.refill_err.extend(errs);
+                    }
+                    cell.exact += 1;
+                } else if e
+                    .markers
+                    .iter()
+                    .all(|&m| u.xyz[m] == clean.xyz[m] && u.valid[m] == clean.valid[m])
+                {
+                    cell.exact += 1;
+                } else if a.list {
+                    println!(
+                        "  inexact [{group}] {rel}: {:?} {:?} {}–{} found {}–{}",
+                        e.kind, e.markers, e.first, e.last, x.first, x.last
+                    );
+                }
+            }
+        }
+        None => {
+            if a.list {
+                let links = repair::swaps::learn_links(
+                    t,
+                    opts.max_link_spread_mm,
+                    opts.min_link_support,
+                    opts.max_links,
+                );
+                let weak = SwapOptions {
+                    min_report: 0.0,
+                    ..opts.clone()
+                };
+                let all = find_swaps(t, &weak).unwrap_or_default();
+                let near: Vec<String> = all
+                    .iter()
+                    .filter(|x| overlaps(x, e) && x.markers.iter().any(|m| e.markers.contains(m)))
+                    .map(|x| {
+                        format!(
+                            "{:?}{:?} {}–{} {:.2} {:?}",
+                            x.kind, x.markers, x.first, x.last, x.confidence, x.evidence
+                        )
+                    })
+                    .collect();
+                println!(
+                    "  missed [{group}] {rel}: {:?} {:?}{} {}–{} links {:?} weak finds {near:?}",
+                    e.kind,
+                    e.markers,
+                    e.onto
+                        .map(|b| {
+                            let n = |m: usize| w.labels.get(m).cloned().unwrap_or_default();
+                            format!(" ({}) onto {b} ({})", n(e.markers[0]), n(b))
+                        })
+                        .unwrap_or_default(),
+                    e.first,
+                    e.last,
+                    e.markers
+                        .iter()
+                        .map(|&m| links[m].len())
+                        .collect::<Vec<_>>()
+                );
+                if a.explain && e.onto.is_some() {
+                    let as_found = Find {
+                        kind: FindKind::Jump,
+                        markers: e.markers.clone(),
+                        first: e.first,
+                        last: e.last,
+                        confidence: 0.0,
+                        settled: false,
+                        evidence: repair::swaps::Evidence {
+                            links: 0,
+                            frames_decided: 0,
+                            link_error: 0.0,
+                            link_error_undone: 0.0,
+                            edges_smoother: 0,
+                            edges_checked: 0,
+                            edge_step_mm: 0.0,
+                        },
+                    };
+                    explain(t, w, &as_found, opts);
+                }
+            }
+        }
     }
 }
 
@@ -583,9 +1086,9 @@ fn report(group: &str, t: &Tally) {
     for (&(k, len), c) in &t.cells {
         let l = match (k, len) {
             (_, usize::MAX) => "to end".to_string(),
-            (Kind::Jump, 10) => "5–10".into(),
-            (Kind::Jump, 20) => "11–20".into(),
-            (Kind::Jump, _) => "21–40".into(),
+            (Kind::Jump | Kind::JumpOntoKept | Kind::JumpOntoTaken, 10) => "5–10".into(),
+            (Kind::Jump | Kind::JumpOntoKept | Kind::JumpOntoTaken, 20) => "11–20".into(),
+            (Kind::Jump | Kind::JumpOntoKept | Kind::JumpOntoTaken, _) => "21–40".into(),
             _ => len.to_string(),
         };
         println!(
@@ -600,24 +1103,44 @@ fn report(group: &str, t: &Tally) {
             }
         );
     }
-    println!(
-        "\nprecision: {} of finds ({} true, {} false), {} of settled finds ({} true, {} false)",
-        pct(t.true_finds, t.true_finds + t.false_finds),
-        t.true_finds,
-        t.false_finds,
-        pct(t.true_settled, t.true_settled + t.false_settled),
-        t.true_settled,
-        t.false_settled
-    );
-    let mut e = t.refill_err.clone();
-    e.sort_by(f64::total_cmp);
-    if !e.is_empty() {
+    let (mut back, mut settled) = (0, 0);
+    for (_, c) in t.cells.range((Kind::JumpOntoTaken, 0)..) {
+        back += c.given_back;
+        settled += c.settled;
+    }
+    if settled > 0 {
         println!(
-            "jumped samples refilled (auto fill): median {:.2} mm, 90th percentile {:.2} mm, {} samples",
-            e[e.len() / 2],
-            e[e.len() * 9 / 10],
-            e.len()
+            "\nJumpOntoTaken: undone exactly = the label made a gap over the whole span; the \
+             other marker's point given back to it (a swap of the two found) in {back} of {settled} settled"
         );
+    }
+    for (p, what) in t
+        .prec
+        .iter()
+        .zip(["swaps and offset jumps", "jumps onto recorded points"])
+    {
+        if p.true_finds + p.false_finds == 0 {
+            continue;
+        }
+        println!(
+            "\n{what}: precision {} of finds ({} true, {} false), {} of settled finds ({} true, {} false)",
+            pct(p.true_finds, p.true_finds + p.false_finds),
+            p.true_finds,
+            p.false_finds,
+            pct(p.true_settled, p.true_settled + p.false_settled),
+            p.true_settled,
+            p.false_settled
+        );
+        let mut e = p.refill_err.clone();
+        e.sort_by(f64::total_cmp);
+        if !e.is_empty() {
+            println!(
+                "jumped samples refilled (auto fill): median {:.2} mm, 90th percentile {:.2} mm, {} samples",
+                e[e.len() / 2],
+                e[e.len() * 9 / 10],
+                e.len()
+            );
+        }
     }
     println!(
         "swap episodes left out (over half the frames where both markers are seen): {}",

@@ -13,10 +13,9 @@
 //! sides and the continuity of the motion both inform the gap.
 
 use std::cell::{OnceCell, RefCell};
-use std::ops::AddAssign;
 use std::rc::Rc;
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 use super::anchor::Raw;
 use super::data::{Span, Target};
@@ -154,12 +153,24 @@ pub(crate) struct Model {
     gains: RefCell<Vec<(Vec<bool>, Rc<Gains>)>>,
 }
 
-/// Per frame of a window: the predicted covariance P, and M = (I + J P_zz)⁻¹ (J: the
-/// frame's information on the scores).
+/// Per frame of a window: the predicted covariance P (`2r × 2r`), and M = (I + J P_zz)⁻¹
+/// (`r × r`; J: the frame's information on the scores), column-major, frame after frame.
 #[derive(Debug)]
 struct Gains {
-    predicted: Vec<DMatrix<f64>>,
-    m: Vec<DMatrix<f64>>,
+    predicted: Vec<f64>,
+    m: Vec<f64>,
+}
+
+impl Gains {
+    /// Frame `i`'s predicted covariance.
+    fn predicted(&self, i: usize, n: usize) -> Block<'_> {
+        Block::slice(&self.predicted[i * n * n..(i + 1) * n * n], n, n)
+    }
+
+    /// Frame `i`'s M.
+    fn m(&self, i: usize, r: usize) -> Block<'_> {
+        Block::slice(&self.m[i * r * r..(i + 1) * r * r], r, r)
+    }
 }
 
 impl Model {
@@ -203,8 +214,11 @@ impl Model {
         let mut buf = vec![0.0; dims];
         let mut score = |f: usize| -> Vec<f64> {
             row(t, nb, f, &mut buf);
+            for (v, m) in buf.iter_mut().zip(&mean) {
+                *v -= m;
+            }
             (0..r)
-                .map(|a| (0..dims).map(|i| basis[(i, a)] * (buf[i] - mean[i])).sum())
+                .map(|a| dot(basis.column(a).as_slice(), &buf))
                 .collect()
         };
         let (mut v1, mut n1) = (vec![0.0; r], 0usize);
@@ -286,27 +300,49 @@ impl Model {
             return Ok(Rc::clone(g));
         }
         let r = self.r;
+        let n = 2 * r;
         let len = seen.len();
         let mut g = Gains {
-            predicted: Vec::with_capacity(len),
-            m: Vec::with_capacity(len),
+            predicted: Vec::with_capacity(len * n * n),
+            m: Vec::with_capacity(len * r * r),
         };
-        let mut p = self.prior.clone();
+        let mut p = self.prior.as_slice().to_vec();
+        // Scratch, reused frame to frame: I + J P_zz and M, S = M J, W = S P_z·, P⁺.
+        let (mut jp, mut m) = (vec![0.0; r * r], vec![0.0; r * r]);
+        let (mut sm, mut w, mut post) = (vec![0.0; r * r], vec![0.0; r * n], vec![0.0; n * n]);
         for (i, &s) in seen.iter().enumerate() {
             if i > 0 {
-                p = times_trans_t(&trans_times(&p, r), r) + &self.process;
+                predict(&mut p, self.process.as_slice(), r);
             }
             // The observation informs the scores only (J, r × r), so the update needs an
             // r × r inverse (Woodbury): with M = (I + J P_zz)⁻¹, P⁺ = P − P_·z M J P_z·.
-            let j = self.info(s);
-            let m = (DMatrix::<f64>::identity(r, r) + j * p.view((0, 0), (r, r)))
-                .try_inverse()
-                .ok_or(SkipReason::Degenerate)?;
-            let pz = p.columns(0, r).into_owned();
-            let post = &p - &pz * (&m * j) * pz.transpose();
-            g.predicted.push(p);
-            g.m.push(m);
-            p = (&post + post.transpose()) * 0.5;
+            let j = Block::all(self.info(s));
+            mat_mul(j, Block::of(&p, n, r, r), &mut jp);
+            for a in 0..r {
+                jp[a + a * r] += 1.0;
+            }
+            if !invert(&mut jp, r, &mut m) {
+                return Err(SkipReason::Degenerate);
+            }
+            mat_mul(Block::slice(&m, r, r), j, &mut sm);
+            mat_mul(Block::slice(&sm, r, r), Block::of(&p, n, r, n), &mut w);
+            g.predicted.extend_from_slice(&p);
+            g.m.extend_from_slice(&m);
+            // P⁺ = P − P_·z W, symmetric: the lower triangle, mirrored (P_·z's rows are P's
+            // first columns, as P is symmetric).
+            for c in 0..n {
+                for k in c..n {
+                    post[k + c * n] =
+                        p[k + c * n] - dot(&p[k * n..k * n + r], &w[c * r..(c + 1) * r]);
+                }
+            }
+            for c in 0..n {
+                for k in c..n {
+                    let v = post[k + c * n];
+                    p[k + c * n] = v;
+                    p[c + k * n] = v;
+                }
+            }
         }
         let g = Rc::new(g);
         self.gains.borrow_mut().push((seen.to_vec(), Rc::clone(&g)));
@@ -339,13 +375,13 @@ impl Model {
         let seen: Vec<bool> = (lo..=hi).map(|f| t.ok(f)).collect();
         let g = self.gains(&seen)?;
         let len = seen.len();
-        let mut x = DVector::<f64>::zeros(n);
+        let mut x = vec![0.0; n];
         // Per frame the predicted state and M (h − J x_z), the scaled innovation (h: the
-        // observation's information vector on the scores).
-        let mut pred: Vec<DVector<f64>> = Vec::with_capacity(len);
-        let mut innov: Vec<DVector<f64>> = Vec::with_capacity(len);
+        // observation's information vector on the scores), in rows of `n` and `r`.
+        let mut pred: Vec<f64> = Vec::with_capacity(len * n);
+        let mut innov: Vec<f64> = Vec::with_capacity(len * r);
         let mut buf = vec![0.0; dims];
-        let mut h = DVector::<f64>::zeros(r);
+        let (mut h, mut v, mut u, mut y) = (vec![0.0; r], vec![0.0; r], vec![0.0; r], vec![0.0; n]);
         for (i, &s) in seen.iter().enumerate() {
             if i > 0 {
                 for a in 0..r {
@@ -354,57 +390,196 @@ impl Model {
             }
             let rows = if s { dims } else { known };
             row(t, nb, lo + i, &mut buf);
-            for a in 0..r {
-                h[a] = (0..rows)
-                    .map(|k| self.basis[(k, a)] * (buf[k] - self.mean[k]))
-                    .sum::<f64>()
-                    / self.noise;
+            for (b, m) in buf[..rows].iter_mut().zip(&self.mean) {
+                *b -= m;
             }
-            let u = &g.m[i] * (&h - self.info(s) * x.rows(0, r));
-            pred.push(x.clone());
-            x += g.predicted[i].columns(0, r) * &u;
-            innov.push(u);
+            for (a, ha) in h.iter_mut().enumerate() {
+                *ha = dot(&self.basis.column(a).as_slice()[..rows], &buf[..rows]) / self.noise;
+            }
+            mat_vec(Block::all(self.info(s)), &x[..r], &mut v);
+            for (va, ha) in v.iter_mut().zip(&h) {
+                *va = ha - *va;
+            }
+            mat_vec(g.m(i, r), &v, &mut u);
+            pred.extend_from_slice(&x);
+            mat_vec(g.predicted(i, n).cols(r), &u, &mut y);
+            for (xk, yk) in x.iter_mut().zip(&y) {
+                *xk += yk;
+            }
+            innov.extend_from_slice(&u);
         }
         // λ̃ = λ − [u + J Mᵀ P_z· λ; 0], x̂ = x⁻ − P λ̃, then λ ← Fᵀ λ̃.
         let mut out = vec![Vec::new(); len];
-        let mut lam = DVector::<f64>::zeros(n);
+        let mut lam = vec![0.0; n];
+        let (mut t1, mut t2, mut back) = (vec![0.0; r], vec![0.0; r], vec![0.0; r]);
         for i in (0..len).rev() {
-            let p = &g.predicted[i];
-            let back = self.info(seen[i]) * (g.m[i].transpose() * (p.rows(0, r) * &lam));
-            let mut lt = lam.clone();
+            let p = g.predicted(i, n).rows(r);
+            mat_vec(p, &lam, &mut t1);
+            mat_t_vec(g.m(i, r), &t1, &mut t2);
+            mat_vec(Block::all(self.info(seen[i])), &t2, &mut back);
             for a in 0..r {
-                lt[a] -= innov[i][a] + back[a];
+                lam[a] -= innov[i * r + a] + back[a];
             }
-            let xs = &pred[i] - p * &lt;
-            out[i] = xs.rows(0, r).iter().copied().collect();
+            mat_vec(p, &lam, &mut t1);
+            out[i] = (0..r).map(|a| pred[i * n + a] - t1[a]).collect();
             for a in 0..r {
-                lt[r + a] += lt[a];
+                lam[r + a] += lam[a];
             }
-            lam = lt;
         }
         Ok(out)
     }
 }
 
-/// `F m` for the transition F = [[I, I], [0, I]] (blocks of `r`): the velocity rows added
-/// to the score rows, without a general product.
-fn trans_times(m: &DMatrix<f64>, r: usize) -> DMatrix<f64> {
-    let mut out = m.clone();
-    for a in 0..r {
-        let v = m.row(r + a).into_owned();
-        out.row_mut(a).add_assign(&v);
+/// `P ← F P Fᵀ + Q` in place, for the transition F = [[I, I], [0, I]] (blocks of `r`): the
+/// velocity rows added to the score rows, then the velocity columns to the score columns,
+/// without a general product.
+fn predict(p: &mut [f64], process: &[f64], r: usize) {
+    let n = 2 * r;
+    for c in 0..n {
+        for a in 0..r {
+            p[a + c * n] += p[r + a + c * n];
+        }
     }
-    out
+    for a in 0..r {
+        for k in 0..n {
+            p[k + a * n] += p[k + (r + a) * n];
+        }
+    }
+    for (v, q) in p.iter_mut().zip(process) {
+        *v += q;
+    }
 }
 
-/// `m Fᵀ`: the velocity columns added to the score columns.
-fn times_trans_t(m: &DMatrix<f64>, r: usize) -> DMatrix<f64> {
-    let mut out = m.clone();
-    for a in 0..r {
-        let v = m.column(r + a).into_owned();
-        out.column_mut(a).add_assign(&v);
+/// `out = A⁻¹` for the `r × r` matrix `a` (column-major, overwritten) by Gauss–Jordan
+/// elimination with partial pivoting; false if `a` is singular.
+fn invert(a: &mut [f64], r: usize, out: &mut [f64]) -> bool {
+    out.fill(0.0);
+    for k in 0..r {
+        out[k + k * r] = 1.0;
     }
-    out
+    for k in 0..r {
+        let Some(piv) = (k..r).max_by(|&x, &y| a[x + k * r].abs().total_cmp(&a[y + k * r].abs()))
+        else {
+            return false;
+        };
+        let d = a[piv + k * r];
+        if d == 0.0 || !d.is_finite() {
+            return false;
+        }
+        if piv != k {
+            for c in 0..r {
+                a.swap(k + c * r, piv + c * r);
+                out.swap(k + c * r, piv + c * r);
+            }
+        }
+        for c in 0..r {
+            a[k + c * r] /= d;
+            out[k + c * r] /= d;
+        }
+        for i in 0..r {
+            let f = a[i + k * r];
+            if i == k || f == 0.0 {
+                continue;
+            }
+            for c in 0..r {
+                a[i + c * r] -= f * a[k + c * r];
+                out[i + c * r] -= f * out[k + c * r];
+            }
+        }
+    }
+    true
+}
+
+/// `Σ a_i b_i`, summed in order.
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// A column-major block at the top left of a matrix: `rows × cols` of a matrix with
+/// `stride` rows. The recursion's matrices are a few dozen wide at most, where nalgebra's
+/// products cost more in temporaries and packing than in arithmetic.
+#[derive(Clone, Copy)]
+struct Block<'a> {
+    data: &'a [f64],
+    rows: usize,
+    cols: usize,
+    stride: usize,
+}
+
+impl<'a> Block<'a> {
+    /// A whole `rows × cols` matrix stored in `data`.
+    fn slice(data: &'a [f64], rows: usize, cols: usize) -> Block<'a> {
+        Block {
+            data,
+            rows,
+            cols,
+            stride: rows,
+        }
+    }
+
+    /// The top-left `rows × cols` of a matrix of `stride` rows stored in `data`.
+    fn of(data: &'a [f64], stride: usize, rows: usize, cols: usize) -> Block<'a> {
+        Block {
+            data,
+            rows,
+            cols,
+            stride,
+        }
+    }
+
+    /// All of `m`.
+    fn all(m: &'a DMatrix<f64>) -> Block<'a> {
+        Block::slice(m.as_slice(), m.nrows(), m.ncols())
+    }
+
+    /// The first `rows` rows.
+    fn rows(self, rows: usize) -> Block<'a> {
+        Block { rows, ..self }
+    }
+
+    /// The first `cols` columns.
+    fn cols(self, cols: usize) -> Block<'a> {
+        Block { cols, ..self }
+    }
+
+    fn col(&self, c: usize) -> &'a [f64] {
+        &self.data[c * self.stride..c * self.stride + self.rows]
+    }
+}
+
+/// `y = A x`, each row summed over the columns in order, as nalgebra's product of a
+/// matrix and a vector sums (so the smoother's estimates are those of the products it
+/// replaces, bit for bit), into `y` instead of a new vector.
+fn mat_vec(a: Block, x: &[f64], y: &mut [f64]) {
+    let y = &mut y[..a.rows];
+    for (c, &xc) in x.iter().enumerate().take(a.cols) {
+        let col = a.col(c);
+        if c == 0 {
+            for (yi, v) in y.iter_mut().zip(col) {
+                *yi = v * xc;
+            }
+        } else {
+            for (yi, v) in y.iter_mut().zip(col) {
+                *yi += v * xc;
+            }
+        }
+    }
+}
+
+/// `y = Aᵀ x`: each entry the column's dot product with `x`, in order (as nalgebra's
+/// product of the transposed copy and a vector sums).
+fn mat_t_vec(a: Block, x: &[f64], y: &mut [f64]) {
+    for (c, yc) in y.iter_mut().enumerate().take(a.cols) {
+        *yc = dot(a.col(c), x);
+    }
+}
+
+/// `out = A B` (`out` with `A`'s rows), column by column, each a [`mat_vec`].
+fn mat_mul(a: Block, b: Block, out: &mut [f64]) {
+    let rows = a.rows;
+    for c in 0..b.cols {
+        mat_vec(a, b.col(c), &mut out[c * rows..(c + 1) * rows]);
+    }
 }
 
 #[cfg(test)]
@@ -416,6 +591,7 @@ mod tests {
     use super::super::step::max_steps;
     use super::super::test_util::*;
     use super::*;
+    use nalgebra::DVector;
 
     /// The textbook Rauch–Tung–Striebel smoother with explicit inverses, as a reference for
     /// the Bryson–Frazier pass `smooth` uses.
