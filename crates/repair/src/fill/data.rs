@@ -74,7 +74,7 @@ impl<'a> Data<'a> {
     }
 
     #[inline]
-    fn row(&self, m: usize) -> &'a [bool] {
+    pub(super) fn row(&self, m: usize) -> &'a [bool] {
         match self.own {
             Some((o, v)) if o == m => v,
             _ => &self.valid[m],

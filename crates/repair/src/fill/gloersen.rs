@@ -26,16 +26,23 @@
 //! implementation with the same sign rule, agrees to 1e-6 mm on four real trials (the test
 //! `matches_independent_reference`).
 //!
+//! Step 3's statistics and the covariance of step 4 are computed from sums over every frame
+//! of the pass, shared by its models, less the frames each model leaves out (`sums`); the
+//! same to rounding as over the model's frames directly (`docs/price.md`).
+//!
 //! It differs from `pca`, which fits the nearest markers over a window around the gap and
 //! ties the prediction to the gap's anchors.
 
-use super::data::TrialModels;
+use super::data::{Data, TrialModels};
 use super::donors::Donors;
 use super::{SkipReason, Span, Target};
 use crate::linalg::symmetric_eigen;
 use nalgebra::DMatrix;
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
+use sums::Sums;
+
+mod sums;
 
 /// σ of the distance weighting, in mm (the paper's default).
 const WEIGHT_SCALE_MM: f64 = 200.0;
@@ -71,7 +78,7 @@ fn fill_without(
     crate::profile::count(crate::profile::Count::Gloersen);
     match t.data.gloersen {
         Some(cache) => cache.fill(t, span, holes, mm_per_unit),
-        None => Model::build(t, holes, mm_per_unit)?.fill(t, span),
+        None => Model::build(t, holes, mm_per_unit, &Sums::new(&t.data))?.fill(t, span),
     }
 }
 
@@ -163,6 +170,8 @@ pub(super) struct Model {
 #[derive(Default)]
 pub(crate) struct Cache {
     models: Mutex<HashMap<Key, Arc<Built>>>,
+    /// The pass's sums the models' covariances are downdated from, made for the first.
+    sums: OnceLock<Sums>,
 }
 
 type Key = (Option<usize>, usize, Vec<(usize, usize)>);
@@ -197,7 +206,8 @@ impl Cache {
             return m;
         }
         // Built outside the lock: two threads may build the same model, never a wrong one.
-        let m = Arc::new(Model::build(t, holes, mm_per_unit));
+        let sums = self.sums.get_or_init(|| Sums::new(&t.data));
+        let m = Arc::new(Model::build(t, holes, mm_per_unit, sums));
         if let Ok(mut c) = self.models.lock() {
             if c.len() >= CACHE_MODELS {
                 c.clear();
@@ -210,20 +220,26 @@ impl Cache {
 
 impl Model {
     /// The model of `t` trained without `holes` (which hold `t.hole`, if any) as well as
-    /// without its missing frames.
-    fn build(t: &Target, holes: &[(usize, usize)], mm_per_unit: f64) -> Result<Model, SkipReason> {
+    /// without its missing frames, its covariance downdated from `sums` (the pass's) where
+    /// that costs less than the product over its rows.
+    fn build(
+        t: &Target,
+        holes: &[(usize, usize)],
+        mm_per_unit: f64,
+        sums: &Sums,
+    ) -> Result<Model, SkipReason> {
         crate::profile::count(crate::profile::Count::GloersenModel);
         let d = t.data;
         let (n, markers) = (d.frames, d.xyz.len());
-        let in_hole = |f: usize| holes.iter().any(|&(a, b)| f >= a && f <= b);
-        let ok = |j: usize, f: usize| {
-            if j == t.m {
-                t.ok(f) && !in_hole(f)
-            } else {
-                d.ok(j, f)
-            }
-        };
-        let complete: Vec<bool> = (0..markers).map(|j| (0..n).all(|f| ok(j, f))).collect();
+        // Each marker's validity as this model reads it: the target's without the holes.
+        // Read as slices, so the scans below are plain loops over memory.
+        let target_ok: Vec<bool> = (0..n)
+            .map(|f| t.ok(f) && !holes.iter().any(|&(a, b)| f >= a && f <= b))
+            .collect();
+        let valid: Vec<&[bool]> = (0..markers)
+            .map(|j| if j == t.m { &target_ok[..] } else { d.row(j) })
+            .collect();
+        let complete: Vec<bool> = valid.iter().map(|v| v.iter().all(|&o| o)).collect();
         // 1. The mean trajectory of the markers recorded throughout.
         let whole: Vec<usize> = (0..markers).filter(|&j| complete[j] && j != t.m).collect();
         if whole.is_empty() {
@@ -233,55 +249,41 @@ impl Model {
             .map(|f| {
                 let mut s = [0.0; 3];
                 for &j in &whole {
-                    let p = d.at(j, f);
+                    let p = d.xyz[j][f];
                     (0..3).for_each(|k| s[k] += p[k]);
                 }
                 s.map(|v| v / whole.len() as f64)
             })
             .collect();
-        let at = |j: usize, f: usize| {
-            let p = d.at(j, f);
-            [0, 1, 2].map(|k| p[k] - mean_trj[f][k])
+        // A marker's coordinates at a frame with the mean trajectory's subtracted.
+        let centred = |j: usize, f: usize| {
+            let p = d.xyz[j][f];
+            let m = mean_trj[f];
+            [p[0] - m[0], p[1] - m[1], p[2] - m[2]]
         };
-        let dist = |a: [f64; 3], b: [f64; 3]| {
-            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-        };
+        let target: Vec<[f64; 3]> = (0..n).map(|f| centred(t.m, f)).collect();
         // Mean distance of each marker to the target over the frames both are recorded.
-        let mean_dist = |j: usize, frames: &mut dyn Iterator<Item = usize>| -> Option<f64> {
-            let (mut s, mut c) = (0.0, 0usize);
-            for f in frames {
-                if ok(j, f) && ok(t.m, f) {
-                    s += dist(at(j, f), at(t.m, f));
-                    c += 1;
-                }
-            }
-            (c > 0).then(|| s / c as f64)
-        };
-        let dists: Vec<Option<f64>> = (0..markers)
-            .map(|j| {
-                if j == t.m {
-                    Some(0.0)
-                } else {
-                    mean_dist(j, &mut (0..n))
-                }
-            })
-            .collect();
+        let dists = mean_distances(d.xyz, &valid, t.m, &mean_trj, &target, &target_ok);
         let known: Vec<f64> = dists.iter().flatten().copied().collect();
         let thresh = DISTAL_THRESHOLD * known.iter().sum::<f64>() / known.len().max(1) as f64;
         // 2. The markers kept: the target, and every other marker that is near or recorded
         // throughout, and recorded on each of the target's missing frames.
-        let missing: Vec<usize> = (0..n).filter(|&f| !ok(t.m, f)).collect();
+        let missing: Vec<usize> = (0..n).filter(|&f| !target_ok[f]).collect();
         let kept: Vec<usize> = (0..markers)
             .filter(|&j| {
                 j == t.m
                     || (dists[j].is_some_and(|x| x <= thresh || complete[j])
-                        && missing.iter().all(|&f| ok(j, f)))
+                        && missing.iter().all(|&f| valid[j][f]))
             })
             .collect();
         if kept.len() < 2 {
             return Err(SkipReason::NoDonors);
         }
-        let rows: Vec<usize> = (0..n).filter(|&f| kept.iter().all(|&j| ok(j, f))).collect();
+        let mut on_all = vec![true; n];
+        for &j in &kept {
+            on_all.iter_mut().zip(valid[j]).for_each(|(a, &v)| *a &= v);
+        }
+        let rows: Vec<usize> = (0..n).filter(|&f| on_all[f]).collect();
         if rows.len() < 2 {
             return Err(SkipReason::NoContext);
         }
@@ -299,30 +301,30 @@ impl Model {
             .collect();
         let cols = 3 * kept.len();
         let ti = kept.iter().position(|&j| j == t.m).unwrap_or(0);
-        // The kept markers' coordinates on `rows`, a column per coordinate (each marker's
-        // samples lie together, so each column is read and written in order).
         let rn = rows.len();
-        let mut x = DMatrix::<f64>::zeros(rn, cols);
-        for (i, &j) in kept.iter().enumerate() {
-            for (r, &f) in rows.iter().enumerate() {
-                let p = at(j, f);
-                (0..3).for_each(|ax| x[(r, 3 * i + ax)] = p[ax]);
-            }
-        }
-        let mut mean = vec![0.0; cols];
-        let mut sd = vec![0.0; cols];
-        for (c, col) in x.column_iter().enumerate() {
-            mean[c] = col.iter().sum::<f64>() / rn as f64;
-            let s = (col.iter().map(|v| (v - mean[c]).powi(2)).sum::<f64>() / rn as f64).sqrt();
-            sd[c] = if s == 0.0 { 1.0 } else { s };
-        }
         let wc = |c: usize| w[c / 3];
-        // 4. Principal components by the eigenvectors of YᵀY, Y = X / √(n − 1): its singular
-        // values are the square roots of the eigenvalues (see `components`).
-        for (c, mut col) in x.column_iter_mut().enumerate() {
-            col.iter_mut()
-                .for_each(|v| *v = (*v - mean[c]) / sd[c] * wc(c));
-        }
+        let scale = (rn as f64 - 1.0).max(1.0);
+        // 4. Principal components by the eigenvectors of YᵀY / (n − 1), Y the normalised,
+        // weighted coordinates on the rows: its singular values are the square roots of the
+        // eigenvalues (see `components`). From the pass's sums where they apply, else from Y.
+        let moments = if rn >= cols {
+            sums.covariance(&kept, &whole, &on_all)
+        } else {
+            None
+        };
+        let (mean, sd, (no, zero)) = match moments {
+            Some(m) => {
+                let cov = DMatrix::from_fn(cols, cols, |a, b| {
+                    m.cross[b * cols + a] / (m.sd[a] * m.sd[b]) * wc(a) * wc(b) / scale
+                });
+                let parts = from_covariance(cov, ti);
+                (m.mean, m.sd, parts)
+            }
+            None => {
+                let (mean, sd, x) = normalised(d, &kept, &rows, &mean_trj, &w);
+                (mean, sd, components(&x, ti))
+            }
+        };
         let pca = |(vals, mut vecs): (Vec<f64>, DMatrix<f64>)| {
             // The published product (step 4) changes with the components' signs, which the
             // decomposition leaves arbitrary: each is turned so that its largest coordinate is
@@ -348,7 +350,6 @@ impl Model {
                 .unwrap_or(sv.len().saturating_sub(1));
             (vecs, k)
         };
-        let (no, zero) = components(&x, ti);
         let (p_no, k1) = pca(no);
         let (p_zero, k2) = pca(zero);
         let k = k1.max(k2) + 1;
@@ -462,18 +463,7 @@ fn components(x: &DMatrix<f64>, ti: usize) -> (Components, Components) {
     let (rn, cols) = x.shape();
     let scale = (rn as f64 - 1.0).max(1.0);
     if rn >= cols {
-        let cov_no = (x.transpose() * x) / scale;
-        let mut cov_zero = cov_no.clone();
-        for c in 3 * ti..3 * ti + 3 {
-            cov_zero.row_mut(c).fill(0.0);
-            cov_zero.column_mut(c).fill(0.0);
-        }
-        // Symmetric (to rounding; the decomposition reads one triangle), so their
-        // column-major slices serve as row-major ones.
-        return (
-            symmetric_eigen(cov_no.as_slice(), cols),
-            symmetric_eigen(cov_zero.as_slice(), cols),
-        );
+        return from_covariance((x.transpose() * x) / scale, ti);
     }
     let from_frames = |x: &DMatrix<f64>| {
         let gram = (x * x.transpose()) / scale;
@@ -493,6 +483,100 @@ fn components(x: &DMatrix<f64>, ti: usize) -> (Components, Components) {
     let mut zeroed = x.clone();
     zeroed.columns_mut(3 * ti, 3).fill(0.0);
     (from_frames(x), from_frames(&zeroed))
+}
+
+/// Markers whose distances to the target [`mean_distances`] sums side by side: each its own
+/// sum, in frame order, so the sums are the one-marker-at-a-time loop's to the bit, but
+/// independent, so the processor overlaps them (on 03_rolling this loop was the model's
+/// largest cost after the covariance).
+const DIST_LANES: usize = 8;
+
+/// Each marker's mean distance to the target (`target`: its centred coordinates) over the
+/// frames both are recorded (`target_ok` the target's validity), after subtracting the mean
+/// trajectory `mean_trj`; the target's own is 0, and a marker never recorded with it has
+/// none.
+fn mean_distances(
+    xyz: &[Vec<[f64; 3]>],
+    valid: &[&[bool]],
+    m: usize,
+    mean_trj: &[[f64; 3]],
+    target: &[[f64; 3]],
+    target_ok: &[bool],
+) -> Vec<Option<f64>> {
+    let n = target.len();
+    let others: Vec<usize> = (0..xyz.len()).filter(|&j| j != m).collect();
+    let mut out = vec![None; xyz.len()];
+    out[m] = Some(0.0);
+    for block in others.chunks(DIST_LANES) {
+        let mut s = [0.0f64; DIST_LANES];
+        let mut c = [0usize; DIST_LANES];
+        for f in (0..n).filter(|&f| target_ok[f]) {
+            let (mt, q) = (mean_trj[f], target[f]);
+            for (l, &j) in block.iter().enumerate() {
+                let p = xyz[j][f];
+                let a = [p[0] - mt[0], p[1] - mt[1], p[2] - mt[2]];
+                let dd =
+                    ((a[0] - q[0]).powi(2) + (a[1] - q[1]).powi(2) + (a[2] - q[2]).powi(2)).sqrt();
+                // Adding +0 leaves a sum of non-negative terms as it was, bit for bit.
+                let v = valid[j][f];
+                s[l] += if v { dd } else { 0.0 };
+                c[l] += usize::from(v);
+            }
+        }
+        for (l, &j) in block.iter().enumerate() {
+            out[j] = (c[l] > 0).then(|| s[l] / c[l] as f64);
+        }
+    }
+    out
+}
+
+/// [`components`] from the covariance XᵀX / (n − 1) itself.
+fn from_covariance(cov_no: DMatrix<f64>, ti: usize) -> (Components, Components) {
+    let cols = cov_no.nrows();
+    let mut cov_zero = cov_no.clone();
+    for c in 3 * ti..3 * ti + 3 {
+        cov_zero.row_mut(c).fill(0.0);
+        cov_zero.column_mut(c).fill(0.0);
+    }
+    // Symmetric (to rounding; the decomposition reads one triangle), so their column-major
+    // slices serve as row-major ones.
+    (
+        symmetric_eigen(cov_no.as_slice(), cols),
+        symmetric_eigen(cov_zero.as_slice(), cols),
+    )
+}
+
+/// The `kept` markers' coordinates on `rows` less the mean trajectory, a column per
+/// coordinate, normalised to zero mean and unit variance and weighted by `w` (one weight
+/// per marker); with the columns' means and standard deviations (1 for a constant column).
+fn normalised(
+    d: Data,
+    kept: &[usize],
+    rows: &[usize],
+    mean_trj: &[[f64; 3]],
+    w: &[f64],
+) -> (Vec<f64>, Vec<f64>, DMatrix<f64>) {
+    let (rn, cols) = (rows.len(), 3 * kept.len());
+    // Each column written in order.
+    let mut x = DMatrix::<f64>::zeros(rn, cols);
+    for (c, mut col) in x.column_iter_mut().enumerate() {
+        let (j, ax) = (kept[c / 3], c % 3);
+        for (v, &f) in col.iter_mut().zip(rows) {
+            *v = d.xyz[j][f][ax] - mean_trj[f][ax];
+        }
+    }
+    let mut mean = vec![0.0; cols];
+    let mut sd = vec![0.0; cols];
+    for (c, col) in x.column_iter().enumerate() {
+        mean[c] = col.iter().sum::<f64>() / rn as f64;
+        let s = (col.iter().map(|v| (v - mean[c]).powi(2)).sum::<f64>() / rn as f64).sqrt();
+        sd[c] = if s == 0.0 { 1.0 } else { s };
+    }
+    for (c, mut col) in x.column_iter_mut().enumerate() {
+        col.iter_mut()
+            .for_each(|v| *v = (*v - mean[c]) / sd[c] * w[c / 3]);
+    }
+    (mean, sd, x)
 }
 
 /// The kept markers' centred coordinates at frame `f`, the target's set to zero (it is
