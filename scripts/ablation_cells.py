@@ -16,18 +16,12 @@ Cells are `fill_eval`'s: set x markers (1, 2-3) x length, the mean of the gaps' 
 Usage: scripts/ablation_cells.py BASE VARIANT tuned|held
 """
 import collections
-import json
 import sys
 
 
-def load(path):
-    recs = {}
-    for line in open(path):
-        r = json.loads(line)
-        g = r["gap"]
-        if g["method"] == "auto":
-            recs[(r["file"], r["run"], g["gap_len"], g["marker"], g["first"])] = r
-    return recs
+# One reading of the records, keyed to pair the same gaps across runs (a path or several,
+# comma-separated).
+from cheap_rule import load  # noqa: E402
 
 
 def cells(rows):

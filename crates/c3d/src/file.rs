@@ -70,6 +70,18 @@ pub struct C3d {
     pub(crate) analog_dirty: bool,
 }
 
+/// The POINT parameters in which models list the labels of their outputs by type (Plug-in
+/// Gait's angles, forces, moments and powers, and the like): see
+/// [`C3d::model_output_labels`].
+pub const MODEL_OUTPUT_TYPES: [&str; 6] = [
+    "ANGLES",
+    "FORCES",
+    "MOMENTS",
+    "POWERS",
+    "SCALARS",
+    "REACTIONS",
+];
+
 impl C3d {
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn from_parts(
@@ -441,18 +453,11 @@ impl C3d {
     /// point is itself a listed output keeps the lists alone: there is no marker block to
     /// end.
     pub fn model_output_labels(&self) -> Vec<String> {
-        let mut listed: Vec<String> = [
-            "ANGLES",
-            "FORCES",
-            "MOMENTS",
-            "POWERS",
-            "SCALARS",
-            "REACTIONS",
-        ]
-        .iter()
-        .flat_map(|p| self.parameters.get_strings("POINT", p).unwrap_or_default())
-        .filter(|s| !s.is_empty())
-        .collect();
+        let mut listed: Vec<String> = MODEL_OUTPUT_TYPES
+            .iter()
+            .flat_map(|p| self.parameters.get_strings("POINT", p).unwrap_or_default())
+            .filter(|s| !s.is_empty())
+            .collect();
         let labels = self.point_labels();
         let first = labels.iter().position(|l| listed.contains(l));
         if let Some(i) = first.filter(|&i| i > 0) {

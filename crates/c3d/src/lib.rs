@@ -27,7 +27,7 @@ pub use analog::{Analog, Calibration};
 pub use data::{Layout, PointsView};
 pub use error::{Error, Result, Section, Warning};
 pub use events::Event;
-pub use file::{C3d, NumberFormat};
+pub use file::{C3d, NumberFormat, MODEL_OUTPUT_TYPES};
 pub use force_platform::{platform_params, PlateParams, PlateProblem, PlatformParams};
 pub use header::{Header, HeaderEvent, BLOCK};
 pub use parameters::{Group, Parameter, Parameters, Record, Value};

@@ -7,17 +7,10 @@ use std::collections::BTreeMap;
 
 /// Points the type lists leave out but the order rule makes outputs, per file.
 fn added(c: &c3d::C3d) -> Vec<String> {
-    let listed: Vec<String> = [
-        "ANGLES",
-        "FORCES",
-        "MOMENTS",
-        "POWERS",
-        "SCALARS",
-        "REACTIONS",
-    ]
-    .iter()
-    .flat_map(|p| c.parameters.get_strings("POINT", p).unwrap_or_default())
-    .collect();
+    let listed: Vec<String> = c3d::MODEL_OUTPUT_TYPES
+        .iter()
+        .flat_map(|p| c.parameters.get_strings("POINT", p).unwrap_or_default())
+        .collect();
     c.model_output_labels()
         .into_iter()
         .filter(|l| !listed.contains(l))

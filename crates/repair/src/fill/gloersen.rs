@@ -245,16 +245,7 @@ impl Model {
         if whole.is_empty() {
             return Err(SkipReason::NoDonors);
         }
-        let mean_trj: Vec<[f64; 3]> = (0..n)
-            .map(|f| {
-                let mut s = [0.0; 3];
-                for &j in &whole {
-                    let p = d.xyz[j][f];
-                    (0..3).for_each(|k| s[k] += p[k]);
-                }
-                s.map(|v| v / whole.len() as f64)
-            })
-            .collect();
+        let mean_trj = mean_trajectory(&d, &whole);
         // A marker's coordinates at a frame with the mean trajectory's subtracted.
         let centred = |j: usize, f: usize| {
             let p = d.xyz[j][f];
@@ -444,6 +435,22 @@ impl Model {
             .collect::<Result<Vec<_>, _>>()?;
         Ok(out)
     }
+}
+
+/// The mean trajectory of the markers `whole` (recorded on every frame): step 1's frame moving
+/// with the subject, which the pass's sums ([`sums`]) and each model's own preparation both
+/// subtract. An empty `whole` gives zeros.
+fn mean_trajectory(d: &super::data::Data, whole: &[usize]) -> Vec<[f64; 3]> {
+    (0..d.frames)
+        .map(|f| {
+            let mut s = [0.0; 3];
+            for &j in whole {
+                let p = d.xyz[j][f];
+                (0..3).for_each(|k| s[k] += p[k]);
+            }
+            s.map(|v| v / whole.len().max(1) as f64)
+        })
+        .collect()
 }
 
 /// The principal components of `x`'s columns, and of the same with kept marker `ti`'s

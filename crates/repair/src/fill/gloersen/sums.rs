@@ -61,16 +61,7 @@ impl Sums {
         let whole: Vec<usize> = (0..markers)
             .filter(|&j| d.valid[j].iter().all(|&v| v))
             .collect();
-        let mean_trj: Vec<[f64; 3]> = (0..n)
-            .map(|f| {
-                let mut s = [0.0; 3];
-                for &j in &whole {
-                    let p = d.xyz[j][f];
-                    (0..3).for_each(|k| s[k] += p[k]);
-                }
-                s.map(|v| v / whole.len().max(1) as f64)
-            })
-            .collect();
+        let mean_trj = super::mean_trajectory(d, &whole);
         let mut z = Vec::with_capacity(markers);
         let mut shift = Vec::with_capacity(markers);
         let mut z1 = Vec::with_capacity(markers);
