@@ -70,18 +70,6 @@ pub struct C3d {
     pub(crate) analog_dirty: bool,
 }
 
-/// The POINT parameters in which models list the labels of their outputs by type (Plug-in
-/// Gait's angles, forces, moments and powers, and the like): see
-/// [`C3d::model_output_labels`].
-pub const MODEL_OUTPUT_TYPES: [&str; 6] = [
-    "ANGLES",
-    "FORCES",
-    "MOMENTS",
-    "POWERS",
-    "SCALARS",
-    "REACTIONS",
-];
-
 impl C3d {
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn from_parts(
@@ -434,40 +422,6 @@ impl C3d {
             let want = bare(label);
             labels.iter().position(|l| bare(l) == want)
         })
-    }
-
-    /// Labels of the points that are model outputs, not markers: Plug-in Gait and other
-    /// models store angles, forces, moments, powers and the like as points and list their
-    /// labels in POINT:ANGLES, FORCES, MOMENTS, POWERS, SCALARS and REACTIONS.
-    ///
-    /// The points stored after the first listed output are model outputs too. Nexus and the
-    /// other Plug-in Gait writers store the labelled trajectories first and the model's
-    /// outputs after them, and only the angles, forces, moments and powers are listed by
-    /// type: the segments' bone points (PELO, LFEO, …), virtual markers, the centre of mass
-    /// and muscle lengths follow unlisted. They are computed from the markers, so filling
-    /// them invents a model's output, and as donors they carry a knocked-out marker's own
-    /// samples back into its fill. On the corpora, the 9 files with listed outputs after
-    /// their first point hold 1 to 154 unlisted points after the first output (sample_11's
-    /// 36 bones, HansUniVie's 154 bones, virtual markers and muscle lengths, pyCGM's centre
-    /// of mass) and no marker among them (`tests/model_outputs.rs`). A file whose first
-    /// point is itself a listed output keeps the lists alone: there is no marker block to
-    /// end.
-    pub fn model_output_labels(&self) -> Vec<String> {
-        let mut listed: Vec<String> = MODEL_OUTPUT_TYPES
-            .iter()
-            .flat_map(|p| self.parameters.get_strings("POINT", p).unwrap_or_default())
-            .filter(|s| !s.is_empty())
-            .collect();
-        let labels = self.point_labels();
-        let first = labels.iter().position(|l| listed.contains(l));
-        if let Some(i) = first.filter(|&i| i > 0) {
-            for l in &labels[i..] {
-                if !l.is_empty() && !listed.contains(l) {
-                    listed.push(l.clone());
-                }
-            }
-        }
-        listed
     }
 
     /// POINT:UNITS (default "mm").

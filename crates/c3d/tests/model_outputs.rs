@@ -1,7 +1,8 @@
-//! Which points are model outputs: the type lists (POINT:ANGLES, FORCES, …) and every point
-//! stored after the first listed one (`C3d::model_output_labels`). Checked on every corpus
-//! file: the points the rule adds are the Plug-in Gait writers' bone points, virtual
-//! markers, centre of mass and muscle lengths, never a marker.
+//! Which points are model outputs: the type lists (POINT:ANGLES, FORCES, …), every point
+//! stored after the first listed one, and every segment's axes wherever stored
+//! (`C3d::model_output_labels`). Checked on every corpus file: the points the rules add are
+//! the Plug-in Gait writers' bone points, virtual markers, centre of mass and muscle lengths,
+//! never a marker.
 
 use std::collections::BTreeMap;
 
@@ -43,15 +44,24 @@ fn points_after_the_first_listed_output_are_outputs() {
     assert_eq!(
         counts,
         vec![
-            ("2198928.c3d", 36),
+            // 36 bones after the first output, and 8 global and trunk axes among the markers
+            ("2198928.c3d", 44),
             ("HansUniVie__MuscleLength__test.c3d", 154),
+            // the axes alone: no output listed
+            ("PhilD001__biomechZoo__ti003.c3d", 76),
             ("PlugInC3D.c3d", 36),
             ("PolygonC3D.c3d", 36),
+            // the axes alone: a static trial
+            ("btkdata_PiG_Calibration-FlatFoot-One.c3d", 76),
             ("btkdata_parameterOverflow.c3d", 30),
-            ("cadop__pyCGM__Movement_trial.c3d", 2),
+            // the centre of mass after the first output, 76 bones among the markers
+            ("cadop__pyCGM__Movement_trial.c3d", 78),
             ("gait-pig.c3d", 36),
+            ("martinfelis__puppeteer__testdata.c3d", 76),
             ("sub_labels.c3d", 36),
-            ("tsalemink__C3D-parser__RBWH_bfnd_w1.c3d", 2),
+            // 36 bones stored before the markers
+            ("tsalemink__C3D-parser__FMC_MH0222_BP15.c3d", 36),
+            ("tsalemink__C3D-parser__RBWH_bfnd_w1.c3d", 38),
         ]
     );
     // What they are: bone points (segment origin, proximal, anterior, lateral), the centre
@@ -62,12 +72,9 @@ fn points_after_the_first_listed_output_are_outputs() {
         pig[..4].iter().map(|l| bare(l)).collect::<Vec<_>>(),
         ["PELO", "PELP", "PELA", "PELL"]
     );
-    assert!(pig.iter().all(|l| {
-        let b = bare(l);
-        b.len() == 4 && ["O", "P", "A", "L"].iter().any(|s| b.ends_with(s))
-    }));
+    assert!(pig.iter().all(|l| is_axis_label(l)));
     assert_eq!(
-        found["cadop__pyCGM__Movement_trial.c3d"],
+        found["cadop__pyCGM__Movement_trial.c3d"][..2],
         ["CentreOfMass", "CentreOfMassFloor"]
     );
     let hans = &found["HansUniVie__MuscleLength__test.c3d"];
@@ -94,4 +101,91 @@ fn points_after_the_first_listed_output_are_outputs() {
             "{file}: {marker}"
         );
     }
+}
+
+/// A bone point's label: a segment's three letters and O, A, L or P (origin, anterior,
+/// lateral, proximal), or another model's axis points (o_, x_, y_, z_ and a segment's name).
+fn is_axis_label(l: &str) -> bool {
+    let b = l.rsplit(':').next().unwrap_or(l);
+    let pig = b.len() == 4 && ["O", "A", "L", "P"].iter().any(|s| b.ends_with(s));
+    let named = ["o_", "x_", "y_", "z_"].iter().any(|s| b.starts_with(s));
+    pig || named
+}
+
+#[test]
+fn segment_axes_are_found_by_their_geometry_wherever_stored() {
+    let files = testkit::every_c3d_file();
+    if files.is_empty() {
+        testkit::skipped("no corpus (C3D_SAMPLES, C3D_EXTRA, C3D_FULLBODY, C3D_MORE)");
+        return;
+    }
+    let mut found = BTreeMap::new();
+    for f in &files {
+        let Ok(c) = c3d::read_file(f) else { continue };
+        let l = c.layout();
+        let quantum = if l.float {
+            0.0
+        } else {
+            f64::from(l.point_scale)
+        };
+        let labels = c.point_labels();
+        let axes: Vec<String> = c3d::segment_axes(c.points(), quantum)
+            .into_iter()
+            .map(|i| labels[i].clone())
+            .collect();
+        if !axes.is_empty() {
+            // The bones the geometry leaves to the order rule: the left foot of one Plug-in
+            // Gait version, whose axes are 6° off square (cosine 0.10), in the four files
+            // that version wrote (each a copy of one subject's trial).
+            let mut left: Vec<String> = c
+                .model_output_labels()
+                .into_iter()
+                .filter(|l| is_axis_label(l) && l.len() >= 4 && !axes.contains(l))
+                .map(|l| l.rsplit(':').next().unwrap_or(&l).to_string())
+                .filter(|b| {
+                    b.len() == 4
+                        && b.ends_with(['O', 'A', 'L', 'P'])
+                        && b.starts_with(['L', 'R', 'P'])
+                })
+                // HansUniVie's hip and knee joint points, named like bones, are not axes
+                .filter(|b| b.as_str() != "HIPL" && b.as_str() != "KNEL")
+                .collect();
+            left.sort();
+            if !left.is_empty() {
+                assert_eq!(left, ["LFOA", "LFOL", "LFOP"], "{}", name(f));
+            }
+            found.insert(name(f), axes);
+        }
+    }
+    // Every point the geometry finds is a segment's axes by its label too (the labels are
+    // read here only to check the rule, which never reads them), in integer files (steps of
+    // 0.08–0.11 mm) as in float ones; no marker of any corpus file, cluster or skin, passes.
+    for (file, axes) in &found {
+        for l in axes {
+            assert!(is_axis_label(l), "{file}: {l}");
+        }
+    }
+    let counts: Vec<(&str, usize)> = found.iter().map(|(k, v)| (k.as_str(), v.len())).collect();
+    assert_eq!(
+        counts,
+        vec![
+            ("2198928.c3d", 44),
+            ("HansUniVie__MuscleLength__test.c3d", 36),
+            ("PhilD001__biomechZoo__ti003.c3d", 76),
+            ("PlugInC3D.c3d", 33),
+            ("PolygonC3D.c3d", 33),
+            ("btkdata_PiG_Calibration-FlatFoot-One.c3d", 76),
+            ("cadop__pyCGM__Movement_trial.c3d", 76),
+            ("gait-pig.c3d", 33),
+            ("martinfelis__puppeteer__testdata.c3d", 76),
+            ("sub_labels.c3d", 33),
+            ("tsalemink__C3D-parser__FMC_MH0222_BP15.c3d", 36),
+            ("tsalemink__C3D-parser__RBWH_bfnd_w1.c3d", 36),
+        ]
+    );
+    // ART's tracked bodies store an origin and two axis points each: not a segment's three
+    // axes, so they stay the trial's points (they are its only data).
+    assert!(!found
+        .keys()
+        .any(|k| k.contains("ART") || k.contains("arthuman")));
 }

@@ -10,6 +10,7 @@ Skips with a message where `import opensim` fails, except under CI, where it fai
 """
 
 import os
+import itertools
 import warnings
 from pathlib import Path
 
@@ -95,9 +96,55 @@ def marker_columns(c):
     # Points stored after the first listed output are outputs too (Plug-in Gait's bones,
     # virtual points, centre of mass, muscle lengths), unless the first point is itself one.
     first = next((i for i, l in enumerate(c.labels) if l in outputs), None)
+    axes = segment_axes(c)
     if first is not None and first > 0:
-        return [i for i in range(first) if c.labels[i] not in outputs]
-    return [i for i, l in enumerate(c.labels) if l not in outputs]
+        return [i for i in range(first) if c.labels[i] not in outputs and i not in axes]
+    return [i for i, l in enumerate(c.labels) if l not in outputs and i not in axes]
+
+
+def segment_axes(c):
+    """Points that form a segment's axes (an origin and three points at one distance from
+    it, at right angles), wherever stored: model outputs too. Checked here on every frame
+    where the four are recorded (the library reads 64 frames spread over the trial)."""
+    scale = c.parameters.get("POINT", {}).get("SCALE")
+    scale = None if scale is None else float(np.ravel(scale)[0])
+    quantum = scale if scale is not None and scale > 0 else 0.0
+    slack = 2.0 * np.sqrt(3.0) * quantum
+    p = np.asarray(c.points, dtype=float)
+    n = p.shape[1]
+    found = set()
+    for o in range(n):
+        rows = np.nonzero(~np.isnan(p[:, o, 0]))[0]
+        if len(rows) == 0:
+            continue
+        d = np.linalg.norm(p[rows[0]] - p[rows[0], o], axis=1)
+        d[o] = np.nan
+        cand = np.array([k for k in np.argsort(d) if np.isfinite(d[k]) and d[k] > max(slack, 0.0)], dtype=int)
+        ds = d[cand]
+        triples = set()
+        for i, a in enumerate(cand):
+            end = np.searchsorted(ds, ds[i] * (1 + 2e-4) + slack, side="right")
+            near = [k for k in cand[i + 1 : end] if d[k] - d[a] <= 1e-4 * d[k] + slack]
+            triples |= {(a, b, x) for b, x in itertools.combinations(near, 2)}
+        u0 = p[rows[0]] - p[rows[0], o]
+        for a, b, x in sorted(triples):
+            first = [u0[k] / d[k] for k in (a, b, x)]
+            if max(abs(first[i] @ first[j]) for i, j in [(0, 1), (0, 2), (1, 2)]) > 1e-4 + slack / d[a]:
+                continue
+            both = ~np.isnan(p[:, [o, a, b, x], 0]).any(axis=1)
+            if not both.any():
+                continue
+            u = p[both][:, [a, b, x]] - p[both][:, [o]]
+            length = np.linalg.norm(u, axis=2)
+            if (length.max(axis=1) - length.min(axis=1) > 1e-4 * length.max(axis=1) + slack).any():
+                continue
+            if (length.min(axis=1) <= slack).any() or (length == 0).any():
+                continue
+            unit = u / length[..., None]
+            cos = np.abs(np.stack([(unit[:, i] * unit[:, j]).sum(axis=1) for i, j in [(0, 1), (0, 2), (1, 2)]]))
+            if (cos <= 1e-4 + slack / length.min(axis=1)).all():
+                found |= {o, a, b, x}
+    return found
 
 
 def test_the_corpora_give_trials():
