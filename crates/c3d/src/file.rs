@@ -221,6 +221,38 @@ impl C3d {
         self.frames().div_ceil(self.point_chunk_frames())
     }
 
+    /// The point samples of the frames at `indices` (0-based; those past the trial's end left
+    /// missing), as a small [`Points`]: read from the decoded arrays when there are, else
+    /// decoded from the file's bytes, so a test that reads a few frames of a long trial needs
+    /// no copy of it.
+    pub fn point_frames(&self, indices: &[usize]) -> Points {
+        let count = self.layout.points;
+        let mut out = Points::new(indices.len(), count);
+        let view = match (self.points.get(), self.data_bytes()) {
+            (None, Some(bytes)) => {
+                let whole = (self.layout.frames * self.layout.frame_bytes()).min(bytes.len());
+                PointsView::stored(0, &bytes[..whole], self.layout, self.processor)
+            }
+            (p, _) => {
+                let p = p.unwrap_or_else(|| self.points());
+                PointsView::decoded(0, p, 0..p.frames * p.count)
+            }
+        };
+        for (i, &f) in indices.iter().enumerate() {
+            if f >= view.frames {
+                continue;
+            }
+            for point in 0..count.min(view.count) {
+                let (xyz, residual, cameras) = view.sample(f, point);
+                let k = out.index(i, point);
+                out.xyz[k] = xyz;
+                out.residual[k] = residual;
+                out.camera_mask[k] = cameras;
+            }
+        }
+        out
+    }
+
     /// Run `f` on the point data chunk by chunk (runs of [`C3d::point_chunk_frames`] whole
     /// frames), in parallel, each call with its own `state` (`states[i]` goes with chunk `i`;
     /// chunks without a state are not visited). The results come back in frame order.

@@ -85,7 +85,8 @@ impl C3d {
         } else {
             f64::from(layout.point_scale)
         };
-        for i in segment_axes(self.points(), quantum) {
+        let sampled = self.point_frames(&spread_frames(self.frames()));
+        for i in segment_axes(&sampled, quantum) {
             if let Some(l) = labels.get(i).filter(|l| !l.is_empty()) {
                 if !listed.contains(l) {
                     listed.push(l.clone());
@@ -114,17 +115,7 @@ pub fn segment_axes(points: &Points, quantum: f64) -> Vec<usize> {
     if frames == 0 || !(4..=AXES_MAX_POINTS).contains(&count) {
         return Vec::new();
     }
-    let take = frames.min(AXES_FRAMES);
-    let mut sampled: Vec<usize> = (0..take)
-        .map(|k| {
-            if take > 1 {
-                k * (frames - 1) / (take - 1)
-            } else {
-                0
-            }
-        })
-        .collect();
-    sampled.dedup();
+    let sampled = spread_frames(frames);
     let at = |f: usize, p: usize| -> Option<[f64; 3]> {
         let k = points.index(f, p);
         let xyz = points.xyz[k];
@@ -172,6 +163,23 @@ pub fn segment_axes(points: &Points, quantum: f64) -> Vec<usize> {
         }
     }
     (0..count).filter(|&p| found[p]).collect()
+}
+
+/// The indices of [`AXES_FRAMES`] frames spread evenly over `frames` (first and last
+/// included), or of every frame of a shorter trial.
+fn spread_frames(frames: usize) -> Vec<usize> {
+    let take = frames.min(AXES_FRAMES);
+    let mut sampled: Vec<usize> = (0..take)
+        .map(|k| {
+            if take > 1 {
+                k * (frames - 1) / (take - 1)
+            } else {
+                0
+            }
+        })
+        .collect();
+    sampled.dedup();
+    sampled
 }
 
 /// How far apart two lengths near `d` may be and still be one length.
