@@ -7,6 +7,7 @@
 //! cargo run --release -p c3dfix --example events_eval -- --strike landing:0 --landing-height 0 --landing-speed 0.15  # landing as a fraction of the swing
 //! cargo run --release -p c3dfix --example events_eval -- --cut-min-fall 1 --pelvis-extend 0.25  # extremes at a cut as before; the pelvis carried past its ends
 //! cargo run --release -p c3dfix --example events_eval -- --dump e.csv   # each method's error per event
+//! cargo run --release -p c3dfix --example events_eval -- --off-stride-slope 0 --off zeni:-0.0149  # offs with a constant offset, as before
 //! cargo run --release -p c3dfix --example events_eval -- --correlate --correlate-strike heel  # auto matched to the plate steps
 //! cargo run --release -p c3dfix --example events_eval -- --truth-check  # the foot's state at each lab event
 //! cargo run --release -p c3dfix --example events_eval -- --without-contradicted  # lab strikes the plates contradict left out
@@ -407,6 +408,13 @@ fn main() {
     }
     if let Some(v) = arg(&args, "--lift-speed") {
         opts.kinematic.lift_speed_frac = v;
+    }
+    opts.kinematic.lift_speed_of_toe = args.iter().any(|a| a == "--lift-toe");
+    if let Some(v) = arg(&args, "--off-stride-slope") {
+        opts.kinematic.off_stride_slope = v;
+    }
+    if let Some(v) = arg(&args, "--off-stride-ref") {
+        opts.kinematic.off_stride_ref_s = v;
     }
     if let Some(v) = arg(&args, "--touch") {
         opts.kinematic.touch_mm = v;
