@@ -993,6 +993,40 @@ mod tests {
     }
 
     #[test]
+    fn offs_move_with_the_trials_stride_and_strikes_do_not() {
+        // The synthetic walk's stride is 1 s: 0.17 s shorter than the reference, so every
+        // off comes 0.0124 × 0.17 s = 2.1 ms earlier than with a constant offset.
+        let f = walk(400);
+        let zeni = Estimate {
+            method: Method::Zeni,
+            offset_s: 0.0,
+        };
+        let with = |slope| KinematicOptions {
+            strike: vec![zeni],
+            off: vec![zeni],
+            off_stride_slope: slope,
+            ..KinematicOptions::default()
+        };
+        let a = kinematic_events(&f, 100.0, &with(0.0)).unwrap();
+        let b = kinematic_events(&f, 100.0, &with(0.0124)).unwrap();
+        assert_eq!(a.len(), b.len());
+        assert!(a.iter().any(|e| e.kind == Kind::FootOff), "{a:?}");
+        for (x, y) in a.iter().zip(&b) {
+            let want = if x.kind == Kind::FootOff {
+                0.0124 * (1.0 - 1.17) * 100.0
+            } else {
+                0.0
+            };
+            assert!((y.index - x.index - want).abs() < 1e-3, "{x:?} {y:?}");
+        }
+        assert_eq!(
+            trial_stride_s(&[vec![100.0, 200.0, 300.0], vec![150.0, 252.0]], 100.0),
+            Some(1.0)
+        );
+        assert_eq!(trial_stride_s(&[vec![100.0], vec![]], 100.0), None);
+    }
+
+    #[test]
     fn the_direction_is_held_into_the_first_slow_frames() {
         // Standing 0.5 s, then walking: frames of the first second have a direction
         // (held from the first frame walking), frames beyond the hold do not.
