@@ -7,6 +7,7 @@
 //! cargo run --release -p c3dfix --example events_eval -- --strike landing:0 --landing-height 0 --landing-speed 0.15  # landing as a fraction of the swing
 //! cargo run --release -p c3dfix --example events_eval -- --cut-min-fall 1 --pelvis-extend 0.25  # extremes at a cut as before; the pelvis carried past its ends
 //! cargo run --release -p c3dfix --example events_eval -- --dump e.csv   # each method's error per event
+//! cargo run --release -p c3dfix --example events_eval -- --off-stride-slope 0 --off zeni:-0.0149  # offs with a constant offset, as before
 //! cargo run --release -p c3dfix --example events_eval -- --correlate --correlate-strike heel  # auto matched to the plate steps
 //! cargo run --release -p c3dfix --example events_eval -- --truth-check  # the foot's state at each lab event
 //! cargo run --release -p c3dfix --example events_eval -- --without-contradicted  # lab strikes the plates contradict left out
@@ -201,6 +202,98 @@ fn kind_index(k: Kind) -> usize {
     }
 }
 
+/// What `--dump` records of the foot beside each event, to look for a per-trial
+/// correction of the markers' lab-dependent lag in the trial's own kinematics: the heel's
+/// and toe's heights (mm above their stance level: the lowest over the 0.5 s after a strike,
+/// before an off) and vertical speeds at the detected event, and per foot the marker
+/// placement (heel–toe distance, each marker's 5th-percentile height, its swing range).
+struct DumpFeatures {
+    vertical: Option<gait::axes::Vertical>,
+    heel: [Vec<f64>; 2],
+    toe: [Vec<f64>; 2],
+    foot_len: [f64; 2],
+    rate: f64,
+    ankle: [bool; 2],
+}
+
+impl DumpFeatures {
+    fn new(feet: &gait::Feet, rate: f64) -> Self {
+        let vertical = gait::axes::vertical(
+            &feet.pelvis,
+            &[
+                &feet.left_heel,
+                &feet.right_heel,
+                &feet.left_toe,
+                &feet.right_toe,
+            ],
+        );
+        let h = |x: &[[f64; 3]]| -> Vec<f64> {
+            x.iter()
+                .map(|p| vertical.map_or(f64::NAN, |v| v.height(*p)))
+                .collect()
+        };
+        let len = |a: &[[f64; 3]], b: &[[f64; 3]]| {
+            let d: Vec<f64> = a
+                .iter()
+                .zip(b)
+                .map(|(p, q)| {
+                    ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+                })
+                .filter(|v| v.is_finite())
+                .collect();
+            quantile(&d, 0.5)
+        };
+        DumpFeatures {
+            vertical,
+            heel: [h(&feet.left_heel), h(&feet.right_heel)],
+            toe: [h(&feet.left_toe), h(&feet.right_toe)],
+            foot_len: [
+                len(&feet.left_heel, &feet.left_toe),
+                len(&feet.right_heel, &feet.right_toe),
+            ],
+            rate,
+            ankle: feet.heel_is_ankle,
+        }
+    }
+
+    /// The CSV cells after `shipped` for an event of `side` and `kind` detected at frame `at`.
+    fn row(&self, side: Side, kind: Kind, at: f64) -> String {
+        let s = match side {
+            Side::Left => 0,
+            Side::Right => 1,
+        };
+        let (heel, toe) = (&self.heel[s], &self.toe[s]);
+        let n = heel.len();
+        let finite =
+            |x: &[f64]| -> Vec<f64> { x.iter().copied().filter(|v| v.is_finite()).collect() };
+        let above = |x: &[f64]| -> (f64, f64) {
+            if !at.is_finite() || self.vertical.is_none() || n < 3 {
+                return (f64::NAN, f64::NAN);
+            }
+            let k = (at.round() as usize).clamp(1, n - 2);
+            let w = (0.5 * self.rate) as usize;
+            let (a, b) = match kind {
+                Kind::FootStrike => (k, (k + w).min(n)),
+                Kind::FootOff => (k.saturating_sub(w), k + 1),
+            };
+            let level = quantile(&finite(&x[a..b]), 0.0);
+            (x[k] - level, (x[k + 1] - x[k - 1]) * self.rate / 2.0)
+        };
+        let (ha, hv) = above(heel);
+        let (ta, tv) = above(toe);
+        let (hf, tf) = (finite(heel), finite(toe));
+        format!(
+            "{ha:.1},{ta:.1},{hv:.0},{tv:.0},{:.1},{:.1},{:.1},{:.1},{:.1},{}",
+            self.foot_len[s],
+            quantile(&hf, 0.05),
+            quantile(&tf, 0.05),
+            quantile(&hf, 0.95) - quantile(&hf, 0.05),
+            quantile(&tf, 0.95) - quantile(&tf, 0.05),
+            u8::from(self.ankle[s])
+        )
+    }
+}
+
 fn quantile(x: &[f64], q: f64) -> f64 {
     if x.is_empty() {
         return f64::NAN;
@@ -315,6 +408,13 @@ fn main() {
     }
     if let Some(v) = arg(&args, "--lift-speed") {
         opts.kinematic.lift_speed_frac = v;
+    }
+    opts.kinematic.lift_speed_of_toe = args.iter().any(|a| a == "--lift-toe");
+    if let Some(v) = arg(&args, "--off-stride-slope") {
+        opts.kinematic.off_stride_slope = v;
+    }
+    if let Some(v) = arg(&args, "--off-stride-ref") {
+        opts.kinematic.off_stride_ref_s = v;
     }
     if let Some(v) = arg(&args, "--touch") {
         opts.kinematic.touch_mm = v;
@@ -435,7 +535,7 @@ fn main() {
             use std::io::Write as _;
             let _ = writeln!(
                 f,
-                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05,velocity,zeni_lift,impact,stride_s,speed_m_s"
+                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05,velocity,zeni_lift,impact,stride_s,speed_m_s,shipped,heel_above_mm,toe_above_mm,heel_vz_mm_s,toe_vz_mm_s,foot_len_mm,heel_p5_mm,toe_p5_mm,heel_swing_mm,toe_swing_mm,ankle"
             );
             f
         });
@@ -678,8 +778,22 @@ fn main() {
                     .filter(|v| v.is_finite() && *v > 0.2)
                     .collect();
                 let speed = quantile(&speeds, 0.5);
+                let feats = DumpFeatures::new(&feet, rate);
                 for (truth_name, truth) in [("lab", &lab_events), ("plate", &plates)] {
                     for &(side, kind, t) in truth.iter() {
+                        let shipped = kin
+                            .iter()
+                            .flatten()
+                            .filter(|f| f.0 == side && f.1 == kind)
+                            .map(|f| f.2 - t)
+                            .filter(|d| d.abs() <= WINDOW_S)
+                            .min_by(|a, b| a.abs().total_cmp(&b.abs()));
+                        let at = shipped.map_or(f64::NAN, |d| (t + d - c.frame_time(0)) * rate);
+                        let extra = format!(
+                            "{},{}",
+                            shipped.map_or("nan".to_string(), |d| format!("{d:.5}")),
+                            feats.row(side, kind, at)
+                        );
                         let errs: Vec<String> = variants
                             .iter()
                             .map(|v| {
@@ -693,7 +807,7 @@ fn main() {
                             .collect();
                         let _ = writeln!(
                             f,
-                            "{lab},{group},{truth_name},{},{rate},{side:?},{kind:?},{t:.5},{},{:.4},{speed:.3}",
+                            "{lab},{group},{truth_name},{},{rate},{side:?},{kind:?},{t:.5},{},{:.4},{speed:.3},{extra}",
                             name.replace(',', ";"),
                             errs.join(","),
                             stride(side)

@@ -372,3 +372,48 @@ fn matching_the_plate_steps_moves_an_event_only_to_a_match_inside_its_search() {
     let moved = matched[1] - shifted[1];
     assert!((0.004..0.008).contains(&moved), "{moved}");
 }
+
+#[test]
+fn a_plate_loaded_after_the_heel_landed_off_it_gives_no_strike() {
+    use c3dfix::events::{detect_events, EventOptions, EventSource};
+    let Some(more) = testkit::c3d_more() else {
+        return;
+    };
+    // walking2 (held out): the left heel comes down and stops at 2.16-2.18 s, but plate 2
+    // is first loaded at 2.247 s, its centre of pressure 180 mm ahead of the heel (the
+    // forefoot rolling onto the plate): that is no foot strike. The plate's off (2.759 s)
+    // is the foot's, and the right foot's strike and off on plate 1 stand.
+    let path = more.join("opensim-org__opensim-core__walking2.c3d");
+    let c = c3dfix::open(&path).unwrap();
+    let opts = |from| EventOptions {
+        from,
+        ..EventOptions::default()
+    };
+    let plates = detect_events(&c, &opts(EventSource::Plates), &path).unwrap();
+    let got: Vec<(&str, &str, f64)> = plates
+        .events
+        .iter()
+        .map(|e| (e.context, e.label, e.time))
+        .collect();
+    let want = [
+        ("Right", "Foot Strike", 2.6719),
+        ("Left", "Foot Off", 2.7592),
+        ("Right", "Foot Off", 3.2486),
+    ];
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for ((c, l, t), (wc, wl, wt)) in got.iter().zip(want) {
+        assert_eq!((*c, *l), (wc, wl), "{got:?}");
+        assert!((t - wt).abs() < 0.0005, "{got:?}");
+    }
+    // In auto the left strike is the markers', shifted by the right plate strike's lag:
+    // within 25 ms of the heel's rest, no longer 81 ms before the plate's load.
+    let auto = detect_events(&c, &opts(EventSource::Auto), &path).unwrap();
+    let left: Vec<&TrialEvent> = auto
+        .events
+        .iter()
+        .filter(|e| e.context == "Left" && e.label == "Foot Strike" && (e.time - 2.2).abs() < 0.1)
+        .collect();
+    assert_eq!(left.len(), 1, "{:?}", auto.events);
+    assert_eq!(left[0].source, "kinematics");
+    assert!((left[0].time - 2.17).abs() < 0.025, "{:?}", left[0]);
+}

@@ -169,6 +169,21 @@ pub struct KinematicOptions {
     /// …or the foot centre's forward speed rises above this fraction of its swing's peak
     /// (0: not used).
     pub lift_speed_frac: f64,
+    /// [`Method::Landing`]'s lift-off by speed reads the toe's forward speed instead of the
+    /// foot centre's.
+    pub lift_speed_of_toe: bool,
+    /// Foot offs move by this many seconds per second that the foot's stride (its median
+    /// interval between Zeni strikes) is longer than [`KinematicOptions::off_stride_ref_s`];
+    /// the offs' own offset is their error at that stride. The toe's backward extreme
+    /// relative to the pelvis is where the toe, rolling over before it leaves the floor,
+    /// starts to catch up with the pelvis: the slower the walk, the earlier before the
+    /// lift-off that comes. Fitted on the tuning labs' Zeni offs (Theil–Sen, plates and
+    /// lab events pooled: error +24.2 ms − 12.4 ms per second of stride; docs/events.md),
+    /// where it also held leaving each lab out of the fit. 0: a constant offset.
+    pub off_stride_slope: f64,
+    /// The stride (s) at which offs take their offset alone, and the stride assumed where a
+    /// foot shows fewer than two strikes: the tuning labs' median (1.17 s).
+    pub off_stride_ref_s: f64,
 }
 
 impl Default for KinematicOptions {
@@ -182,7 +197,8 @@ impl Default for KinematicOptions {
                 est(Method::Zeni, 0.0225),
                 est(Method::Desailly, 0.0210),
             ],
-            off: vec![est(Method::Zeni, -0.0149)],
+            // Zeni's off at the tuning labs' median stride; `off_stride_slope` for others.
+            off: vec![est(Method::Zeni, -0.0098)],
             combine_window_s: 0.2,
             oconnor_lowpass_hz: 10.0,
             desailly_cutoff_ratio: 0.3,
@@ -204,6 +220,9 @@ impl Default for KinematicOptions {
             landing_vspeed_frac: 0.0,
             lift_height_frac: 0.1,
             lift_speed_frac: 0.0,
+            lift_speed_of_toe: false,
+            off_stride_slope: 0.0124,
+            off_stride_ref_s: 1.17,
         }
     }
 }
@@ -369,8 +388,36 @@ pub fn kinematic_events(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Resu
     let n = feet.frames();
     let window = opts.combine_window_s * rate;
     let mut out = Vec::new();
-    for side in Side::BOTH {
-        let mut found = Found::default();
+    let mut found = [Found::default(), Found::default()];
+    // The trial's stride, both feet's intervals pooled: one shift for every off of the
+    // trial, so a calibration on the trial's own plates (one median shift) undoes it exactly.
+    let off_shift = if opts.off_stride_slope != 0.0 {
+        let [l, r] = &mut found;
+        let strikes = [
+            l.get(
+                Method::Zeni,
+                Kind::FootStrike,
+                feet,
+                Side::Left,
+                &prep,
+                opts,
+            ),
+            r.get(
+                Method::Zeni,
+                Kind::FootStrike,
+                feet,
+                Side::Right,
+                &prep,
+                opts,
+            ),
+        ];
+        let stride = trial_stride_s(&strikes, rate).unwrap_or(opts.off_stride_ref_s);
+        opts.off_stride_slope * (stride - opts.off_stride_ref_s) * rate
+    } else {
+        0.0
+    };
+    for (s, side) in Side::BOTH.into_iter().enumerate() {
+        let found = &mut found[s];
         for (kind, estimates) in [(Kind::FootStrike, &opts.strike), (Kind::FootOff, &opts.off)] {
             let mut each = estimates.iter().map(|e| {
                 let shift = e.offset_s * rate;
@@ -399,7 +446,12 @@ pub fn kinematic_events(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Resu
                         count += 1.0;
                     }
                 }
-                let index = sum / count;
+                let index = sum / count
+                    + if kind == Kind::FootOff {
+                        off_shift
+                    } else {
+                        0.0
+                    };
                 if index >= 0.0 && index <= (n - 1) as f64 {
                     out.push(Event {
                         side,
@@ -505,6 +557,18 @@ impl Found {
             }
         }
     }
+}
+
+/// The trial's stride (s): the median interval between successive strikes of each foot
+/// (frame indices at `rate`), both feet pooled; `None` where no foot has two strikes.
+pub fn trial_stride_s(feet_strikes: &[Vec<f64>], rate: f64) -> Option<f64> {
+    let gaps: Vec<f64> = feet_strikes
+        .iter()
+        .flat_map(|s| s.windows(2).map(|w| w[1] - w[0]))
+        .collect();
+    signal::quantile(&gaps, 0.5)
+        .filter(|g| g.is_finite() && *g > 0.0)
+        .map(|g| g / rate)
 }
 
 /// The stride frequency (Hz) from one foot's successive strikes: the median interval's
@@ -926,6 +990,40 @@ mod tests {
         for (got, want) in s.iter().zip([1.02, 2.02, 3.02]) {
             assert!((got - want).abs() < 0.001, "{s:?}");
         }
+    }
+
+    #[test]
+    fn offs_move_with_the_trials_stride_and_strikes_do_not() {
+        // The synthetic walk's stride is 1 s: 0.17 s shorter than the reference, so every
+        // off comes 0.0124 × 0.17 s = 2.1 ms earlier than with a constant offset.
+        let f = walk(400);
+        let zeni = Estimate {
+            method: Method::Zeni,
+            offset_s: 0.0,
+        };
+        let with = |slope| KinematicOptions {
+            strike: vec![zeni],
+            off: vec![zeni],
+            off_stride_slope: slope,
+            ..KinematicOptions::default()
+        };
+        let a = kinematic_events(&f, 100.0, &with(0.0)).unwrap();
+        let b = kinematic_events(&f, 100.0, &with(0.0124)).unwrap();
+        assert_eq!(a.len(), b.len());
+        assert!(a.iter().any(|e| e.kind == Kind::FootOff), "{a:?}");
+        for (x, y) in a.iter().zip(&b) {
+            let want = if x.kind == Kind::FootOff {
+                0.0124 * (1.0 - 1.17) * 100.0
+            } else {
+                0.0
+            };
+            assert!((y.index - x.index - want).abs() < 1e-3, "{x:?} {y:?}");
+        }
+        assert_eq!(
+            trial_stride_s(&[vec![100.0, 200.0, 300.0], vec![150.0, 252.0]], 100.0),
+            Some(1.0)
+        );
+        assert_eq!(trial_stride_s(&[vec![100.0], vec![]], 100.0), None);
     }
 
     #[test]

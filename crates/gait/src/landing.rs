@@ -27,6 +27,9 @@ struct Foot {
     heel: Vec<f64>,
     toe: Vec<f64>,
     forward: Vec<f64>,
+    /// The toe's own speed (mm/s) along the walking direction: it leaves the floor when the
+    /// foot centre, still rolling over it, is already moving.
+    toe_forward: Vec<f64>,
     /// Each part's vertical velocity (mm/s), low-passed at 10 Hz (O'Connor's cut-off).
     heel_up: Vec<f64>,
     toe_up: Vec<f64>,
@@ -47,16 +50,20 @@ fn foot(feet: &Feet, side: Side, prep: &Prepared) -> Foot {
             ]
         })
         .collect();
-    let forward = (0..n)
-        .map(|i| {
-            if i == 0 || i + 1 >= n {
-                return f64::NAN;
-            }
-            let d = prep.dir[i];
-            let (a, b) = (centre[i - 1], centre[i + 1]);
-            (0..3).map(|k| (b[k] - a[k]) * d[k]).sum::<f64>() * prep.rate / 2.0
-        })
-        .collect();
+    let along = |x: &[[f64; 3]]| -> Vec<f64> {
+        (0..n)
+            .map(|i| {
+                if i == 0 || i + 1 >= n {
+                    return f64::NAN;
+                }
+                let d = prep.dir[i];
+                let (a, b) = (x[i - 1], x[i + 1]);
+                (0..3).map(|k| (b[k] - a[k]) * d[k]).sum::<f64>() * prep.rate / 2.0
+            })
+            .collect()
+    };
+    let forward = along(&centre);
+    let toe_forward = along(toe);
     let heel: Vec<f64> = heel.iter().map(|p| v.height(*p)).collect();
     let toe: Vec<f64> = toe.iter().map(|p| v.height(*p)).collect();
     let up = |h: &[f64]| {
@@ -71,6 +78,7 @@ fn foot(feet: &Feet, side: Side, prep: &Prepared) -> Foot {
         heel,
         toe,
         forward,
+        toe_forward,
     }
 }
 
@@ -213,8 +221,9 @@ pub fn strikes(
 /// The offs of one foot, one for each of Zeni's offs `j0`: the earlier of (a) the toe's
 /// last rise through [`KinematicOptions::lift_height_frac`] of its swing height above its
 /// stance level (the lowest in the 0.5 s before `j0`; the swing's highest point in the
-/// 0.5 s after it), searched from 0.3 s before `j0` to that highest point, and (b) the foot
-/// centre's forward speed rising through [`KinematicOptions::lift_speed_frac`] of its peak
+/// 0.5 s after it), searched from 0.3 s before `j0` to that highest point (unused when
+/// 0), and (b) the foot centre's (or with [`KinematicOptions::lift_speed_of_toe`] the
+/// toe's) forward speed rising through [`KinematicOptions::lift_speed_frac`] of its peak
 /// in the 0.5 s after `j0` (unused when 0). `j0` itself where neither is seen.
 pub fn offs(
     feet: &Feet,
@@ -229,19 +238,26 @@ pub fn offs(
     zeni_offs
         .iter()
         .map(|&j0| {
-            let height = (|| {
-                let (peak_at, peak) = highest(&f.toe, j0, j0 + 0.5 * rate)?;
-                let stance = lowest(&f.toe, j0 - 0.5 * rate, j0 + 1.0);
-                if !(stance.is_finite() && peak - stance > 5.0) {
-                    return None;
-                }
-                let thr = stance + opts.lift_height_frac * (peak - stance);
-                last_rise_through(&f.toe, thr, from(j0), peak_at)
-            })();
+            let height = (opts.lift_height_frac > 0.0)
+                .then(|| {
+                    let (peak_at, peak) = highest(&f.toe, j0, j0 + 0.5 * rate)?;
+                    let stance = lowest(&f.toe, j0 - 0.5 * rate, j0 + 1.0);
+                    if !(stance.is_finite() && peak - stance > 5.0) {
+                        return None;
+                    }
+                    let thr = stance + opts.lift_height_frac * (peak - stance);
+                    last_rise_through(&f.toe, thr, from(j0), peak_at)
+                })
+                .flatten();
             let speed = (opts.lift_speed_frac > 0.0)
                 .then(|| {
-                    let (at, peak) = highest(&f.forward, j0, j0 + 0.5 * rate)?;
-                    last_rise_through(&f.forward, opts.lift_speed_frac * peak, from(j0), at)
+                    let forward = if opts.lift_speed_of_toe {
+                        &f.toe_forward
+                    } else {
+                        &f.forward
+                    };
+                    let (at, peak) = highest(forward, j0, j0 + 0.5 * rate)?;
+                    last_rise_through(forward, opts.lift_speed_frac * peak, from(j0), at)
                 })
                 .flatten();
             match (height, speed) {

@@ -37,6 +37,14 @@ pub struct PlateOptions {
     pub max_foot_distance_mm: f64,
     /// Shortest contact taken as a footfall (s): a sprinting stance lasts about 0.1 s.
     pub min_contact_s: f64,
+    /// A plate's strike is no foot strike when the plate is first loaded under the front
+    /// half of the foot and the foot's heel marker had landed this long (s) before: the
+    /// heel landed off the plate and the forefoot rolled onto it (walking2's left foot:
+    /// heel down 91 ms before plate 2 is loaded, its centre of pressure first 180 mm ahead
+    /// of the heel). The off on that plate is still the foot's. A heel landing alone is not
+    /// enough: sample_25's markers lead its plates by 52 ms in both trials (a clock offset),
+    /// the centre of pressure first under the heel.
+    pub max_heel_lead_s: f64,
 }
 
 impl Default for PlateOptions {
@@ -45,6 +53,7 @@ impl Default for PlateOptions {
             threshold_n: 20.0,
             max_foot_distance_mm: 150.0,
             min_contact_s: 0.08,
+            max_heel_lead_s: 0.05,
         }
     }
 }
@@ -108,13 +117,22 @@ pub fn plate_events(
                 strike: (a > 0).then(|| (crossing(a - 1, a), plate.index)),
                 off: (b + 1 < push.len()).then(|| (crossing(b, b + 1), plate.index)),
                 span: [a as f64 / spf as f64, (b + 1) as f64 / spf as f64],
+                onset_along: onset_along(plate, feet, side, vertical, a, spf, analog_rate),
             });
         }
     }
     let mut out = Vec::new();
+    let rate = analog_rate / plates.first().map_or(1, |p| p.samples_per_frame.max(1)) as f64;
     for f in merge_overlapping(falls) {
         for (kind, at) in [(Kind::FootStrike, f.strike), (Kind::FootOff, f.off)] {
             let Some((index, plate)) = at else { continue };
+            if kind == Kind::FootStrike
+                && f.onset_along >= 0.5
+                && heel_down_before(feet, f.side, vertical, index, rate)
+                    .is_some_and(|lead| lead > opts.max_heel_lead_s * rate)
+            {
+                continue;
+            }
             if index <= (frames.saturating_sub(1)) as f64 {
                 out.push(Event {
                     side: f.side,
@@ -130,6 +148,80 @@ pub fn plate_events(
     out
 }
 
+/// How many frames before the plate's strike at `at` the foot's heel marker landed, if it
+/// did before it: the first local minimum of its height in the 0.25 s before `at` that
+/// lies within 10 mm (the landing refinement's `touch_mm`) of its lowest from 0.25 s
+/// before to 0.5 s after `at`. `None` where the heel is an ankle marker standing in (its
+/// height says nothing of the landing), or no such minimum is seen with known samples.
+fn heel_down_before(
+    feet: &Feet,
+    side: Side,
+    vertical: axes::Vertical,
+    at: f64,
+    rate: f64,
+) -> Option<f64> {
+    const TOUCH_MM: f64 = 10.0;
+    if feet.heel_is_ankle(side) {
+        return None;
+    }
+    let (heel, _) = feet.foot(side);
+    let h: Vec<f64> = heel.iter().map(|p| vertical.height(*p)).collect();
+    let n = h.len();
+    let back = (0.25 * rate).round() as usize;
+    let end = (at.floor().max(0.0) as usize).min(n.saturating_sub(1));
+    if end + 2 >= n {
+        return None;
+    }
+    let start = end.saturating_sub(back).max(2);
+    let hi = ((at + 0.5 * rate) as usize).min(n);
+    let base = h[start.min(hi)..hi]
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(f64::NAN, f64::min);
+    if !base.is_finite() {
+        return None;
+    }
+    (start..end).find_map(|k| {
+        let known = h[k - 2..=k + 2].iter().all(|v| v.is_finite());
+        let low = known && h[k] < h[k - 1] && h[k] <= h[k + 1] && h[k] - base <= TOUCH_MM;
+        low.then_some(at - k as f64)
+    })
+}
+
+/// Where along `side`'s foot (heel 0, toe 1, projected on the horizontal heel–toe line)
+/// the centre of pressure lies over the first 20 ms of a contact from sample `a`: the
+/// median; NaN where unknown.
+fn onset_along(
+    plate: &PlateInput,
+    feet: &Feet,
+    side: Side,
+    vertical: axes::Vertical,
+    a: usize,
+    spf: usize,
+    analog_rate: f64,
+) -> f64 {
+    let (heel, toe) = feet.foot(side);
+    let m = ((0.02 * analog_rate).round() as usize).max(1);
+    let t: Vec<f64> = (a..a + m)
+        .filter_map(|s| {
+            let f = s / spf;
+            let (c, h, o) = (plate.cop.get(s)?, heel.get(f)?, toe.get(f)?);
+            let (c, h, o) = (
+                vertical.horizontal(*c),
+                vertical.horizontal(*h),
+                vertical.horizontal(*o),
+            );
+            let ht = [o[0] - h[0], o[1] - h[1], o[2] - h[2]];
+            let hc = [c[0] - h[0], c[1] - h[1], c[2] - h[2]];
+            let len2: f64 = ht.iter().map(|x| x * x).sum();
+            let along = (0..3).map(|k| ht[k] * hc[k]).sum::<f64>() / len2;
+            along.is_finite().then_some(along)
+        })
+        .collect();
+    crate::signal::quantile(&t, 0.5).unwrap_or(f64::NAN)
+}
+
 /// One foot's contact with one plate, or with several plates at once once merged: the
 /// strike and off (frame index and 1-based plate; none where the contact began or ends
 /// with the recording) and the loaded span in frames.
@@ -139,6 +231,9 @@ struct Footfall {
     strike: Option<(f64, usize)>,
     off: Option<(f64, usize)>,
     span: [f64; 2],
+    /// Where the centre of pressure first lies along the foot, heel 0 to toe 1 (median
+    /// over the contact's first 20 ms; NaN unknown).
+    onset_along: f64,
 }
 
 /// One footfall per stance: a foot that lands across two plates (its heel on one, its
@@ -275,6 +370,7 @@ mod tests {
             strike: Some((s, plate)),
             off: Some((o, plate)),
             span,
+            onset_along: f64::NAN,
         };
         // kyowadengyo's right foot: heel on plate 2 at 1.834 s, forefoot on plate 3 from
         // 1.858 s; off plate 2 at 2.060 s, off plate 3 at 2.454 s. Then a later step.
