@@ -30,8 +30,10 @@ pub(crate) fn activities_of(recs: &[Rec]) -> HashMap<String, &'static str> {
 /// other activities: how many are within 2× of their estimate and above twice it, and the
 /// largest step of a fill over the marker's largest recorded step. The fit reads the
 /// tuned and held-apart labs' gaps, as the shipped model's does; the gaps judged are every
-/// lab's.
-pub(crate) fn per_activity(recs: &[Rec]) {
+/// lab's. With `gaps_out`, every judged gap is written there as a tab-separated line
+/// (activity, lab, trial, marker, first frame, length, run, chosen method, real error, the
+/// two estimates, the step ratio and the evidence), to read where an activity fails.
+pub(crate) fn per_activity(recs: &[Rec], gaps_out: Option<&std::path::Path>) {
     use rayon::prelude::*;
     let act = activities_of(recs);
     let auto: Vec<&Rec> = recs
@@ -69,6 +71,34 @@ pub(crate) fn per_activity(recs: &[Rec]) {
         })
         .collect();
     let judged: Vec<&(&Rec, GapScore, GapScore)> = judged.iter().flatten().collect();
+    if let Some(p) = gaps_out {
+        let mut out = String::from(
+            "activity\tlab\theld\tfile\trate\tmarker\tfirst\tlen\trun\tchosen\terror\test_lab\test_both\tstep\tevidence\n",
+        );
+        for (r, l, b) in &judged {
+            let chosen = r.g.chosen.map_or("-", |m| m.name());
+            let ev = serde_json::to_string(&r.g.evidence).unwrap_or_default();
+            out.push_str(&format!(
+                "{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{chosen}\t{}\t{}\t{}\t{}\t{ev}\n",
+                a(r),
+                r.lab,
+                r.held,
+                r.file,
+                r.rate,
+                r.g.marker,
+                r.g.first,
+                r.g.gap_len,
+                r.run,
+                r.g.mean,
+                l.expected.unwrap_or(f64::NAN),
+                b.expected.unwrap_or(f64::NAN),
+                r.g.step_ratio,
+            ));
+        }
+        if let Err(e) = std::fs::write(p, out) {
+            eprintln!("fill_eval: --activity-gaps {}: {e}", p.display());
+        }
+    }
     let mut names: Vec<&str> = act.values().copied().collect();
     names.sort_unstable();
     names.dedup();
@@ -107,6 +137,7 @@ pub(crate) fn per_activity(recs: &[Rec]) {
             100.0 * c2.over_confident,
         );
     }
+    per_trial(&judged, &a);
     println!("\nTrials per activity:\n");
     let mut by: BTreeMap<&str, Vec<&str>> = BTreeMap::new();
     for (f, n) in &act {
@@ -115,5 +146,48 @@ pub(crate) fn per_activity(recs: &[Rec]) {
     for (n, mut fs) in by {
         fs.sort_unstable();
         println!("- {n}: {}", fs.join(", "));
+    }
+}
+
+/// Each trial's gaps under the lab-and-activity-apart model, and per activity how many of
+/// its trials alone would miss the goal (≥ 80 % within 2×, ≤ 5 % above twice): most
+/// activities here are one trial, and walking's own trials say how far one trial strays
+/// from its activity's pooled figures.
+fn per_trial(judged: &[&(&Rec, GapScore, GapScore)], a: &dyn Fn(&Rec) -> &'static str) {
+    let mut by: BTreeMap<(&str, &str), Vec<GapScore>> = BTreeMap::new();
+    for (r, _, both) in judged {
+        by.entry((a(r), r.file.as_str())).or_default().push(*both);
+    }
+    println!("\n### expected errors per trial, lab and activity apart\n");
+    println!("| activity | trial | gaps | within 2x % | over 2x % |");
+    println!("|---|---|---|---|---|");
+    let mut tally: BTreeMap<&str, (usize, usize, f64, f64, f64, f64)> = BTreeMap::new();
+    for ((act, file), v) in &by {
+        let c = calibration(v, 0.0);
+        println!(
+            "| {act} | {file} | {} | {:.1} | {:.1} |",
+            c.gaps,
+            100.0 * c.within_2x,
+            100.0 * c.over_confident
+        );
+        let t = tally
+            .entry(act)
+            .or_insert((0, 0, f64::INFINITY, 0.0, f64::INFINITY, 0.0));
+        t.0 += 1;
+        t.1 += usize::from(c.within_2x < 0.8 || c.over_confident > 0.05);
+        t.2 = t.2.min(c.within_2x);
+        t.3 = t.3.max(c.within_2x);
+        t.4 = t.4.min(c.over_confident);
+        t.5 = t.5.max(c.over_confident);
+    }
+    println!();
+    for (act, (n, miss, w0, w1, o0, o1)) in tally {
+        println!(
+            "- {act}: {miss} of {n} trials alone miss the goal (within 2x {:.1}-{:.1} %, over twice {:.1}-{:.1} %)",
+            100.0 * w0,
+            100.0 * w1,
+            100.0 * o0,
+            100.0 * o1
+        );
     }
 }

@@ -26,7 +26,8 @@
 //! `--skip-held-apart` runs every lab but those (their records can come from a
 //! `--held-apart` run of the same build). With `--replay`: `--activities` (the expected
 //! errors per activity, each trial's activity read from its corpus's README, labs and
-//! activities held apart) and `--write-coefficients` (every lab's `auto` gaps written into
+//! activities held apart; `--activity-gaps FILE` writes each judged gap with its two
+//! estimates as tab-separated lines) and `--write-coefficients` (every lab's `auto` gaps written into
 //! `repair`'s committed gaps file, `crates/repair/data/expected_error_gaps.txt`, and the
 //! model fitted on that file into the generated
 //! `crates/repair/src/fill/auto/model/coefficients.rs`). `--refit` fits the committed gaps
@@ -88,6 +89,9 @@ struct Args {
     skip_held_apart: bool,
     /// With `--replay`: expected errors per activity, labs and activities held apart.
     activities: bool,
+    /// With `--activities`: every judged gap with its two held-apart estimates, as
+    /// tab-separated lines, for reading where an activity's estimates fail.
+    activity_gaps: Option<PathBuf>,
     /// With `--replay`: the shipped model's gaps file and coefficients written anew.
     write_coefficients: bool,
     /// The coefficients fitted again on the committed gaps file.
@@ -111,6 +115,7 @@ fn args() -> Result<Args, String> {
         held_apart: false,
         skip_held_apart: false,
         activities: false,
+        activity_gaps: None,
         write_coefficients: false,
         refit: false,
     };
@@ -130,6 +135,7 @@ fn args() -> Result<Args, String> {
             "--held-apart" => a.held_apart = true,
             "--skip-held-apart" => a.skip_held_apart = true,
             "--activities" => a.activities = true,
+            "--activity-gaps" => a.activity_gaps = Some(PathBuf::from(val()?)),
             "--write-coefficients" => a.write_coefficients = true,
             "--refit" => a.refit = true,
             "--nested" => a.nested = val()?.split(',').map(PathBuf::from).collect(),
@@ -225,7 +231,7 @@ fn main() {
                     ablation(&recs);
                 }
                 if a.activities {
-                    per_activity(&recs);
+                    per_activity(&recs, a.activity_gaps.as_deref());
                 }
                 if a.write_coefficients {
                     let name = path.file_name().unwrap_or_default().to_string_lossy();
