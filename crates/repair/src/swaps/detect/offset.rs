@@ -11,6 +11,7 @@
 
 use super::{norm, Ctx};
 use crate::linalg::kabsch;
+use nalgebra::{Rotation3, Vector3};
 
 /// The witness's parts, each 0 to 1 (1: what a label on another point gives).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -52,7 +53,8 @@ impl Ctx<'_> {
     ///
     /// The offset is the mean of the leap in and the leap out reversed. The marker's place
     /// just outside each edge is carried to every frame of the span by its link partners'
-    /// motion (rigidly with three or more, by their mean translation with fewer), the two
+    /// motion (rigidly with three or more, by the swing of the line between two, by the translation
+    /// of one), the two
     /// weighted by nearness; inside, the marker less that place should be the offset. The
     /// departure is the median over the span's frames of the difference, against the
     /// offset's size.
@@ -70,7 +72,8 @@ impl Ctx<'_> {
         let size = norm(&off).max(f64::MIN_POSITIVE);
         // Where the partners put the marker at `f`, from its place at the reference frame
         // `r`: the rigid motion of three or more partners from `r` to `f` (the segment
-        // turning over a long span), their mean translation with fewer.
+        // turning over a long span), the swing of the line between two, the translation
+        // of one.
         let partners: Vec<usize> = self.links[a].iter().map(|l| l.other).collect();
         let put = |f: usize, r: usize| -> Option<[f64; 3]> {
             let at_r = self.pos(a, r, None)?;
@@ -83,6 +86,16 @@ impl Ctx<'_> {
             }
             if p.len() >= 3 {
                 return kabsch(&p, &q).map(|t| t.apply(at_r));
+            }
+            if p.len() == 2 {
+                // Two partners fix the segment's swing (the least rotation taking the line
+                // between them at `r` to the one at `f`), not its twist about that line.
+                let v = |x: [f64; 3]| Vector3::from(x);
+                let (u0, u1) = (v(p[1]) - v(p[0]), v(q[1]) - v(q[0]));
+                let rot = Rotation3::rotation_between(&u0, &u1)?;
+                let (c0, c1) = ((v(p[0]) + v(p[1])) / 2.0, (v(q[0]) + v(q[1])) / 2.0);
+                let x = c1 + rot * (v(at_r) - c0);
+                return Some([x.x, x.y, x.z]);
             }
             if p.is_empty() {
                 return None;
