@@ -6,7 +6,8 @@
 //! replaced whole (coordinates, residual, camera mask) by those of a marker 15–60 mm away,
 //! which keeps its own or is missing there. Reports recall per kind and length, precision, the share of swaps undone
 //! exactly, the jumped samples' error once refilled by the fill stage, and every find on the
-//! untouched trials (per 10 000 frames). Constants were chosen on the corpora `samples`,
+//! untouched trials (per 10 000 frames), and, apart, the hits that are jumps of markers
+//! with 2–3 links found by their leaps and steady offset alone. Constants were chosen on the corpora `samples`,
 //! `extra` and `fullbody` (the "tuned" labs); the labs of `c3d-more` other than CMU chose
 //! nothing and are reported apart ("held apart").
 //!
@@ -512,6 +513,11 @@ struct Prec {
     true_settled: usize,
     false_settled: usize,
     refill_err: Vec<f64>,
+    /// Hits that are jumps of a marker with two or three links found by its leaps alone
+    /// (no frame its links decide): found, settled, and their refilled samples' errors.
+    leaps_found: usize,
+    leaps_settled: usize,
+    leaps_refill_err: Vec<f64>,
 }
 
 #[derive(Default)]
@@ -959,6 +965,12 @@ fn judge(
     match hit {
         Some(x) => {
             cell.found += 1;
+            let leaps_only =
+                x.kind == FindKind::Jump && x.evidence.frames_decided == 0 && x.evidence.links >= 2;
+            if leaps_only {
+                prec.leaps_found += 1;
+                prec.leaps_settled += x.settled as usize;
+            }
             if x.settled {
                 cell.settled += 1;
                 let mut u = t.clone();
@@ -985,10 +997,16 @@ fn judge(
                         );
                     }
                     if let Some(errs) = refill(&u, clean, e) {
+                        if leaps_only {
+                            prec.leaps_refill_err.extend(errs.iter().copied());
+                        }
                         prec.refill_err.extend(errs);
                     }
                 } else if e.kind == Kind::Jump {
                     if let Some(errs) = refill(&u, clean, e) {
+                        if leaps_only {
+                            prec.leaps_refill_err.extend(errs.iter().copied());
+                        }
                         prec.refill_err.extend(errs);
                     }
                     cell.exact += 1;
@@ -1060,6 +1078,7 @@ fn judge(
                             link_error: 0.0,
                             link_error_undone: 0.0,
                             edges_smoother: 0,
+                            offset_share: None,
                             edges_checked: 0,
                             edge_step_mm: 0.0,
                         },
@@ -1141,6 +1160,16 @@ fn report(group: &str, t: &Tally) {
                 e.len()
             );
         }
+        let mut e = p.leaps_refill_err.clone();
+        e.sort_by(f64::total_cmp);
+        println!(
+            "of the hits, jumps of markers with 2-3 links by their leaps alone: {} found, {} settled; refilled: median {:.2} mm, 90th percentile {:.2} mm, {} samples",
+            p.leaps_found,
+            p.leaps_settled,
+            e.get(e.len() / 2).copied().unwrap_or(f64::NAN),
+            e.get(e.len() * 9 / 10).copied().unwrap_or(f64::NAN),
+            e.len()
+        );
     }
     println!(
         "swap episodes left out (over half the frames where both markers are seen): {}",

@@ -114,3 +114,119 @@ fn corpus_swap_between_linked_markers_is_found_and_undone_bit_for_bit() {
     undo(&mut t, &finds);
     assert_eq!(t, clean);
 }
+
+/// A window of `len` frames from a third into the trial where `a` and every partner in
+/// `others` are seen, with 5 frames either side.
+fn seen_window(t: &Trial, a: usize, others: &[usize], len: usize) -> Option<usize> {
+    let n = t.frames();
+    (n / 3..n.saturating_sub(len + 10)).find(|&f| {
+        (f - 5..f + len + 5).all(|g| t.valid[a][g] && others.iter().all(|&o| t.valid[o][g]))
+    })
+}
+
+/// Adds `off` to `a`'s samples over `lo..=hi`: its label on a point at a steady offset.
+fn offset(t: &mut Trial, a: usize, lo: usize, hi: usize, off: [f64; 3]) {
+    for f in lo..=hi {
+        for (c, o) in off.iter().enumerate() {
+            t.xyz[a][f][c] += o;
+        }
+    }
+}
+
+#[test]
+fn corpus_jump_at_a_steady_offset_carries_the_offset_witness() {
+    let Some(clean) = type3() else { return };
+    let opts = SwapOptions::default();
+    let base = find_swaps(&clean, &opts).unwrap();
+    let links = learn_links(&clean, opts.max_link_spread_mm, opts.min_link_support, 8);
+    // The first marker with four links or more, 30 frames where it and its partners are seen.
+    let (a, lo) = (0..clean.markers())
+        .filter(|&m| links[m].len() >= 4)
+        .find_map(|m| {
+            let others: Vec<usize> = links[m].iter().map(|l| l.other).collect();
+            Some((m, seen_window(&clean, m, &others, 30)?))
+        })
+        .unwrap();
+    let hi = lo + 29;
+    let mut t = clean.clone();
+    offset(&mut t, a, lo, hi, [21.0, -18.0, 12.0]);
+    let finds: Vec<_> = find_swaps(&t, &opts)
+        .unwrap()
+        .into_iter()
+        .filter(|x| !base.contains(x))
+        .collect();
+    assert_eq!(finds.len(), 1, "{finds:?}");
+    let x = &finds[0];
+    assert_eq!((x.kind, x.markers.clone()), (FindKind::Jump, vec![a]));
+    assert_eq!((x.first, x.last), (lo, hi), "{x:?}");
+    // The two leaps cancel exactly and the offset holds against the partners' motion.
+    let share = x.evidence.offset_share.unwrap();
+    assert!(share > 0.9, "{x:?}");
+    assert!(x.settled, "{x:?}");
+
+    // The same label drifting off and back over the span (a ramp up and down, no leap)
+    // carries no witness: no find, or one without it.
+    let mut t = clean.clone();
+    for f in lo..=hi {
+        let k = 1.0 - ((f - lo) as f64 - 14.5).abs() / 15.0;
+        offset(&mut t, a, f, f, [21.0 * k, -18.0 * k, 12.0 * k]);
+    }
+    let drift: Vec<_> = find_swaps(&t, &opts)
+        .unwrap()
+        .into_iter()
+        .filter(|x| !base.contains(x) && x.markers == [a])
+        .collect();
+    assert!(
+        drift
+            .iter()
+            .all(|x| x.evidence.offset_share.unwrap_or(0.0) < 0.1),
+        "{drift:?}"
+    );
+}
+
+#[test]
+fn corpus_jump_across_a_marker_with_three_links_is_found_whole_with_its_steady_offset() {
+    let Some(clean) = type3() else { return };
+    let opts = SwapOptions::default();
+    let base = find_swaps(&clean, &opts).unwrap();
+    let links = learn_links(&clean, opts.max_link_spread_mm, opts.min_link_support, 8);
+    // A marker with two or three links, all under 300 mm (partners far along a limb
+    // cannot say where its twist puts the marker), 25 frames where it and its partners are
+    // seen.
+    let (a, lo) = (0..clean.markers())
+        .filter(|&m| (2..=3).contains(&links[m].len()) && links[m].iter().all(|l| l.d0_mm < 300.0))
+        .find_map(|m| {
+            let others: Vec<usize> = links[m].iter().map(|l| l.other).collect();
+            Some((m, seen_window(&clean, m, &others, 25)?))
+        })
+        .unwrap();
+    let hi = lo + 24;
+    // 18 mm across its links (the direction least along them at the span's middle: the
+    // least eigenvector of the sum of their unit vectors' outer products): their lengths
+    // change by a few mm, near their tolerances: the links decide few of its frames.
+    let mid = (lo + hi) / 2;
+    let p = nalgebra::Vector3::from(clean.xyz[a][mid]);
+    let mut m = nalgebra::Matrix3::zeros();
+    for l in &links[a] {
+        let u = (nalgebra::Vector3::from(clean.xyz[l.other][mid]) - p).normalize();
+        m += u * u.transpose();
+    }
+    let eig = m.symmetric_eigen();
+    let i = eig.eigenvalues.imin();
+    let n = eig.eigenvectors.column(i).into_owned();
+    let k = 18.0;
+    let mut t = clean.clone();
+    offset(&mut t, a, lo, hi, [n[0] * k, n[1] * k, n[2] * k]);
+    let finds: Vec<_> = find_swaps(&t, &opts)
+        .unwrap()
+        .into_iter()
+        .filter(|x| !base.contains(x))
+        .collect();
+    assert_eq!(finds.len(), 1, "{finds:?}");
+    let x = &finds[0];
+    assert_eq!((x.kind, x.markers.clone()), (FindKind::Jump, vec![a]));
+    assert_eq!((x.first, x.last), (lo, hi), "{x:?}");
+    assert!(x.evidence.frames_decided < 12, "{x:?}");
+    assert!(x.settled, "{x:?}");
+    assert!(x.evidence.offset_share.unwrap() > 0.8, "{x:?}");
+}

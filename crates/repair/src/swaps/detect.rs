@@ -10,6 +10,8 @@ use super::links::{dist, finite, learn_links, Link};
 use crate::error::{RepairError, Result};
 use crate::Trial;
 
+mod offset;
+
 /// What the detector looks for and when a find counts as settled. Build with
 /// [`SwapOptions::default`] and change fields; [`SwapOptions::validate`] checks them.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -104,6 +106,10 @@ pub struct Evidence {
     pub edges_checked: usize,
     /// Largest step out of the predicted path (mm) at the episode's edges as labelled.
     pub edge_step_mm: f64,
+    /// A jump's steady-offset witness, 0 to 1: its two edge leaps cancel, both break the
+    /// marker's path, and between them the marker holds that offset from its link
+    /// partners; `None` where it could not be measured (and for swaps).
+    pub offset_share: Option<f64>,
 }
 
 /// One swap or jump, frames 0-based and inclusive.
@@ -562,7 +568,11 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
                 .collect();
             // A swap leaves the same two leaps on both its markers.
             let in_swap = swapped.iter().any(|&(m, x, y)| m == a && s <= y && x <= e);
-            if in_swap || (inside.is_empty() && !few) {
+            // Markers with two or three links whose links decide no frame of the span
+            // (an offset across them changes their lengths little): the leaps alone, with
+            // the steady offset from the link partners required ([`leap_jump_find`]).
+            let sparse = (2..=SPARSE_LINKS).contains(&cx.links[a].len());
+            if in_swap || (inside.is_empty() && !few && !sparse) {
                 continue;
             }
             eps.retain(|ep| ep.1 < s || ep.0 > e);
@@ -898,6 +908,7 @@ fn swap_find(
             edges_smoother: smoother,
             edges_checked: checked,
             edge_step_mm: edge_step,
+            offset_share: None,
         },
     }
 }
@@ -987,7 +998,13 @@ fn jump_find(
     };
     // Both edges breaking is not enough alone: the links must say the marker left its
     // place over the episode's frames.
-    let confidence = (p_cont * (0.3 + 0.7 * p_link * share)).clamp(0.0, 1.0);
+    let links_say = (p_cont * (0.3 + 0.7 * p_link * share)).clamp(0.0, 1.0);
+    // The steady offset between two cancelling leaps is a second witness beside the
+    // links, as a swap's edges are (an offset across the links changes their lengths
+    // little, and a long jump's links then break barely past their tolerance).
+    let witness = cx.offset_witness(a, s, e).map(|o| o.share());
+    let g = witness.unwrap_or(0.0);
+    let confidence = (1.0 - (1.0 - links_say) * (1.0 - OFFSET_WEIGHT * g)).clamp(0.0, 1.0);
     Find {
         kind: FindKind::Jump,
         markers: vec![a],
@@ -1003,9 +1020,21 @@ fn jump_find(
             edges_smoother: smoother,
             edges_checked: checked,
             edge_step_mm: edge_step,
+            offset_share: witness,
         },
     }
 }
+
+/// Most links a marker whose links decide no frame of a span between two opposite leaps
+/// may have to be found by the leaps and the steady offset ([`leap_jump_find`]): with four
+/// or more, links that stay whole over a jump say it is none, as far as links can.
+const SPARSE_LINKS: usize = 3;
+
+/// Most the steady-offset witness adds to a jump's link evidence (as the probability of an
+/// independent witness): half, as a swap's edges ([`EDGE_WEIGHT`]), so that it cannot
+/// settle a jump alone (0.3 from the links and edges, as a jump whose links barely break,
+/// becomes 0.65 with a full witness: reported, not settled).
+const OFFSET_WEIGHT: f64 = 0.5;
 
 /// Most the continuity at a swap's edges adds to its link evidence (as the probability of
 /// an independent witness): half, so that it cannot settle a swap whose links say little.
@@ -1050,7 +1079,15 @@ fn leap_jump_find(cx: &Ctx, a: usize, s: usize, e: usize, opts: &SwapOptions) ->
     } else {
         NOISY
     };
-    let confidence = (LEAP_ONLY_CONFIDENCE * closure.max(0.0) * quiet * plain).clamp(0.0, 1.0);
+    // A marker with links (two or three, none deciding): the span must also hold a steady
+    // offset from the link partners, the leaps' own (none measured: no find).
+    let witness = (cx.links[a].len() >= 2).then(|| cx.offset_witness(a, s, e));
+    let steady = match witness {
+        None => 1.0,
+        Some(w) => w.map_or(0.0, |o| o.steady),
+    };
+    let confidence =
+        (LEAP_ONLY_CONFIDENCE * closure.max(0.0) * quiet * plain * steady).clamp(0.0, 1.0);
     Find {
         kind: FindKind::Jump,
         markers: vec![a],
@@ -1073,6 +1110,7 @@ fn leap_jump_find(cx: &Ctx, a: usize, s: usize, e: usize, opts: &SwapOptions) ->
             edges_smoother: smoother,
             edges_checked: steps.len(),
             edge_step_mm: steps.iter().copied().fold(0.0, f64::max),
+            offset_share: witness.flatten().map(|o| o.share()),
         },
     }
 }
