@@ -738,6 +738,39 @@ mod tests {
         }
     }
 
+    /// The zeroed covariance's components from the other columns' block plus three zeros
+    /// are its own: each eigenvalue equal, each leading eigenvector equal up to its sign
+    /// (nalgebra's decomposition of the zeroed matrix as the reference), the target's
+    /// coordinates 0 in each.
+    #[test]
+    fn zeroed_components_from_the_block_equal_the_zeroed_matrix() {
+        let (rn, cols, ti) = (200, 24, 3);
+        let x = DMatrix::from_fn(rn, cols, |r, c| {
+            let t = r as f64 * 0.05;
+            (t * (1.0 + 0.1 * c as f64)).sin()
+                + 0.3 * (2.1 * t + c as f64).cos()
+                + 0.01 * ((r * 31 + c * 17) % 13) as f64
+        });
+        let cov = (x.transpose() * &x) / (rn as f64 - 1.0);
+        let (_, zero) = super::from_covariance(cov.clone(), ti);
+        let mut covz = cov;
+        for c in 3 * ti..3 * ti + 3 {
+            covz.row_mut(c).fill(0.0);
+            covz.column_mut(c).fill(0.0);
+        }
+        let (w, q) = crate::linalg::symmetric_eigen(covz.as_slice(), cols);
+        let (v, p) = (zero.values(), zero.vectors(cols));
+        for i in 0..cols {
+            assert!((v[i] - w[i]).abs() < 1e-10 * w[0], "eigenvalue {i}");
+        }
+        // The leading ones, well separated (the trailing ones are near 0 and mix).
+        for i in 0..8 {
+            let dot: f64 = p.column(i).dot(&q.column(i));
+            assert!((dot.abs() - 1.0).abs() < 1e-8, "eigenvector {i}: {dot}");
+            assert!((0..3).all(|a| p[(3 * ti + a, i)] == 0.0));
+        }
+    }
+
     /// Markers that move together (a segment swinging while the body walks on, with two
     /// independent motions) are reconstructed from the others' correlations across a
     /// 60-frame gap, far from where a line across the gap would put the target.
