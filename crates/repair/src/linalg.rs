@@ -1,6 +1,11 @@
-//! Small dense helpers: Gaussian elimination, Kabsch, symmetric eigen (via nalgebra).
+//! Small dense helpers: Gaussian elimination, Kabsch, symmetric eigen (via nalgebra, and
+//! [`Leading`] where only the leading eigenvectors are used).
 
 use nalgebra::{DMatrix, Matrix3, Matrix4, Vector3, Vector4};
+
+mod eigen;
+
+pub(crate) use eigen::Leading;
 
 /// Solves `a x = rhs` in place for `n` unknowns and `r` right-hand sides by Gaussian
 /// elimination with partial pivoting. `a` is row-major n×n, `rhs` row-major n×r. Returns

@@ -36,7 +36,7 @@
 use super::data::{Data, TrialModels};
 use super::donors::Donors;
 use super::{SkipReason, Span, Target};
-use crate::linalg::symmetric_eigen;
+use crate::linalg::Leading;
 use nalgebra::DMatrix;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -316,7 +316,21 @@ impl Model {
                 (mean, sd, components(&x, ti))
             }
         };
-        let pca = |(vals, mut vecs): (Vec<f64>, DMatrix<f64>)| {
+        // The components kept: up to 99 % of the singular values' sum in either set, the
+        // larger count of the two plus one; only those eigenvectors are computed.
+        let kept_count = |vals: &[f64]| {
+            let sv: Vec<f64> = vals.iter().map(|v| v.max(0.0).sqrt()).collect();
+            let total: f64 = sv.iter().sum();
+            let mut acc = 0.0;
+            sv.iter()
+                .position(|v| {
+                    acc += v;
+                    acc >= MIN_CUM_SV * total
+                })
+                .unwrap_or(sv.len().saturating_sub(1))
+        };
+        let k = kept_count(no.values()).max(kept_count(zero.values())) + 1;
+        let signed = |mut vecs: DMatrix<f64>| {
             // The published product (step 4) changes with the components' signs, which the
             // decomposition leaves arbitrary: each is turned so that its largest coordinate is
             // positive (the reference script does the same).
@@ -329,21 +343,10 @@ impl Model {
                     v.neg_mut();
                 }
             }
-            let sv: Vec<f64> = vals.iter().map(|v| v.max(0.0).sqrt()).collect();
-            let total: f64 = sv.iter().sum();
-            let mut acc = 0.0;
-            let k = sv
-                .iter()
-                .position(|v| {
-                    acc += v;
-                    acc >= MIN_CUM_SV * total
-                })
-                .unwrap_or(sv.len().saturating_sub(1));
-            (vecs, k)
+            vecs
         };
-        let (p_no, k1) = pca(no);
-        let (p_zero, k2) = pca(zero);
-        let k = k1.max(k2) + 1;
+        let p_no = signed(no.vectors(k));
+        let p_zero = signed(zero.vectors(k));
         // T = P_noᵀ P_zero (k × k).
         let mut tm = vec![0.0; k * k];
         for a in 0..k {
@@ -351,7 +354,6 @@ impl Model {
                 tm[a * k + b] = (0..cols).map(|c| p_no[(c, a)] * p_zero[(c, b)]).sum();
             }
         }
-        let p_zero = p_zero.columns(0, k).into_owned();
         let p_no_target = (0..3)
             .flat_map(|ax| (0..k).map(move |a| (3 * ti + ax, a)))
             .map(|(c, a)| p_no[(c, a)])
@@ -455,8 +457,9 @@ fn mean_trajectory(d: &super::data::Data, whole: &[usize]) -> Vec<[f64; 3]> {
 
 /// The principal components of `x`'s columns, and of the same with kept marker `ti`'s
 /// three columns set to 0: for each, the eigenvalues of XᵀX / (n − 1), descending, and
-/// their eigenvectors as columns. One product serves both: zeroing a marker's columns of X
-/// zeroes its rows and columns of XᵀX and leaves the rest as they are.
+/// their eigenvectors on request (only the leading ones are used, see [`Leading`]). One
+/// product serves both: zeroing a marker's columns of X zeroes its rows and columns of XᵀX
+/// and leaves the rest as they are.
 ///
 /// When X has fewer rows (frames) than columns (3 × markers), as short trials with many
 /// markers have, the eigenvectors come from the frames' side: XXᵀ has the same nonzero
@@ -465,31 +468,104 @@ fn mean_trajectory(d: &super::data::Data, whole: &[usize]) -> Vec<[f64; 3]> {
 /// 323 frames against 477 columns, a third of the work); the components are the same to
 /// rounding. Components beyond the frames' count have eigenvalue 0 and are returned as 0:
 /// the 99 % of the singular values' sum is reached before them.
-type Components = (Vec<f64>, DMatrix<f64>);
 fn components(x: &DMatrix<f64>, ti: usize) -> (Components, Components) {
     let (rn, cols) = x.shape();
     let scale = (rn as f64 - 1.0).max(1.0);
     if rn >= cols {
         return from_covariance((x.transpose() * x) / scale, ti);
     }
-    let from_frames = |x: &DMatrix<f64>| {
-        let gram = (x * x.transpose()) / scale;
-        let (vals, u) = symmetric_eigen(gram.as_slice(), rn);
-        let mut vecs = x.transpose() * u;
-        // Eigenvalues at rounding level have no direction to speak of.
-        let floor = vals.first().copied().unwrap_or(0.0).max(0.0) * 1e-13;
-        for (mut v, &l) in vecs.column_iter_mut().zip(&vals) {
-            if l > floor {
-                v /= (scale * l).sqrt();
-            } else {
-                v.fill(0.0);
-            }
+    let from_frames = |x: DMatrix<f64>| {
+        let gram = (&x * x.transpose()) / scale;
+        Components::Frames {
+            eigen: Leading::new(gram.as_slice(), rn),
+            x,
+            scale,
         }
-        (vals, vecs)
     };
     let mut zeroed = x.clone();
     zeroed.columns_mut(3 * ti, 3).fill(0.0);
-    (from_frames(x), from_frames(&zeroed))
+    (from_frames(x.clone()), from_frames(zeroed))
+}
+
+/// One set of principal components: its eigenvalues at once, its eigenvectors on request.
+enum Components {
+    /// The covariance's own decomposition.
+    Columns(Leading),
+    /// The covariance with marker `ti`'s rows and columns zeroed: the other columns' block
+    /// decomposed (3 columns fewer), and three zero eigenvalues whose eigenvectors are the
+    /// marker's unit vectors. `values` are all of them, descending; `order` says for each
+    /// whether it is the block's (`Some`, its place there) or one of the zeros (`None`).
+    Block {
+        eigen: Leading,
+        ti: usize,
+        values: Vec<f64>,
+        order: Vec<Option<usize>>,
+    },
+    /// From the frames' side (see [`components`]).
+    Frames {
+        eigen: Leading,
+        x: DMatrix<f64>,
+        scale: f64,
+    },
+}
+
+impl Components {
+    fn values(&self) -> &[f64] {
+        match self {
+            Components::Columns(e) | Components::Frames { eigen: e, .. } => e.values(),
+            Components::Block { values, .. } => values,
+        }
+    }
+
+    /// The eigenvectors of the `k` largest eigenvalues, as columns (3 × markers rows).
+    fn vectors(&self, k: usize) -> DMatrix<f64> {
+        match self {
+            Components::Columns(e) => e.vectors(k),
+            Components::Block {
+                eigen,
+                ti,
+                values,
+                order,
+            } => {
+                let cols = values.len();
+                let k = k.min(cols);
+                let used = order[..k].iter().flatten().count();
+                let inner = eigen.vectors(used);
+                let mut out = DMatrix::<f64>::zeros(cols, k);
+                let mut axis = 0;
+                for (j, o) in order[..k].iter().enumerate() {
+                    match *o {
+                        Some(b) => {
+                            for r in 0..cols - 3 {
+                                let row = if r < 3 * ti { r } else { r + 3 };
+                                out[(row, j)] = inner[(r, b)];
+                            }
+                        }
+                        None => {
+                            out[(3 * ti + axis, j)] = 1.0;
+                            axis += 1;
+                        }
+                    }
+                }
+                out
+            }
+            Components::Frames { eigen, x, scale } => {
+                let k = k.min(eigen.values().len());
+                let mut vecs = x.transpose() * eigen.vectors(k);
+                // Eigenvalues at rounding level have no direction to speak of.
+                let vals = eigen.values();
+                let floor = vals.first().copied().unwrap_or(0.0).max(0.0) * 1e-13;
+                for (mut v, &l) in vecs.column_iter_mut().zip(vals) {
+                    if l > floor {
+                        v /= (scale * l).sqrt();
+                    } else {
+                        v.fill(0.0);
+                    }
+                }
+                vecs
+            }
+        }
+    }
 }
 
 /// Markers whose distances to the target [`mean_distances`] sums side by side: each its own
@@ -540,16 +616,33 @@ fn mean_distances(
 /// [`components`] from the covariance XᵀX / (n − 1) itself.
 fn from_covariance(cov_no: DMatrix<f64>, ti: usize) -> (Components, Components) {
     let cols = cov_no.nrows();
-    let mut cov_zero = cov_no.clone();
-    for c in 3 * ti..3 * ti + 3 {
-        cov_zero.row_mut(c).fill(0.0);
-        cov_zero.column_mut(c).fill(0.0);
-    }
-    // Symmetric (to rounding; the decomposition reads one triangle), so their column-major
-    // slices serve as row-major ones.
+    // The other columns' block: the zeroed covariance less the target's rows and columns.
+    let others: Vec<usize> = (0..cols).filter(|c| c / 3 != ti).collect();
+    let block = DMatrix::from_fn(others.len(), others.len(), |a, b| {
+        cov_no[(others[a], others[b])]
+    });
+    let eigen = Leading::new(block.as_slice(), others.len());
+    // The block's eigenvalues and the three zeros, descending (the zeros after every
+    // eigenvalue above 0 and before any below it, as a sort of all of them puts them).
+    let mut merged: Vec<(f64, Option<usize>)> = eigen
+        .values()
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| (v, Some(i)))
+        .chain([(0.0, None); 3])
+        .collect();
+    merged.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let (values, order) = merged.into_iter().unzip();
+    // Symmetric (to rounding; the decomposition reads one triangle), so its column-major
+    // slice serves as a row-major one.
     (
-        symmetric_eigen(cov_no.as_slice(), cols),
-        symmetric_eigen(cov_zero.as_slice(), cols),
+        Components::Columns(Leading::new(cov_no.as_slice(), cols)),
+        Components::Block {
+            eigen,
+            ti,
+            values,
+            order,
+        },
     )
 }
 
@@ -618,7 +711,9 @@ mod tests {
                 + (2.3 * t).cos() * ((c % 7) as f64 - 3.0)
                 + 0.01 * ((r * 31 + c * 17) % 13) as f64
         });
-        let ((v_no, p_no), (v_zero, p_zero)) = super::components(&x, 2);
+        let (no, zero) = super::components(&x, 2);
+        let (v_no, p_no) = (no.values().to_vec(), no.vectors(rn));
+        let (v_zero, p_zero) = (zero.values().to_vec(), zero.vectors(rn));
         // The columns' side, built as when frames outnumber columns.
         let scale = rn as f64 - 1.0;
         let cov = (x.transpose() * &x) / scale;
@@ -640,6 +735,39 @@ mod tests {
                 let dot: f64 = p.column(i).dot(&q.column(i));
                 assert!((dot.abs() - 1.0).abs() < 1e-6, "eigenvector {i}: {dot}");
             }
+        }
+    }
+
+    /// The zeroed covariance's components from the other columns' block plus three zeros
+    /// are its own: each eigenvalue equal, each leading eigenvector equal up to its sign
+    /// (nalgebra's decomposition of the zeroed matrix as the reference), the target's
+    /// coordinates 0 in each.
+    #[test]
+    fn zeroed_components_from_the_block_equal_the_zeroed_matrix() {
+        let (rn, cols, ti) = (200, 24, 3);
+        let x = DMatrix::from_fn(rn, cols, |r, c| {
+            let t = r as f64 * 0.05;
+            (t * (1.0 + 0.1 * c as f64)).sin()
+                + 0.3 * (2.1 * t + c as f64).cos()
+                + 0.01 * ((r * 31 + c * 17) % 13) as f64
+        });
+        let cov = (x.transpose() * &x) / (rn as f64 - 1.0);
+        let (_, zero) = super::from_covariance(cov.clone(), ti);
+        let mut covz = cov;
+        for c in 3 * ti..3 * ti + 3 {
+            covz.row_mut(c).fill(0.0);
+            covz.column_mut(c).fill(0.0);
+        }
+        let (w, q) = crate::linalg::symmetric_eigen(covz.as_slice(), cols);
+        let (v, p) = (zero.values(), zero.vectors(cols));
+        for i in 0..cols {
+            assert!((v[i] - w[i]).abs() < 1e-10 * w[0], "eigenvalue {i}");
+        }
+        // The leading ones, well separated (the trailing ones are near 0 and mix).
+        for i in 0..8 {
+            let dot: f64 = p.column(i).dot(&q.column(i));
+            assert!((dot.abs() - 1.0).abs() < 1e-8, "eigenvector {i}: {dot}");
+            assert!((0..3).all(|a| p[(3 * ti + a, i)] == 0.0));
         }
     }
 

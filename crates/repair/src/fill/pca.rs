@@ -20,7 +20,7 @@ use super::subspace::{
     centroid, group, known_row, neighbours_through, plan_sums, scoring_groups, sums, without,
     Shared, Sums,
 };
-use crate::linalg::{solve_in_place, symmetric_eigen};
+use crate::linalg::{solve_in_place, Leading};
 use crate::profile::{self, Count};
 use std::cell::OnceCell;
 
@@ -154,7 +154,9 @@ fn model(s: &Sums, known: usize, opts: &FillOptions) -> Result<Model, SkipReason
         return Err(SkipReason::NoContext);
     }
     let (mean, cov) = s.moments();
-    let (vals, vecs) = symmetric_eigen(&cov, dims);
+    // All the eigenvalues choose the components; only the kept ones' vectors are made.
+    let eigen = Leading::new(&cov, dims);
+    let vals = eigen.values();
     let total: f64 = vals.iter().map(|v| v.max(0.0)).sum();
     if total <= 0.0 {
         return Err(SkipReason::Degenerate);
@@ -168,6 +170,7 @@ fn model(s: &Sums, known: usize, opts: &FillOptions) -> Result<Model, SkipReason
         acc += vals[pcs].max(0.0);
         pcs += 1;
     }
+    let vecs = eigen.vectors(pcs);
     // Scores from known rows: z = (Vk' Vk)^-1 Vk' y; B = Vt (Vk' Vk)^-1 Vk' (3 × known).
     // Should the known rows not determine every kept component, drop the weakest.
     let p = loop {
