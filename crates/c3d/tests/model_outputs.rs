@@ -25,21 +25,32 @@ fn name(f: &std::path::Path) -> String {
         .unwrap_or_default()
 }
 
-#[test]
-fn points_after_the_first_listed_output_are_outputs() {
+/// What a rule says of each corpus file, by file name, where it says anything.
+type Found = BTreeMap<String, Vec<String>>;
+
+/// Every corpus file and what `labels` says of it; `None` (a skip said) without the corpora.
+fn per_file(labels: impl Fn(&c3d::C3d) -> Vec<String>) -> Option<(Vec<std::path::PathBuf>, Found)> {
     let files = testkit::every_c3d_file();
     if files.is_empty() {
         testkit::skipped("no corpus (C3D_SAMPLES, C3D_EXTRA, C3D_FULLBODY, C3D_MORE)");
-        return;
+        return None;
     }
     let mut found = BTreeMap::new();
     for f in &files {
         let Ok(c) = c3d::read_file(f) else { continue };
-        let a = added(&c);
+        let a = labels(&c);
         if !a.is_empty() {
             found.insert(name(f), a);
         }
     }
+    Some((files, found))
+}
+
+#[test]
+fn points_after_the_first_listed_output_are_outputs() {
+    let Some((files, found)) = per_file(added) else {
+        return;
+    };
     let counts: Vec<(&str, usize)> = found.iter().map(|(k, v)| (k.as_str(), v.len())).collect();
     assert_eq!(
         counts,
@@ -114,14 +125,7 @@ fn is_axis_label(l: &str) -> bool {
 
 #[test]
 fn segment_axes_are_found_by_their_geometry_wherever_stored() {
-    let files = testkit::every_c3d_file();
-    if files.is_empty() {
-        testkit::skipped("no corpus (C3D_SAMPLES, C3D_EXTRA, C3D_FULLBODY, C3D_MORE)");
-        return;
-    }
-    let mut found = BTreeMap::new();
-    for f in &files {
-        let Ok(c) = c3d::read_file(f) else { continue };
+    let Some((_, found)) = per_file(|c| {
         let l = c.layout();
         let quantum = if l.float {
             0.0
@@ -133,30 +137,28 @@ fn segment_axes_are_found_by_their_geometry_wherever_stored() {
             .into_iter()
             .map(|i| labels[i].clone())
             .collect();
-        if !axes.is_empty() {
-            // The bones the geometry leaves to the order rule: the left foot of one Plug-in
-            // Gait version, whose axes are 6° off square (cosine 0.10), in the four files
-            // that version wrote (each a copy of one subject's trial).
-            let mut left: Vec<String> = c
-                .model_output_labels()
-                .into_iter()
-                .filter(|l| is_axis_label(l) && l.len() >= 4 && !axes.contains(l))
-                .map(|l| l.rsplit(':').next().unwrap_or(&l).to_string())
-                .filter(|b| {
-                    b.len() == 4
-                        && b.ends_with(['O', 'A', 'L', 'P'])
-                        && b.starts_with(['L', 'R', 'P'])
-                })
-                // HansUniVie's hip and knee joint points, named like bones, are not axes
-                .filter(|b| b.as_str() != "HIPL" && b.as_str() != "KNEL")
-                .collect();
-            left.sort();
-            if !left.is_empty() {
-                assert_eq!(left, ["LFOA", "LFOL", "LFOP"], "{}", name(f));
-            }
-            found.insert(name(f), axes);
+        // The bones the geometry leaves to the order rule: the left foot of one Plug-in
+        // Gait version, whose axes are 6° off square (cosine 0.10), in the four files that
+        // version wrote (each a copy of one subject's trial).
+        let mut left: Vec<String> = c
+            .model_output_labels()
+            .into_iter()
+            .filter(|l| is_axis_label(l) && !axes.contains(l))
+            .map(|l| l.rsplit(':').next().unwrap_or(&l).to_string())
+            .filter(|b| {
+                b.len() == 4 && b.ends_with(['O', 'A', 'L', 'P']) && b.starts_with(['L', 'R', 'P'])
+            })
+            // HansUniVie's hip and knee joint points, named like bones, are not axes
+            .filter(|b| b.as_str() != "HIPL" && b.as_str() != "KNEL")
+            .collect();
+        left.sort();
+        if !axes.is_empty() && !left.is_empty() {
+            assert_eq!(left, ["LFOA", "LFOL", "LFOP"], "{axes:?}");
         }
-    }
+        axes
+    }) else {
+        return;
+    };
     // Every point the geometry finds is a segment's axes by its label too (the labels are
     // read here only to check the rule, which never reads them), in integer files (steps of
     // 0.08–0.11 mm) as in float ones; no marker of any corpus file, cluster or skin, passes.
