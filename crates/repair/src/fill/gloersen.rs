@@ -21,6 +21,8 @@
 //! The product as published changes with the signs of the components, which a
 //! decomposition leaves arbitrary (through T's off-diagonal terms; under 0.2 mm of mean
 //! error on CMU and gait trials): each component's largest coordinate is made positive.
+//! It also reads, through T, any component of eigenvalue 0 that k reaches (past a matrix's
+//! rank), whose direction is rounding's choice: those are set to 0 ([`without_null`]).
 //! Markers never recorded together with the target are left out (the published code's
 //! weight for them is NaN). `tests/reference/gloersen.py`, an independent numpy
 //! implementation with the same sign rule, agrees to 1e-6 mm on four real trials (the test
