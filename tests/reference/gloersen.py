@@ -29,7 +29,10 @@ The algorithm, step by step (the names are the papers'):
    added back. This product, as published, changes with the signs of the singular vectors
    (T's off-diagonal terms), which an SVD leaves arbitrary; both here and in c3dfix each
    vector's largest component is made positive. On CMU and gait trials the sign choice
-   moves a fill's mean error by under 0.2 mm.
+   moves a fill's mean error by under 0.2 mm. It also reads, through T, the vectors of
+   zero singular values when the count reaches past a matrix's rank (N_zeros' target
+   columns, an exact dependency among the kept markers), which are any within the null
+   space: both here and in c3dfix those are set to 0.
 
 Validity comes from `c3d_validity.py` beside this script (the manual's rule); coordinates
 from ezc3d. Markers named by POINT:ANGLES, FORCES, MOMENTS, POWERS, SCALARS or REACTIONS
@@ -122,7 +125,12 @@ def reconstruct(x, target, weights):
         # its largest component is positive, as c3dfix does, so that both compute the same.
         v = vt.T
         big = np.argmax(np.abs(v), axis=0)
-        return v * np.sign(v[big, np.arange(v.shape[1])]), s
+        v = v * np.sign(v[big, np.arange(v.shape[1])])
+        # Vectors of singular values at rounding level (eigenvalue s^2 under 1e-13 of the
+        # largest) are any within the null space, and the product below reads them through
+        # T: they are set to 0, as c3dfix does (docs/price.md, the rounding-sensitive gap).
+        v[:, s**2 <= 1e-13 * s[0] ** 2] = 0.0
+        return v, s
 
     pc_no, sv_no = pca(n_no_gaps)
     pc_z, sv_z = pca(n_zeros)

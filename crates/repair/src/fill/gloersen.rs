@@ -21,6 +21,8 @@
 //! The product as published changes with the signs of the components, which a
 //! decomposition leaves arbitrary (through T's off-diagonal terms; under 0.2 mm of mean
 //! error on CMU and gait trials): each component's largest coordinate is made positive.
+//! It also reads, through T, any component of eigenvalue 0 that k reaches (past a matrix's
+//! rank), whose direction is rounding's choice: those are set to 0 ([`without_null`]).
 //! Markers never recorded together with the target are left out (the published code's
 //! weight for them is NaN). `tests/reference/gloersen.py`, an independent numpy
 //! implementation with the same sign rule, agrees to 1e-6 mm on four real trials (the test
@@ -517,8 +519,15 @@ impl Components {
         }
     }
 
-    /// The eigenvectors of the `k` largest eigenvalues, as columns (3 × markers rows).
+    /// The eigenvectors of the `k` largest eigenvalues, as columns (3 × markers rows); those
+    /// of eigenvalues at rounding level are 0 (see [`without_null`]).
     fn vectors(&self, k: usize) -> DMatrix<f64> {
+        let vecs = self.all_vectors(k);
+        without_null(vecs, self.values())
+    }
+
+    /// [`Components::vectors`] before the null ones are set to 0.
+    fn all_vectors(&self, k: usize) -> DMatrix<f64> {
         match self {
             Components::Columns(e) => e.vectors(k),
             Components::Block {
@@ -552,9 +561,8 @@ impl Components {
             Components::Frames { eigen, x, scale } => {
                 let k = k.min(eigen.values().len());
                 let mut vecs = x.transpose() * eigen.vectors(k);
-                // Eigenvalues at rounding level have no direction to speak of.
                 let vals = eigen.values();
-                let floor = vals.first().copied().unwrap_or(0.0).max(0.0) * 1e-13;
+                let floor = null_floor(vals);
                 for (mut v, &l) in vecs.column_iter_mut().zip(vals) {
                     if l > floor {
                         v /= (scale * l).sqrt();
@@ -566,6 +574,35 @@ impl Components {
             }
         }
     }
+}
+
+/// The largest eigenvalue a component can have and still be rounding's: 10⁻¹³ of the
+/// largest. Eigenvalues are accurate to about 10⁻¹⁶ of the largest, so below this a
+/// component's eigenvalue is 0 and its direction any within the null space.
+fn null_floor(vals: &[f64]) -> f64 {
+    vals.first().copied().unwrap_or(0.0).max(0.0) * 1e-13
+}
+
+/// `vecs` (the leading eigenvectors of `vals`, in order) with each whose eigenvalue is at
+/// rounding level ([`null_floor`]) set to 0.
+///
+/// Why: the published product M_zeros · PC_zeros · T · PC_no_gapsᵀ reads a component of the
+/// zeroed set through T's column, not only through its score, so when k reaches past the
+/// zeroed matrix's rank (its target's three zero columns, and an exact dependency among the
+/// kept markers, such as the markers of the mean trajectory when they are all that is kept)
+/// the fill depends on which vectors of the null space the decomposition returns, which is
+/// rounding's choice: on a HansUniVie gap (80 frames, marker 7) two changes of the
+/// arithmetic equal to rounding moved the fill 54 → 100–107 mm (`docs/price.md`). A null
+/// component has no direction in the data and carries nothing; the frames' side already
+/// returned them as 0.
+fn without_null(mut vecs: DMatrix<f64>, vals: &[f64]) -> DMatrix<f64> {
+    let floor = null_floor(vals);
+    for (mut v, &l) in vecs.column_iter_mut().zip(vals) {
+        if l <= floor {
+            v.fill(0.0);
+        }
+    }
+    vecs
 }
 
 /// Markers whose distances to the target [`mean_distances`] sums side by side: each its own
