@@ -230,3 +230,47 @@ fn corpus_jump_across_a_marker_with_three_links_is_found_whole_with_its_steady_o
     assert!(x.settled, "{x:?}");
     assert!(x.evidence.offset_share.unwrap() > 0.8, "{x:?}");
 }
+
+/// A label that takes another marker's recorded point while that marker is missing (the
+/// other's gap is exactly the span): its trajectory leaps onto where the other's would be
+/// and leaps back as the other reappears. Found as a swap of the two over the span, so
+/// that undoing it gives the point back to its marker and leaves the label a gap.
+#[test]
+fn corpus_label_on_a_missing_markers_point_is_found_over_its_gap_and_given_back() {
+    let Some(clean) = type3() else { return };
+    let opts = SwapOptions::default();
+    let base = find_swaps(&clean, &opts).unwrap();
+    let links = learn_links(&clean, opts.max_link_spread_mm, opts.min_link_support, 8);
+    let (a, l) = links
+        .iter()
+        .enumerate()
+        .find_map(|(m, ls)| ls.first().map(|l| (m, *l)))
+        .unwrap();
+    let b = l.other;
+    let (lo, len) = (seen_window(&clean, a, &[b], 25).unwrap(), 25);
+    let hi = lo + len - 1;
+    let mut t = clean.clone();
+    for f in lo..=hi {
+        t.xyz[a][f] = t.xyz[b][f];
+        t.valid[b][f] = false;
+    }
+    let finds: Vec<_> = find_swaps(&t, &opts)
+        .unwrap()
+        .into_iter()
+        .filter(|x| !base.contains(x))
+        .collect();
+    assert_eq!(finds.len(), 1, "{finds:?}");
+    let x = &finds[0];
+    assert_eq!(x.kind, FindKind::Swap, "{x:?}");
+    assert_eq!(x.markers, vec![a.min(b), a.max(b)]);
+    assert_eq!((x.first, x.last), (lo, hi), "{x:?}");
+    assert!(x.settled, "{x:?}");
+    undo(&mut t, &finds);
+    // B holds its recorded point again, A is a gap over the span, the rest as recorded.
+    assert_eq!(t.xyz[b], clean.xyz[b]);
+    assert_eq!(t.valid[b], clean.valid[b]);
+    assert!((lo..=hi).all(|f| !t.valid[a][f]));
+    assert!((0..clean.frames())
+        .filter(|f| !(lo..=hi).contains(f))
+        .all(|f| t.valid[a][f] == clean.valid[a][f] && t.xyz[a][f] == clean.xyz[a][f]));
+}

@@ -315,6 +315,13 @@ impl Ctx<'_> {
     /// Continuity of `a` and `b` at `f` as labelled (l) and with their labels changing
     /// between `f − 1` and `f` (u): the summed steps out of the paths predicted from the
     /// two frames before. Entering and leaving a swap give the same u.
+    ///
+    /// One marker missing on one side of the change (a label that took the other's point
+    /// while that marker's own label is missing: its gap starts at `f` or ends at `f − 1`)
+    /// leaves one step each way: the seen sample against both paths (entering), or the
+    /// one path against both samples (leaving). That is the continuity a person reads in
+    /// a label that leaps onto where another marker's trajectory, hidden over exactly
+    /// those frames, would be.
     fn switch_gain(&self, a: usize, b: usize, f: usize) -> Option<(f64, f64)> {
         if f < 2 {
             return None;
@@ -327,12 +334,15 @@ impl Ctx<'_> {
                 2.0 * p1[2] - p0[2],
             ])
         };
-        let (pa, pb) = (pred(a)?, pred(b)?);
-        let (xa, xb) = (self.pos(a, f, None)?, self.pos(b, f, None)?);
-        Some((
-            dist(&xa, &pa) + dist(&xb, &pb),
-            dist(&xb, &pa) + dist(&xa, &pb),
-        ))
+        let (pa, pb) = (pred(a), pred(b));
+        let (xa, xb) = (self.pos(a, f, None), self.pos(b, f, None));
+        let d = |x: Option<[f64; 3]>, p: Option<[f64; 3]>| Some(dist(&x?, &p?));
+        let (l, u) = ([d(xa, pa), d(xb, pb)], [d(xb, pa), d(xa, pb)]);
+        let sum = |v: [Option<f64>; 2]| v.iter().flatten().sum::<f64>();
+        let n = |v: [Option<f64>; 2]| v.iter().flatten().count();
+        // As many steps each way: both markers, or the one sample or path that spans the
+        // change.
+        (n(l) > 0 && n(l) == n(u)).then(|| (sum(l), sum(u)))
     }
 
     /// How far `m` leaps between `f − 1` and `f`: that step against the mean of the steps
@@ -525,6 +535,19 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
             for &b in &broke[i + 1..] {
                 if cx.switch_gain(a, b, f).is_some_and(|(l, u)| u < 0.25 * l) {
                     swap_frames.entry((a, b)).or_default().push(f);
+                }
+            }
+            // A label that leaps onto where a marker whose gap starts here would be, or
+            // from which a marker whose gap ends here goes on: the label took that
+            // marker's point over its gap.
+            for b in 0..nm {
+                let gap_edge = (!cx.ok[b][f] && cx.ok[b][f - 1] && cx.ok[b][f - 2])
+                    || (cx.ok[b][f] && !cx.ok[b][f - 1]);
+                if b == a || !gap_edge {
+                    continue;
+                }
+                if cx.switch_gain(a, b, f).is_some_and(|(l, u)| u < 0.25 * l) {
+                    swap_frames.entry((a.min(b), a.max(b))).or_default().push(f);
                 }
             }
         }
@@ -837,21 +860,29 @@ fn swap_find(
         if f == 0 || f >= nf || (f == e + 1 && e + 1 >= nf) {
             continue;
         }
-        let lab: Option<f64> = [a, b]
-            .iter()
-            .map(|&m| cx.step(m, f, (a, b), (s, e), false))
-            .sum();
-        let und: Option<f64> = [a, b]
-            .iter()
-            .map(|&m| cx.step(m, f, (a, b), (s, e), true))
-            .sum();
-        if let (Some(l), Some(u)) = (lab, und) {
+        // Both markers' steps; where one marker is missing at the edge (a label that took
+        // the other's point over its gap), the one step each way that spans it.
+        let steps = |apply: bool| [a, b].map(|m| cx.step(m, f, (a, b), (s, e), apply));
+        let (lab, und) = (steps(false), steps(true));
+        let n = |v: &[Option<f64>; 2]| v.iter().flatten().count();
+        let both = n(&lab) == 2 && n(&und) == 2;
+        let one = n(&lab) == 1 && n(&und) == 1;
+        let sum = |v: &[Option<f64>; 2]| v.iter().flatten().sum::<f64>();
+        if both || one {
+            let (l, u) = (sum(&lab), sum(&und));
             checked += 1;
             edge_step = edge_step.max(l);
             if u < l {
                 smoother += 1;
             }
-            let leaps = l > cx.break_mm(a) + cx.break_mm(b);
+            // The breaks of the markers whose labelled steps were measured.
+            let brk: f64 = [a, b]
+                .iter()
+                .zip(&lab)
+                .filter(|(_, st)| st.is_some())
+                .map(|(&m, _)| cx.break_mm(m))
+                .sum();
+            let leaps = l > brk;
             leap_gain = leap_gain.min(if leaps { 1.0 - u / l } else { 0.0 });
         }
     }
