@@ -274,3 +274,34 @@ fn corpus_label_on_a_missing_markers_point_is_found_over_its_gap_and_given_back(
         .filter(|f| !(lo..=hi).contains(f))
         .all(|f| t.valid[a][f] == clean.valid[a][f] && t.xyz[a][f] == clean.xyz[a][f]));
 }
+
+/// A swap to the trial's end between a marker without links (lower index) and one with
+/// links is judged through the linked marker's links, as when the marker without links
+/// has the higher index: the exchanged samples mend the linked marker's links.
+#[test]
+fn synthetic_swap_of_a_marker_without_links_and_a_lower_index_is_settled_to_the_end() {
+    let mut clean = gait_like(30, 8, 2000, 100.0, 0.3, 11);
+    // Marker 0 wanders on its own path: no distance to any marker is kept.
+    for f in 0..clean.frames() {
+        let t = f as f64;
+        clean.xyz[0][f] = [
+            600.0 + 300.0 * (t / 59.0).sin(),
+            200.0 * (t / 83.0).cos(),
+            1000.0 + 150.0 * (t / 37.0).sin(),
+        ];
+    }
+    let opts = SwapOptions::default();
+    let links = learn_links(&clean, opts.max_link_spread_mm, opts.min_link_support, 8);
+    assert!(links[0].is_empty() && links[9].len() >= 2);
+    assert!(find_swaps(&clean, &opts).unwrap().is_empty());
+    let mut t = clean.clone();
+    exchange(&mut t, 0, 9, 1500, 1999);
+    let finds = find_swaps(&t, &opts).unwrap();
+    assert_eq!(finds.len(), 1, "{finds:?}");
+    let x = &finds[0];
+    assert_eq!((x.kind, x.markers.clone()), (FindKind::Swap, vec![0, 9]));
+    assert_eq!((x.first, x.last), (1500, 1999), "{x:?}");
+    assert!(x.settled && x.evidence.frames_decided > 400, "{x:?}");
+    undo(&mut t, &finds);
+    assert_eq!(t, clean);
+}
