@@ -853,12 +853,21 @@ fn swap_find(
     // Ties (no continuity to tell, as where the markers are missing) go to the trial's
     // end for a run that reaches it, to the last decided frame otherwise.
     let ends = last_dec..=e0;
-    // The end keeps a window around each candidate. Summed over the candidates' range
+    // The end is placed as the start where both markers are seen in the frame after the
+    // run (a label leaving a missing marker's point as that marker reappears). A run that
+    // ends at the trial's end or in a gap keeps a window around each candidate: summed
     // alike, runs to the trial's end ended short (tuned labs: near markers to the end
     // undone exactly 92.2 -> 78.4 %), and so did `nick_freeform_001.c3d`'s swap up to a
     // gap both markers share (frames 0-197 for 0-199, 0-based).
     let to_end = e0 + 1 == nf;
-    let end_cost = |x: usize| cost(s, x, x + 1, x + 1, x + 1);
+    let seen_after = !to_end && cx.ok[a][e0 + 1] && cx.ok[b][e0 + 1];
+    let end_cost = |x: usize| {
+        if seen_after {
+            cost(s, x, x + 1, last_dec + 1, e0 + 1)
+        } else {
+            cost(s, x, x + 1, x + 1, x + 1)
+        }
+    };
     let by_cost = |x: &usize, y: &usize| end_cost(*x).total_cmp(&end_cost(*y));
     let e = if to_end {
         ends.rev().min_by(by_cost)
