@@ -230,3 +230,78 @@ fn corpus_jump_across_a_marker_with_three_links_is_found_whole_with_its_steady_o
     assert!(x.settled, "{x:?}");
     assert!(x.evidence.offset_share.unwrap() > 0.8, "{x:?}");
 }
+
+/// A label that takes another marker's recorded point while that marker is missing (the
+/// other's gap is exactly the span): its trajectory leaps onto where the other's would be
+/// and leaps back as the other reappears. Found as a swap of the two over the span, so
+/// that undoing it gives the point back to its marker and leaves the label a gap.
+#[test]
+fn corpus_label_on_a_missing_markers_point_is_found_over_its_gap_and_given_back() {
+    let Some(clean) = type3() else { return };
+    let opts = SwapOptions::default();
+    let base = find_swaps(&clean, &opts).unwrap();
+    let links = learn_links(&clean, opts.max_link_spread_mm, opts.min_link_support, 8);
+    let (a, l) = links
+        .iter()
+        .enumerate()
+        .find_map(|(m, ls)| ls.first().map(|l| (m, *l)))
+        .unwrap();
+    let b = l.other;
+    let (lo, len) = (seen_window(&clean, a, &[b], 25).unwrap(), 25);
+    let hi = lo + len - 1;
+    let mut t = clean.clone();
+    for f in lo..=hi {
+        t.xyz[a][f] = t.xyz[b][f];
+        t.valid[b][f] = false;
+    }
+    let finds: Vec<_> = find_swaps(&t, &opts)
+        .unwrap()
+        .into_iter()
+        .filter(|x| !base.contains(x))
+        .collect();
+    assert_eq!(finds.len(), 1, "{finds:?}");
+    let x = &finds[0];
+    assert_eq!(x.kind, FindKind::Swap, "{x:?}");
+    assert_eq!(x.markers, vec![a.min(b), a.max(b)]);
+    assert_eq!((x.first, x.last), (lo, hi), "{x:?}");
+    assert!(x.settled, "{x:?}");
+    undo(&mut t, &finds);
+    // B holds its recorded point again, A is a gap over the span, the rest as recorded.
+    assert_eq!(t.xyz[b], clean.xyz[b]);
+    assert_eq!(t.valid[b], clean.valid[b]);
+    assert!((lo..=hi).all(|f| !t.valid[a][f]));
+    assert!((0..clean.frames())
+        .filter(|f| !(lo..=hi).contains(f))
+        .all(|f| t.valid[a][f] == clean.valid[a][f] && t.xyz[a][f] == clean.xyz[a][f]));
+}
+
+/// A swap to the trial's end between a marker without links (lower index) and one with
+/// links is judged through the linked marker's links, as when the marker without links
+/// has the higher index: the exchanged samples mend the linked marker's links.
+#[test]
+fn synthetic_swap_of_a_marker_without_links_and_a_lower_index_is_settled_to_the_end() {
+    let mut clean = gait_like(30, 8, 2000, 100.0, 0.3, 11);
+    // Marker 0 wanders on its own path: no distance to any marker is kept.
+    for f in 0..clean.frames() {
+        let t = f as f64;
+        clean.xyz[0][f] = [
+            600.0 + 300.0 * (t / 59.0).sin(),
+            200.0 * (t / 83.0).cos(),
+            1000.0 + 150.0 * (t / 37.0).sin(),
+        ];
+    }
+    let opts = SwapOptions::default();
+    let links = learn_links(&clean, opts.max_link_spread_mm, opts.min_link_support, 8);
+    assert!(links[0].is_empty() && links[9].len() >= 2);
+    assert!(find_swaps(&clean, &opts).unwrap().is_empty());
+    let mut t = clean.clone();
+    exchange(&mut t, 0, 9, 1500, 1999);
+    let finds = find_swaps(&t, &opts).unwrap();
+    assert_eq!(finds.len(), 1, "{finds:?}");
+    let x = &finds[0];
+    assert_eq!((x.kind, x.markers.clone()), (FindKind::Swap, vec![0, 9]));
+    assert_eq!((x.first, x.last), (1500, 1999), "{x:?}");
+    assert!(x.settled && x.evidence.frames_decided > 400, "{x:?}");
+    undo(&mut t, &finds);
+    assert_eq!(t, clean);
+}
