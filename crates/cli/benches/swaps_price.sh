@@ -8,7 +8,9 @@
 # Usage: crates/cli/benches/swaps_price.sh [FOLDER...]
 #   FOLDER defaults to the c3d-samples, c3d-more and c3d-fullbody corpora ($C3D_SAMPLES,
 #   $C3D_MORE, $C3D_FULLBODY, else ../shared/...). OUT: where the per-file table goes
-#   (target/swaps_price).
+#   (target/swaps_price). ON: the mode measured against `--swaps off`, `fix` (the default:
+#   the settled finds undone, jumps refilled, so the fill's work on them counts) or
+#   `report` (finding alone: the default of `repair`).
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/../../.." && pwd)
@@ -22,6 +24,7 @@ fi
 [ -x /usr/bin/time ] || { echo "swaps_price.sh: needs /usr/bin/time (GNU time)" >&2; exit 2; }
 cargo build --release --locked -p c3dfix-cli --bin c3dfix >&2
 bin=$root/target/release/c3dfix
+on=${ON:-fix}
 mkdir -p "$out"
 table=$out/trials.tsv
 printf 'file\toff_s\tfix_s\tratio\n' >"$table"
@@ -41,9 +44,9 @@ cpu() {
 n=0
 while IFS= read -r -d '' f; do
     if [ $((n % 2)) -eq 0 ]; then
-        a=$(cpu off "$f"); b=$(cpu fix "$f")
+        a=$(cpu off "$f"); b=$(cpu "$on" "$f")
     else
-        b=$(cpu fix "$f"); a=$(cpu off "$f")
+        b=$(cpu "$on" "$f"); a=$(cpu off "$f")
     fi
     n=$((n + 1))
     [ -n "$a" ] && [ -n "$b" ] || continue
@@ -52,7 +55,7 @@ while IFS= read -r -d '' f; do
 done < <(find "$@" -name '*.c3d' -print0 | sort -z)
 
 awk -F'\t' 'NR > 1 { off += $2; fix += $3; k++ }
-    END { printf "%d files: --swaps off %.2f s CPU, --swaps fix %.2f s CPU, ratio %.3f\n", k, off, fix, fix / off }' "$table"
+    END { printf "%d files: --swaps off %.2f s CPU, --swaps %s %.2f s CPU, ratio %.3f\n", k, off, on, fix, fix / off }' on="$on" "$table"
 echo "where the stage costs most (fix - off, s):"
 awk -F'\t' 'NR > 1 { printf "%.3f\t%s\t%s\t%s\n", $3 - $2, $1, $2, $3 }' "$table" | sort -rn | head -5
 echo "per-file table: $table"
