@@ -141,7 +141,20 @@ struct Ctx<'a> {
     ok: Vec<Vec<bool>>,
     /// Each marker's usual step out of its predicted path (median, mm).
     usual: Vec<f64>,
+    /// Every sample's [`Ctx::scores`] as labelled (frame-major, −1 for none: a score is
+    /// never negative), made once:
+    /// the verdicts ask for the same marker and frame many times over, each pair's frames
+    /// and each run's edges, and this is what the stage spends most on. 16 bytes a sample,
+    /// two thirds of what the trial's coordinates hold, so it is made only up to
+    /// [`LABELLED_MAX_SAMPLES`]; empty otherwise (and until made), the scores then computed
+    /// as asked.
+    labelled: Vec<[f64; 2]>,
 }
+
+/// The most samples (markers × frames) whose labelled scores are kept: 32 MB. A long trial
+/// (the 100 000-frame one of the memory test, 10 million samples) computes them as asked
+/// rather than hold 160 MB more than the repair's own arrays.
+const LABELLED_MAX_SAMPLES: usize = 2_000_000;
 
 impl Ctx<'_> {
     /// Position of marker `i` at `f`, with markers `sw` exchanged.
@@ -169,6 +182,16 @@ impl Ctx<'_> {
     }
 
     fn scores(&self, m: usize, f: usize, sw: Option<(usize, usize)>) -> Option<(f64, f64)> {
+        if sw.is_none() {
+            if let Some(&[lo, hi]) = self.labelled.get(f * self.links.len() + m) {
+                return (lo >= 0.0 || lo.is_nan()).then_some((lo, hi));
+            }
+        }
+        self.link_scores(m, f, sw)
+    }
+
+    /// [`Ctx::scores`] computed from the links.
+    fn link_scores(&self, m: usize, f: usize, sw: Option<(usize, usize)>) -> Option<(f64, f64)> {
         let p = self.pos(m, f, sw)?;
         let mut z = [0.0f64; 32];
         let mut k = 0;
@@ -459,6 +482,7 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
         links,
         ok,
         usual: Vec::new(),
+        labelled: Vec::new(),
     };
     cx.usual = (0..nm)
         .map(|m| {
@@ -474,8 +498,19 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
     // Frames where a marker's links break, and the exchange that mends them if any.
     let mut swap_frames: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
     let mut jump_frames: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-    // Each frame's markers whose links are half broken as labelled (only those: a score
-    // per sample would hold more than the trial).
+    if nm * nf <= LABELLED_MAX_SAMPLES {
+        cx.labelled = (0..nf)
+            .into_par_iter()
+            .flat_map_iter(|f| {
+                let cx = &cx;
+                (0..nm).map(move |m| match cx.link_scores(m, f, None) {
+                    Some((lo, hi)) => [lo, hi],
+                    None => [-1.0; 2],
+                })
+            })
+            .collect();
+    }
+    // Each frame's markers whose links are half broken as labelled.
     let offs: Vec<Vec<usize>> = (0..nf)
         .into_par_iter()
         .map(|f| {
