@@ -1,7 +1,7 @@
 //! Swap and jump finding (issue 34): episodes injected into a synthetic trial and into a
 //! corpus trial are found with their exact frames and undone bit for bit.
 
-use repair::swaps::{find_swaps, learn_links, undo, FindKind, SwapOptions};
+use repair::swaps::{find_swaps, learn_links, undo, Find, FindKind, SwapOptions};
 use repair::synth::gait_like;
 use repair::Trial;
 
@@ -100,19 +100,25 @@ fn corpus_swap_between_linked_markers_is_found_and_undone_bit_for_bit() {
         .unwrap();
     let mut t = clean.clone();
     exchange(&mut t, a, b, lo, lo + 19);
-    let finds: Vec<_> = find_swaps(&t, &opts)
+    let x = &the_one_new_find(&t, &opts, &base);
+    assert_eq!(x.kind, FindKind::Swap);
+    assert_eq!(x.markers, vec![a.min(b), a.max(b)]);
+    assert_eq!((x.first, x.last), (lo, lo + 19));
+    assert!(x.settled, "{x:?}");
+    undo(&mut t, std::slice::from_ref(x));
+    assert_eq!(t, clean);
+}
+
+/// The finds on `t` that the untouched trial (`base`) does not have: exactly one, the
+/// injected episode's.
+fn the_one_new_find(t: &Trial, opts: &SwapOptions, base: &[Find]) -> Find {
+    let finds: Vec<Find> = find_swaps(t, opts)
         .unwrap()
         .into_iter()
         .filter(|x| !base.contains(x))
         .collect();
     assert_eq!(finds.len(), 1, "{finds:?}");
-    let x = &finds[0];
-    assert_eq!(x.kind, FindKind::Swap);
-    assert_eq!(x.markers, vec![a.min(b), a.max(b)]);
-    assert_eq!((x.first, x.last), (lo, lo + 19));
-    assert!(x.settled, "{x:?}");
-    undo(&mut t, &finds);
-    assert_eq!(t, clean);
+    finds.into_iter().next().unwrap()
 }
 
 /// A window of `len` frames from a third into the trial where `a` and every partner in
@@ -150,13 +156,7 @@ fn corpus_jump_at_a_steady_offset_carries_the_offset_witness() {
     let hi = lo + 29;
     let mut t = clean.clone();
     offset(&mut t, a, lo, hi, [21.0, -18.0, 12.0]);
-    let finds: Vec<_> = find_swaps(&t, &opts)
-        .unwrap()
-        .into_iter()
-        .filter(|x| !base.contains(x))
-        .collect();
-    assert_eq!(finds.len(), 1, "{finds:?}");
-    let x = &finds[0];
+    let x = &the_one_new_find(&t, &opts, &base);
     assert_eq!((x.kind, x.markers.clone()), (FindKind::Jump, vec![a]));
     assert_eq!((x.first, x.last), (lo, hi), "{x:?}");
     // The two leaps cancel exactly and the offset holds against the partners' motion.
@@ -217,13 +217,7 @@ fn corpus_jump_across_a_marker_with_three_links_is_found_whole_with_its_steady_o
     let k = 18.0;
     let mut t = clean.clone();
     offset(&mut t, a, lo, hi, [n[0] * k, n[1] * k, n[2] * k]);
-    let finds: Vec<_> = find_swaps(&t, &opts)
-        .unwrap()
-        .into_iter()
-        .filter(|x| !base.contains(x))
-        .collect();
-    assert_eq!(finds.len(), 1, "{finds:?}");
-    let x = &finds[0];
+    let x = &the_one_new_find(&t, &opts, &base);
     assert_eq!((x.kind, x.markers.clone()), (FindKind::Jump, vec![a]));
     assert_eq!((x.first, x.last), (lo, hi), "{x:?}");
     assert!(x.evidence.frames_decided < 12, "{x:?}");
@@ -254,18 +248,12 @@ fn corpus_label_on_a_missing_markers_point_is_found_over_its_gap_and_given_back(
         t.xyz[a][f] = t.xyz[b][f];
         t.valid[b][f] = false;
     }
-    let finds: Vec<_> = find_swaps(&t, &opts)
-        .unwrap()
-        .into_iter()
-        .filter(|x| !base.contains(x))
-        .collect();
-    assert_eq!(finds.len(), 1, "{finds:?}");
-    let x = &finds[0];
+    let x = &the_one_new_find(&t, &opts, &base);
     assert_eq!(x.kind, FindKind::Swap, "{x:?}");
     assert_eq!(x.markers, vec![a.min(b), a.max(b)]);
     assert_eq!((x.first, x.last), (lo, hi), "{x:?}");
     assert!(x.settled, "{x:?}");
-    undo(&mut t, &finds);
+    undo(&mut t, std::slice::from_ref(x));
     // B holds its recorded point again, A is a gap over the span, the rest as recorded.
     assert_eq!(t.xyz[b], clean.xyz[b]);
     assert_eq!(t.valid[b], clean.valid[b]);
