@@ -7,6 +7,7 @@
 //! cargo run --release -p c3dfix --example events_eval -- --strike landing:0 --landing-height 0 --landing-speed 0.15  # landing as a fraction of the swing
 //! cargo run --release -p c3dfix --example events_eval -- --cut-min-fall 1 --pelvis-extend 0.25  # extremes at a cut as before; the pelvis carried past its ends
 //! cargo run --release -p c3dfix --example events_eval -- --dump e.csv   # each method's error per event
+//! cargo run --release -p c3dfix --example events_eval -- --dump e.csv --touchdown-mm 5 --touchdown-speed 50 --liftoff-mm 5 --liftoff-speed 200  # the touchdown method's thresholds
 //! cargo run --release -p c3dfix --example events_eval -- --off-stride-slope 0 --off zeni:-0.0149  # offs with a constant offset, as before
 //! cargo run --release -p c3dfix --example events_eval -- --correlate --correlate-strike heel  # auto matched to the plate steps
 //! cargo run --release -p c3dfix --example events_eval -- --truth-check  # the foot's state at each lab event
@@ -416,6 +417,20 @@ fn main() {
     if let Some(v) = arg(&args, "--off-stride-ref") {
         opts.kinematic.off_stride_ref_s = v;
     }
+    for (flag, slot) in [
+        ("--touchdown-mm", &mut opts.kinematic.touchdown_mm),
+        (
+            "--touchdown-speed",
+            &mut opts.kinematic.touchdown_speed_mm_s,
+        ),
+        ("--touchdown-hz", &mut opts.kinematic.touchdown_lowpass_hz),
+        ("--liftoff-mm", &mut opts.kinematic.liftoff_mm),
+        ("--liftoff-speed", &mut opts.kinematic.liftoff_speed_mm_s),
+    ] {
+        if let Some(v) = arg(&args, flag) {
+            *slot = v;
+        }
+    }
     if let Some(v) = arg(&args, "--touch") {
         opts.kinematic.touch_mm = v;
     }
@@ -535,7 +550,7 @@ fn main() {
             use std::io::Write as _;
             let _ = writeln!(
                 f,
-                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05,velocity,zeni_lift,impact,stride_s,speed_m_s,shipped,heel_above_mm,toe_above_mm,heel_vz_mm_s,toe_vz_mm_s,foot_len_mm,heel_p5_mm,toe_p5_mm,heel_swing_mm,toe_swing_mm,ankle"
+                "lab,group,truth,file,rate,side,kind,time,zeni_raw,zeni_refined,oconnor,desailly_03,desailly_05,velocity,zeni_lift,impact,touchdown,stride_s,speed_m_s,shipped,heel_above_mm,toe_above_mm,heel_vz_mm_s,toe_vz_mm_s,foot_len_mm,heel_p5_mm,toe_p5_mm,heel_swing_mm,toe_swing_mm,ankle"
             );
             f
         });
@@ -746,6 +761,7 @@ fn main() {
                     variant(gait::Method::Velocity, 0.3),
                     variant(gait::Method::ZeniLift, 0.3),
                     variant(gait::Method::Impact, 0.3),
+                    variant(gait::Method::Touchdown, 0.3),
                 ];
                 let group = if *corpus == "c3d-samples" {
                     "tuning"

@@ -34,6 +34,7 @@ pub mod params;
 pub mod plates;
 pub mod session;
 mod signal;
+pub mod touchdown;
 pub mod velocity;
 
 pub use calibrate::calibrate;
