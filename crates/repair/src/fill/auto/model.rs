@@ -5,6 +5,9 @@
 use serde::{Deserialize, Serialize};
 
 mod coefficients;
+mod donors;
+
+pub use donors::{gap_donors, GapDonors};
 
 use super::super::anchor::Raw;
 use super::super::{dist, linear, FillMethod, Span, Target};
@@ -119,15 +122,15 @@ pub fn calibrated(d: &Diag) -> f64 {
 }
 
 /// ln(expected / scored) for features `x` under `auto`'s expected-error model (shared with the
-/// evaluation that fits it).
-pub fn log_ratio(
-    x: &[f64; FEATURES],
-    beta: &[f64; FEATURES],
-    gamma: &[f64; FEATURES],
+/// evaluation that fits it, which may try more features than `auto` computes).
+pub fn log_ratio<const N: usize>(
+    x: &[f64; N],
+    beta: &[f64; N],
+    gamma: &[f64; N],
     c1: f64,
     c0: f64,
 ) -> f64 {
-    let dot = |w: &[f64; FEATURES]| w.iter().zip(x).map(|(a, b)| a * b).sum::<f64>();
+    let dot = |w: &[f64; N]| w.iter().zip(x).map(|(a, b)| a * b).sum::<f64>();
     dot(beta) + c1 * dot(gamma).clamp(-20.0, 20.0).exp() + c0
 }
 
@@ -148,7 +151,7 @@ pub const FEATURES: usize = 16;
 /// estimate). The step excess is how far the fill's largest step goes beyond the marker's
 /// largest recorded one: fills the step rule had to slow, or nearly, were above twice their
 /// estimate 45–55 % of the time.
-pub(crate) fn features(d: &Diag) -> [f64; FEATURES] {
+pub fn features(d: &Diag) -> [f64; FEATURES] {
     let s = d.scored.max(1e-12);
     let ln = |r: Option<f64>| r.map_or(0.0, |r| r.clamp(0.05, 20.0).ln());
     // One candidate: no disagreement to read (its spread is 0 by convention).
