@@ -109,7 +109,11 @@ pub struct Diag {
 /// features that did not help: the marker's pace at the anchors and across the gap against
 /// the holes', the error of the holes most like the real gap in bend, the spread, median
 /// and geometric mean of the holes' errors, their number, and twice as many holes (+0.4
-/// points at 1.4× the cost); a gradient-boosted model did no better.
+/// points at 1.4× the cost); a gradient-boosted model did no better. Nor did the donors'
+/// evidence (`fill_eval --replay RECORDS --donors`, see docs/fill-evaluation.md): how
+/// rigid the donors stay with the target beside the gap, how fast they move in it against
+/// beside it, their roughness (at most 0.1 point within 2× on the tuned labs left out in
+/// turn).
 ///
 /// A fill the step rule had to slow is floored at how far it was moved (`Diag::slowed`):
 /// its artificial gaps scored the method's prediction, which moved the marker faster than

@@ -6,7 +6,7 @@ use super::super::super::donors::Donors;
 use super::super::super::{Data, FillOptions, Span, Target};
 use crate::Trial;
 
-/// The donors chosen for one gap, as [`Donors`] chooses them for the fills (rigid, pattern
+/// The donors chosen for one gap, as the fills choose them (`fill::donors`: rigid, pattern
 /// and PCA donors, from the markers valid through the gap and its anchors).
 #[derive(Debug, Clone, PartialEq)]
 pub struct GapDonors {
