@@ -27,7 +27,8 @@
 //! `--held-apart` run of the same build). With `--replay`: `--activities` (the expected
 //! errors per activity, each trial's activity read from its corpus's README, labs and
 //! activities held apart; `--activity-gaps FILE` writes each judged gap with its two
-//! estimates as tab-separated lines) and `--write-coefficients` (every lab's `auto` gaps written into
+//! estimates as tab-separated lines), `--donors` (the gap's donors, chosen again from each
+//! record's trial, measured and tried as expected-error features) and `--write-coefficients` (every lab's `auto` gaps written into
 //! `repair`'s committed gaps file, `crates/repair/data/expected_error_gaps.txt`, and the
 //! model fitted on that file into the generated
 //! `crates/repair/src/fill/auto/model/coefficients.rs`). `--refit` fits the committed gaps
@@ -36,6 +37,7 @@
 mod activity;
 #[path = "../corpus/mod.rs"]
 mod corpus;
+mod donors;
 mod fit;
 mod records;
 mod report;
@@ -92,6 +94,9 @@ struct Args {
     /// With `--activities`: every judged gap with its two held-apart estimates, as
     /// tab-separated lines, for reading where an activity's estimates fail.
     activity_gaps: Option<PathBuf>,
+    /// With `--replay`: the donors' evidence measured on each record's trial and tried as
+    /// expected-error features (see `donors`).
+    donors: bool,
     /// With `--replay`: the shipped model's gaps file and coefficients written anew.
     write_coefficients: bool,
     /// The coefficients fitted again on the committed gaps file.
@@ -116,6 +121,7 @@ fn args() -> Result<Args, String> {
         skip_held_apart: false,
         activities: false,
         activity_gaps: None,
+        donors: false,
         write_coefficients: false,
         refit: false,
     };
@@ -136,6 +142,7 @@ fn args() -> Result<Args, String> {
             "--skip-held-apart" => a.skip_held_apart = true,
             "--activities" => a.activities = true,
             "--activity-gaps" => a.activity_gaps = Some(PathBuf::from(val()?)),
+            "--donors" => a.donors = true,
             "--write-coefficients" => a.write_coefficients = true,
             "--refit" => a.refit = true,
             "--nested" => a.nested = val()?.split(',').map(PathBuf::from).collect(),
@@ -232,6 +239,9 @@ fn main() {
                 }
                 if a.activities {
                     per_activity(&recs, a.activity_gaps.as_deref());
+                }
+                if a.donors {
+                    donors::donor_study(&recs);
                 }
                 if a.write_coefficients {
                     let name = path.file_name().unwrap_or_default().to_string_lossy();

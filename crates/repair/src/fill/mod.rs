@@ -41,8 +41,7 @@ mod subspace;
 pub(crate) mod test_util;
 
 pub(crate) use apply::{fill_raw, fill_with};
-pub(crate) use auto::features;
-pub use auto::{calibrated, log_ratio, Diag, FEATURES};
+pub use auto::{calibrated, features, gap_donors, log_ratio, Diag, GapDonors, FEATURES};
 pub(crate) use data::{dist, Data, Span, Target};
 pub(crate) use dispatch::Vetting;
 pub use method::FillMethod;

@@ -53,13 +53,22 @@ pub const FEATURE_NAMES: [&str; K] = [
     "one candidate",
 ];
 
-/// The expected-error model: ln(expected / scored) = β · x + c₁ · exp(γ · x) + c₀.
+/// The expected-error model: ln(expected / scored) = β · x + c₁ · exp(γ · x) + c₀. `N`
+/// is the number of features: the shipped [`FEATURES`], or more where the evaluation tries
+/// a feature `auto` does not compute (see [`fit_rows`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Model {
-    pub beta: [f64; K],
-    pub gamma: [f64; K],
+pub struct Model<const N: usize = K> {
+    pub beta: [f64; N],
+    pub gamma: [f64; N],
     pub c1: f64,
     pub c0: f64,
+}
+
+impl<const N: usize> Model<N> {
+    /// ln(expected / scored) for features `x`.
+    pub fn log_ratio(&self, x: &[f64; N]) -> f64 {
+        log_ratio(x, &self.beta, &self.gamma, self.c1, self.c0)
+    }
 }
 
 impl Model {
@@ -83,7 +92,7 @@ pub struct Sample<'a> {
 }
 
 /// One gap of the fit: its lab's index, features and ln(real / scored).
-type Row = (usize, [f64; K], f64);
+type Row<const N: usize> = (usize, [f64; N], f64);
 
 /// Fits the model to ln(real / scored): β by median regression (iteratively reweighted
 /// least squares, residuals floored at 0.05); γ by least squares of the log of the
@@ -113,10 +122,7 @@ pub fn fit(gaps: &[Sample]) -> Option<Model> {
 
 /// [`fit`] with only the features of `mask` (the others' weights stay 0).
 pub fn fit_masked(gaps: &[Sample], mask: &[bool; K]) -> Option<Model> {
-    let mut labs: Vec<&str> = gaps.iter().map(|g| g.lab).collect();
-    labs.sort_unstable();
-    labs.dedup();
-    let rows: Vec<Row> = gaps
+    let rows: Vec<(&str, [f64; K], f64)> = gaps
         .iter()
         .map(|g| {
             let mut x = features(&g.evidence);
@@ -125,17 +131,35 @@ pub fn fit_masked(gaps: &[Sample], mask: &[bool; K]) -> Option<Model> {
                     *v = 0.0;
                 }
             });
-            let lab = labs.binary_search(&g.lab).unwrap_or_default();
-            let y = (g.error.max(1e-9) / g.evidence.scored.max(1e-9)).ln();
-            (lab, x, y)
+            (g.lab, x, ln_real_over_scored(g.error, g.evidence.scored))
         })
+        .collect();
+    fit_rows(&rows)
+}
+
+/// ln(real / scored), the fit's target, for a gap's real mean error and its score.
+pub fn ln_real_over_scored(error: f64, scored: f64) -> f64 {
+    (error.max(1e-9) / scored.max(1e-9)).ln()
+}
+
+/// [`fit`] on rows of (lab, features, ln(real / scored)) with any number of features: the
+/// shipped model's, or those with a feature added that `auto` does not compute, which the
+/// evaluation measures before anything is shipped (`fill_eval --donors`). A feature that
+/// is 0 on every row gets weight 0.
+pub fn fit_rows<const N: usize>(gaps: &[(&str, [f64; N], f64)]) -> Option<Model<N>> {
+    let mut labs: Vec<&str> = gaps.iter().map(|g| g.0).collect();
+    labs.sort_unstable();
+    labs.dedup();
+    let rows: Vec<Row<N>> = gaps
+        .iter()
+        .map(|&(lab, x, y)| (labs.binary_search(&lab).unwrap_or_default(), x, y))
         .collect();
     // Each gap's residual, scale and weight under the β and γ fitted without its lab; the
     // labs whose complement cannot be fitted are left out of the margin's choice.
     let unseen: Vec<Vec<(f64, f64, f64)>> = (0..labs.len())
         .into_par_iter()
         .map(|lab| {
-            let (test, train): (Vec<Row>, Vec<Row>) = rows.iter().partition(|r| r.0 == lab);
+            let (test, train): (Vec<Row<N>>, Vec<Row<N>>) = rows.iter().partition(|r| r.0 == lab);
             let Some((beta, gamma)) = fit_core(&train) else {
                 return Vec::new();
             };
@@ -155,7 +179,7 @@ pub fn fit_masked(gaps: &[Sample], mask: &[bool; K]) -> Option<Model> {
     let (beta, gamma) = fit_core(&rows)?;
     let ln2 = std::f64::consts::LN_2;
     let total: f64 = unseen.iter().flat_map(|u| u.iter()).map(|u| u.2).sum();
-    let mut best: Option<(f64, Model)> = None;
+    let mut best: Option<(f64, Model<N>)> = None;
     for i in 0..=80 {
         let c1 = -1.0 + 0.05 * f64::from(i);
         let z: Vec<Vec<(f64, f64)>> = unseen
@@ -210,11 +234,11 @@ pub fn fit_masked(gaps: &[Sample], mask: &[bool; K]) -> Option<Model> {
 }
 
 /// β and γ of [`fit`].
-fn fit_core(rows: &[Row]) -> Option<([f64; K], [f64; K])> {
-    if rows.len() < 2 * K {
+fn fit_core<const N: usize>(rows: &[Row<N>]) -> Option<([f64; N], [f64; N])> {
+    if rows.len() < 2 * N {
         return None;
     }
-    let xy: Vec<([f64; K], f64)> = rows.iter().map(|r| (r.1, r.2)).collect();
+    let xy: Vec<([f64; N], f64)> = rows.iter().map(|r| (r.1, r.2)).collect();
     // Every lab weighs the same, whatever its number of gaps: a user's lab is one more lab.
     let mut per_lab: BTreeMap<usize, usize> = BTreeMap::new();
     rows.iter()
@@ -224,14 +248,14 @@ fn fit_core(rows: &[Row]) -> Option<([f64; K], [f64; K])> {
         .map(|r| rows.len() as f64 / per_lab[&r.0] as f64)
         .collect();
     let mut w = lab_w.clone();
-    let mut beta = [0.0; K];
+    let mut beta = [0.0; N];
     for _ in 0..15 {
         beta = regress(&xy, &w)?;
         for (((x, y), wi), lw) in xy.iter().zip(w.iter_mut()).zip(&lab_w) {
             *wi = lw / (y - dot(&beta, x)).abs().max(0.05);
         }
     }
-    let size: Vec<([f64; K], f64)> = xy
+    let size: Vec<([f64; N], f64)> = xy
         .iter()
         .map(|(x, y)| (*x, (y - dot(&beta, x)).abs().max(1e-3).ln()))
         .collect();
@@ -240,12 +264,13 @@ fn fit_core(rows: &[Row]) -> Option<([f64; K], [f64; K])> {
 }
 
 /// Weighted least squares of the rows' targets on their features.
-fn regress(rows: &[([f64; K], f64)], w: &[f64]) -> Option<[f64; K]> {
-    let mut m = [[0.0; K + 1]; K];
+fn regress<const N: usize>(rows: &[([f64; N], f64)], w: &[f64]) -> Option<[f64; N]> {
+    let mut m = [[0.0; N]; N];
+    let mut b = [0.0; N];
     for ((x, y), wi) in rows.iter().zip(w) {
-        for i in 0..K {
-            m[i][K] += wi * x[i] * y;
-            for j in 0..K {
+        for i in 0..N {
+            b[i] += wi * x[i] * y;
+            for j in 0..N {
                 m[i][j] += wi * x[i] * x[j];
             }
         }
@@ -256,30 +281,33 @@ fn regress(rows: &[([f64; K], f64)], w: &[f64]) -> Option<[f64; K]> {
             row[i] = 1.0;
         }
     }
-    solve(m)
+    solve(m, b)
 }
 
-fn dot(a: &[f64; K], b: &[f64; K]) -> f64 {
+fn dot<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// Gauss–Jordan elimination with partial pivoting on the K × (K + 1) augmented system.
-fn solve(mut m: [[f64; K + 1]; K]) -> Option<[f64; K]> {
-    for c in 0..K {
-        let p = (c..K).max_by(|&i, &j| m[i][c].abs().total_cmp(&m[j][c].abs()))?;
+/// Gauss–Jordan elimination with partial pivoting on the N × N system `m` with right-hand
+/// side `b`.
+fn solve<const N: usize>(mut m: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; N]> {
+    for c in 0..N {
+        let p = (c..N).max_by(|&i, &j| m[i][c].abs().total_cmp(&m[j][c].abs()))?;
         m.swap(c, p);
+        b.swap(c, p);
         if m[c][c].abs() < 1e-12 {
             return None;
         }
-        let pivot = m[c];
-        for (r, row) in m.iter_mut().enumerate() {
+        let (pivot, pb) = (m[c], b[c]);
+        for (r, (row, br)) in m.iter_mut().zip(b.iter_mut()).enumerate() {
             if r != c {
                 let f = row[c] / pivot[c];
                 for (x, p) in row.iter_mut().zip(pivot).skip(c) {
                     *x -= f * p;
                 }
+                *br -= f * pb;
             }
         }
     }
-    Some(std::array::from_fn(|i| m[i][K] / m[i][i]))
+    Some(std::array::from_fn(|i| b[i] / m[i][i]))
 }

@@ -34,8 +34,7 @@ use super::{
 use crate::profile::{self, Count, Method, Work};
 use holes::{other_markers, same_marker, score, Scoring, RESID_NODES};
 use kind::Kind;
-pub(crate) use model::features;
-pub use model::{calibrated, log_ratio, Diag, FEATURES};
+pub use model::{calibrated, features, gap_donors, log_ratio, Diag, GapDonors, FEATURES};
 use model::{deviation, donor_index, drift, prior};
 use steps::slowed;
 

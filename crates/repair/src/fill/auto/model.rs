@@ -5,6 +5,9 @@
 use serde::{Deserialize, Serialize};
 
 mod coefficients;
+mod donors;
+
+pub use donors::{gap_donors, GapDonors};
 
 use super::super::anchor::Raw;
 use super::super::{dist, linear, FillMethod, Span, Target};
@@ -106,7 +109,11 @@ pub struct Diag {
 /// features that did not help: the marker's pace at the anchors and across the gap against
 /// the holes', the error of the holes most like the real gap in bend, the spread, median
 /// and geometric mean of the holes' errors, their number, and twice as many holes (+0.4
-/// points at 1.4× the cost); a gradient-boosted model did no better.
+/// points at 1.4× the cost); a gradient-boosted model did no better. Nor did the donors'
+/// evidence (`fill_eval --replay RECORDS --donors`, see docs/fill-evaluation.md): how
+/// rigid the donors stay with the target beside the gap, how fast they move in it against
+/// beside it, their roughness (at most 0.1 point within 2× on the tuned labs left out in
+/// turn).
 ///
 /// A fill the step rule had to slow is floored at how far it was moved (`Diag::slowed`):
 /// its artificial gaps scored the method's prediction, which moved the marker faster than
@@ -119,15 +126,15 @@ pub fn calibrated(d: &Diag) -> f64 {
 }
 
 /// ln(expected / scored) for features `x` under `auto`'s expected-error model (shared with the
-/// evaluation that fits it).
-pub fn log_ratio(
-    x: &[f64; FEATURES],
-    beta: &[f64; FEATURES],
-    gamma: &[f64; FEATURES],
+/// evaluation that fits it, which may try more features than `auto` computes).
+pub fn log_ratio<const N: usize>(
+    x: &[f64; N],
+    beta: &[f64; N],
+    gamma: &[f64; N],
     c1: f64,
     c0: f64,
 ) -> f64 {
-    let dot = |w: &[f64; FEATURES]| w.iter().zip(x).map(|(a, b)| a * b).sum::<f64>();
+    let dot = |w: &[f64; N]| w.iter().zip(x).map(|(a, b)| a * b).sum::<f64>();
     dot(beta) + c1 * dot(gamma).clamp(-20.0, 20.0).exp() + c0
 }
 
@@ -148,7 +155,7 @@ pub const FEATURES: usize = 16;
 /// estimate). The step excess is how far the fill's largest step goes beyond the marker's
 /// largest recorded one: fills the step rule had to slow, or nearly, were above twice their
 /// estimate 45–55 % of the time.
-pub(crate) fn features(d: &Diag) -> [f64; FEATURES] {
+pub fn features(d: &Diag) -> [f64; FEATURES] {
     let s = d.scored.max(1e-12);
     let ln = |r: Option<f64>| r.map_or(0.0, |r| r.clamp(0.05, 20.0).ln());
     // One candidate: no disagreement to read (its spread is 0 by convention).
