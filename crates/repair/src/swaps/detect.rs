@@ -933,10 +933,10 @@ fn medians(z: &[f64]) -> Option<(f64, f64)> {
     debug_assert!(z.iter().all(|x| x.is_sign_positive()));
     let (lo, hi) = ((k - 1) / 2, k / 2);
     if k <= 8 {
-        let mut v = [u64::MAX; 8];
-        for (x, &e) in v.iter_mut().zip(z) {
-            *x = e.to_bits();
-        }
+        // Element by element over all 8 places (a copy of `k` would be a call to copy
+        // memory, which cost more than the sort).
+        let v: [u64; 8] = std::array::from_fn(|i| z.get(i).map_or(u64::MAX, |e| e.to_bits()));
+        let mut v = v;
         for &(i, j) in &SORT8 {
             let (a, b) = (v[i], v[j]);
             v[i] = a.min(b);
