@@ -47,31 +47,52 @@ pub fn learn_links(
         return out;
     }
     let step = n.div_ceil(LEARN_FRAMES).max(1);
-    // Each marker's samples at the sampled frames, side by side, `None` where missing: every
-    // pair reads them (1 770 pairs for 60 markers), and read from the trial's rows, a frame
-    // apart by `step`, each sample was a cache miss and its validity checked again per pair.
-    let sampled: Vec<Vec<Option<[f64; 3]>>> = (0..m)
+    // Each marker's coordinates at the sampled frames, one array per axis, NaN where the
+    // sample is missing: every pair reads them (1 770 pairs for 60 markers), and read from
+    // the trial's rows, a frame apart by `step`, each sample was a cache miss and its
+    // validity checked again per pair. Per axis, a pair's distances are computed over all
+    // the frames at once, several at a time, and the missing ones (NaN, as any distance
+    // with a missing end is) dropped after.
+    let sampled: Vec<[Vec<f64>; 3]> = (0..m)
         .map(|i| {
-            (0..n)
-                .step_by(step)
-                .map(|f| (trial.valid[i][f] && finite(&trial.xyz[i][f])).then_some(trial.xyz[i][f]))
-                .collect()
+            let at = |c: usize| -> Vec<f64> {
+                (0..n)
+                    .step_by(step)
+                    .map(|f| {
+                        let p = &trial.xyz[i][f];
+                        if trial.valid[i][f] && finite(p) {
+                            p[c]
+                        } else {
+                            f64::NAN
+                        }
+                    })
+                    .collect()
+            };
+            [at(0), at(1), at(2)]
         })
         .collect();
     // Each marker's links to the markers after it, markers in parallel.
     let found: Vec<Vec<(usize, Link)>> = (0..m)
         .into_par_iter()
         .map(|a| {
-            let mut ds: Vec<u64> = Vec::with_capacity(sampled[a].len());
+            let len = sampled[a][0].len();
+            let mut ds: Vec<u64> = Vec::with_capacity(len);
+            let mut all = vec![0.0f64; len];
             let mut mine = Vec::new();
             for b in a + 1..m {
+                let ([xa, ya, za], [xb, yb, zb]) = (&sampled[a], &sampled[b]);
+                // All of one length, so that the loop checks no index.
+                let (xa, ya, za) = (&xa[..len], &ya[..len], &za[..len]);
+                let (xb, yb, zb) = (&xb[..len], &yb[..len], &zb[..len]);
+                // The same sum, in the same order, as [`dist`].
+                for (k, d) in all.iter_mut().enumerate() {
+                    *d = ((xa[k] - xb[k]).powi(2)
+                        + (ya[k] - yb[k]).powi(2)
+                        + (za[k] - zb[k]).powi(2))
+                    .sqrt();
+                }
                 ds.clear();
-                ds.extend(
-                    sampled[a]
-                        .iter()
-                        .zip(&sampled[b])
-                        .filter_map(|(p, q)| Some(dist(p.as_ref()?, q.as_ref()?).to_bits())),
-                );
+                ds.extend(all.iter().filter(|d| !d.is_nan()).map(|d| d.to_bits()));
                 if let Some((d0, spread)) = cluster(&mut ds, max_spread_mm, min_support) {
                     mine.push((
                         b,
@@ -125,8 +146,14 @@ fn cluster(ds: &mut [u64], max_spread_mm: f64, min_support: f64) -> Option<(f64,
         .map(|&d| val(d))
         .fold(f64::NEG_INFINITY, f64::max);
     let w = window_mm(median);
-    let near = |c: f64| ds.iter().filter(|&&d| (val(d) - c).abs() <= w).count();
-    if (near(median).max(near(below)) as f64) < min_support * ds.len() as f64 {
+    // Both counts in one pass over the distances.
+    let (mut at_median, mut at_below) = (0usize, 0usize);
+    for &d in ds.iter() {
+        let d = val(d);
+        at_median += usize::from((d - median).abs() <= w);
+        at_below += usize::from((d - below).abs() <= w);
+    }
+    if (at_median.max(at_below) as f64) < min_support * ds.len() as f64 {
         return None;
     }
     ds.sort_unstable();
