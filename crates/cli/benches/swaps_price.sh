@@ -10,7 +10,8 @@
 #   $C3D_MORE, $C3D_FULLBODY, else ../shared/...). OUT: where the per-file table goes
 #   (target/swaps_price). ON: the mode measured against `--swaps off`, `fix` (the default:
 #   the settled finds undone, jumps refilled, so the fill's work on them counts) or
-#   `report` (finding alone: the default of `repair`).
+#   `report` (finding alone: the default of `repair`). BIN: a `c3dfix` binary to measure
+#   instead of building this tree's (to measure an earlier commit's build the same way).
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/../../.." && pwd)
@@ -22,9 +23,14 @@ if [ $# -eq 0 ]; then
         "${C3D_FULLBODY:-$shared/c3d-fullbody}"
 fi
 [ -x /usr/bin/time ] || { echo "swaps_price.sh: needs /usr/bin/time (GNU time)" >&2; exit 2; }
-cargo build --release --locked -p c3dfix-cli --bin c3dfix >&2
-bin=$root/target/release/c3dfix
+if [ -n "${BIN:-}" ]; then
+    bin=$BIN
+else
+    cargo build --release --locked -p c3dfix-cli --bin c3dfix >&2
+    bin=$root/target/release/c3dfix
+fi
 on=${ON:-fix}
+load0=$(cut -d' ' -f1-3 /proc/loadavg)
 mkdir -p "$out"
 table=$out/trials.tsv
 printf 'file\toff_s\tfix_s\tratio\n' >"$table"
@@ -59,3 +65,4 @@ awk -F'\t' 'NR > 1 { off += $2; fix += $3; k++ }
 echo "where the stage costs most (fix - off, s):"
 awk -F'\t' 'NR > 1 { printf "%.3f\t%s\t%s\t%s\n", $3 - $2, $1, $2, $3 }' "$table" | sort -rn | head -5
 echo "per-file table: $table"
+echo "load average (1, 5, 15 min): at the start $load0, at the end $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -127,6 +127,18 @@ pub struct Find {
     pub evidence: Evidence,
 }
 
+/// A swap's verdict at a frame from the pair's scores as labelled and exchanged, summed
+/// over `n` markers ([`Ctx::pair_scores`]).
+fn verdict(before: f64, after: f64, n: f64) -> Verdict {
+    if after <= n && before > n && after < 0.5 * before {
+        Verdict::Yes
+    } else if before <= n && after > before + 1.0 {
+        Verdict::No
+    } else {
+        Verdict::Undecided
+    }
+}
+
 /// Per-frame verdict for one hypothesis.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Verdict {
@@ -203,20 +215,78 @@ impl Ctx<'_> {
                 }
             }
         }
-        if k == 0 {
-            return None;
-        }
-        // An insertion sort: a marker has at most a few links, and this runs for every
-        // marker at every frame (the library's sort costs more to set up on so few).
-        let z = &mut z[..k];
-        for i in 1..k {
-            let mut j = i;
-            while j > 0 && z[j - 1].total_cmp(&z[j]).is_gt() {
-                z.swap(j - 1, j);
-                j -= 1;
-            }
-        }
-        Some((z[(k - 1) / 2], z[k / 2]))
+        medians(&z[..k])
+    }
+
+    /// Every sample's [`Ctx::link_scores`] as labelled, frame-major, `[-1, -1]` for none.
+    ///
+    /// Each link's error is computed once per frame and read by both its markers (a link
+    /// is in both markers' lists, with the same length and tolerance, and the distance
+    /// from either end is the same number), and the frames go in blocks so that each link
+    /// reads its two markers' rows in order: marker by marker at every frame, the rows of
+    /// all the markers were read at once, a cache miss apiece. The same numbers as
+    /// [`Ctx::link_scores`] sample by sample.
+    fn labelled_scores(&self) -> Vec<[f64; 2]> {
+        const BLOCK: usize = 256;
+        let (nm, nf) = (self.links.len(), self.t.frames());
+        // Each link once, and each marker's links (in order) as indices into that list.
+        let mut pairs: Vec<(usize, usize, f64, f64)> = Vec::new();
+        let mut index: BTreeMap<(usize, usize), usize> = BTreeMap::new();
+        let ids: Vec<Vec<usize>> = (0..nm)
+            .map(|m| {
+                self.links[m]
+                    .iter()
+                    .map(|l| {
+                        *index
+                            .entry((m.min(l.other), m.max(l.other)))
+                            .or_insert_with(|| {
+                                pairs.push((m, l.other, l.d0_mm, l.tol_mm));
+                                pairs.len() - 1
+                            })
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut out = vec![[-1.0f64; 2]; nm * nf];
+        out.par_chunks_mut(BLOCK * nm)
+            .enumerate()
+            .for_each(|(block, chunk)| {
+                let f0 = block * BLOCK;
+                let len = chunk.len() / nm;
+                // Each link's error at each frame of the block, −1 where an end is missing.
+                let mut err = vec![-1.0f64; pairs.len() * len];
+                for (row, &(a, b, d0, tol)) in err.chunks_mut(len).zip(&pairs) {
+                    for (k, e) in row.iter_mut().enumerate() {
+                        let f = f0 + k;
+                        if self.ok[a][f] && self.ok[b][f] {
+                            *e = (dist(&self.t.xyz[a][f], &self.t.xyz[b][f]) - d0).abs() / tol;
+                        }
+                    }
+                }
+                for (m, ids) in ids.iter().enumerate() {
+                    for k in 0..len {
+                        if !self.ok[m][f0 + k] {
+                            continue;
+                        }
+                        let mut z = [0.0f64; 32];
+                        let mut n = 0;
+                        for &id in ids {
+                            let e = err[id * len + k];
+                            // An error's sign bit is clear (an absolute value over a
+                            // positive tolerance, NaN included); the mark for a missing
+                            // end is −1.
+                            if e.is_sign_positive() && n < z.len() {
+                                z[n] = e;
+                                n += 1;
+                            }
+                        }
+                        if let Some((lo, hi)) = medians(&z[..n]) {
+                            chunk[k * nm + m] = [lo, hi];
+                        }
+                    }
+                }
+            });
+        out
     }
 
     /// How much `m`'s links change across an edge between `inside` and `outside` frames:
@@ -313,13 +383,28 @@ impl Ctx<'_> {
         let Some((before, after, n)) = self.pair_scores(a, b, f) else {
             return Verdict::Undecided;
         };
-        if after <= n && before > n && after < 0.5 * before {
-            Verdict::Yes
-        } else if before <= n && after > before + 1.0 {
-            Verdict::No
-        } else {
-            Verdict::Undecided
-        }
+        verdict(before, after, n)
+    }
+
+    /// The exchanged score where [`Ctx::swap_verdict`] says `Yes`, `None` elsewhere.
+    fn mends(&self, a: usize, b: usize, f: usize) -> Option<f64> {
+        let (before, after, n) = self.pair_scores(a, b, f)?;
+        (verdict(before, after, n) == Verdict::Yes).then_some(after)
+    }
+
+    /// True where the exchange of `a` and `b` at `f` cannot mend ([`Ctx::swap_verdict`]
+    /// is not `Yes`), told from one marker's exchanged score, the other's left uncomputed:
+    /// wherever a marker's own scores enter [`Ctx::pair_scores`], its exchanged score is
+    /// a term of the exchanged sum, the other term not negative, and a `Yes` needs that
+    /// sum at most the markers counted (2 at most). Most exchanges tried between the
+    /// markers off at a frame are this far from mending, and the second marker's score
+    /// then need not be computed.
+    fn past_mending(&self, a: usize, b: usize, f: usize) -> bool {
+        let sw = Some((a, b));
+        let over = |m: usize| {
+            self.loose(m, f, None).is_some() && self.loose(m, f, sw).is_some_and(|t| t > 2.0)
+        };
+        over(a) || over(b)
     }
 
     fn jump_verdict(&self, a: usize, f: usize) -> Verdict {
@@ -499,16 +584,7 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
     let mut swap_frames: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
     let mut jump_frames: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
     if nm * nf <= LABELLED_MAX_SAMPLES {
-        cx.labelled = (0..nf)
-            .into_par_iter()
-            .flat_map_iter(|f| {
-                let cx = &cx;
-                (0..nm).map(move |m| match cx.link_scores(m, f, None) {
-                    Some((lo, hi)) => [lo, hi],
-                    None => [-1.0; 2],
-                })
-            })
-            .collect();
+        cx.labelled = cx.labelled_scores();
     }
     // Each frame's markers whose links are half broken as labelled.
     let offs: Vec<Vec<usize>> = (0..nf)
@@ -524,13 +600,16 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
     let linkless: Vec<usize> = (0..nm).filter(|&m| !cx.has_links(m)).collect();
     for (f, off) in offs.iter().enumerate() {
         let mut taken: Vec<usize> = Vec::new();
-        for &a in off {
+        for (i, &a) in off.iter().enumerate() {
             if taken.contains(&a) {
                 continue;
             }
             let pa = trial.xyz[a][f];
             let mut best: Option<(f64, usize)> = None;
-            for &b in off.iter().chain(&linkless) {
+            // The off markers before `a` that are not taken were tried against `a` in their
+            // own turn and did not mend with it (a pair's verdict is the same either way
+            // round): only those after it are tried.
+            for &b in off[i + 1..].iter().chain(&linkless) {
                 if b == a
                     || taken.contains(&b)
                     || !cx.ok[b][f]
@@ -542,11 +621,12 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
                 if !cx.has_links(b) && cx.links[a].len() < 2 {
                     continue;
                 }
-                if cx.swap_verdict(a, b, f) == Verdict::Yes {
-                    if let Some((_, after, _)) = cx.pair_scores(a, b, f) {
-                        if best.is_none_or(|(s, _)| after < s) {
-                            best = Some((after, b));
-                        }
+                if cx.past_mending(a, b, f) {
+                    continue;
+                }
+                if let Some(after) = cx.mends(a, b, f) {
+                    if best.is_none_or(|(s, _)| after < s) {
+                        best = Some((after, b));
                     }
                 }
             }
@@ -835,16 +915,82 @@ fn episodes(
     out
 }
 
+/// The lower and upper medians of a marker's link errors (`None` for none).
+///
+/// The errors are ordered by their bits: each is an absolute value over a positive
+/// tolerance, its sign bit clear, and numbers with the sign bit clear order by their bits
+/// as [`f64::total_cmp`] orders them (which spent most of the sort turning the bits of each
+/// number into that order). Up to 8 errors (the default number of links) go through a
+/// sorting network of 19 exchanges without a branch, the unused places filled with the
+/// largest key so that they sort last; this runs for every marker at every frame. More go
+/// through an insertion sort. Either way the sorted keys, and so the medians, are the
+/// ones [`f64::total_cmp`] gives.
+fn medians(z: &[f64]) -> Option<(f64, f64)> {
+    let k = z.len();
+    if k == 0 {
+        return None;
+    }
+    debug_assert!(z.iter().all(|x| x.is_sign_positive()));
+    let (lo, hi) = ((k - 1) / 2, k / 2);
+    if k <= 8 {
+        // Element by element over all 8 places (a copy of `k` would be a call to copy
+        // memory, which cost more than the sort).
+        let v: [u64; 8] = std::array::from_fn(|i| z.get(i).map_or(u64::MAX, |e| e.to_bits()));
+        let mut v = v;
+        for &(i, j) in &SORT8 {
+            let (a, b) = (v[i], v[j]);
+            v[i] = a.min(b);
+            v[j] = a.max(b);
+        }
+        return Some((f64::from_bits(v[lo]), f64::from_bits(v[hi])));
+    }
+    let mut v: Vec<u64> = z.iter().map(|e| e.to_bits()).collect();
+    for i in 1..k {
+        let mut j = i;
+        while j > 0 && v[j - 1] > v[j] {
+            v.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+    Some((f64::from_bits(v[lo]), f64::from_bits(v[hi])))
+}
+
+/// A sorting network for 8 keys (19 exchanges, 6 layers: Knuth, TAOCP 5.3.4).
+const SORT8: [(usize, usize); 19] = [
+    (0, 2),
+    (1, 3),
+    (4, 6),
+    (5, 7),
+    (0, 4),
+    (1, 5),
+    (2, 6),
+    (3, 7),
+    (0, 1),
+    (2, 3),
+    (4, 5),
+    (6, 7),
+    (2, 4),
+    (3, 5),
+    (1, 4),
+    (3, 6),
+    (1, 2),
+    (3, 4),
+    (5, 6),
+];
+
 fn norm(v: &[f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
+/// The upper median (the element at half the length once sorted), 0 for none. Selected,
+/// not sorted: the element of that rank in [`f64::total_cmp`]'s order is one number,
+/// however the others are arranged.
 fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
         return 0.0;
     }
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
+    let mid = v.len() / 2;
+    *v.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
 fn swap_find(
@@ -1107,7 +1253,16 @@ fn jump_find(
     // The steady offset between two cancelling leaps is a second witness beside the
     // links, as a swap's edges are (an offset across the links changes their lengths
     // little, and a long jump's links then break barely past their tolerance).
-    let witness = cx.offset_witness(a, s, e).map(|o| o.share());
+    // Measured only where it could lift the find to a report: a witness is at most 1, and
+    // most spans of jump frames (a strained pose, a marker settling after a gap) stay
+    // under the report with a full one; they are dropped, and measuring the offset (every
+    // frame of the span carried by the link partners' motion) was most of their cost.
+    let most = (1.0 - (1.0 - links_say) * (1.0 - OFFSET_WEIGHT)).clamp(0.0, 1.0);
+    let witness = if most < opts.min_report {
+        None
+    } else {
+        cx.offset_witness(a, s, e).map(|o| o.share())
+    };
     let g = witness.unwrap_or(0.0);
     let confidence = (1.0 - (1.0 - links_say) * (1.0 - OFFSET_WEIGHT * g)).clamp(0.0, 1.0);
     Find {
@@ -1217,5 +1372,47 @@ fn leap_jump_find(cx: &Ctx, a: usize, s: usize, e: usize, opts: &SwapOptions) ->
             edge_step_mm: steps.iter().copied().fold(0.0, f64::max),
             offset_share: witness.flatten().map(|o| o.share()),
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{medians, SORT8};
+
+    /// The network sorts every input of 0s and 1s (so, by the 0-1 principle, every input).
+    #[test]
+    fn sort8_sorts() {
+        for bits in 0u32..256 {
+            let mut v: [u8; 8] = std::array::from_fn(|i| ((bits >> i) & 1) as u8);
+            for &(i, j) in &SORT8 {
+                let (a, b) = (v[i], v[j]);
+                v[i] = a.min(b);
+                v[j] = a.max(b);
+            }
+            assert!(v.windows(2).all(|w| w[0] <= w[1]), "{bits:08b}: {v:?}");
+        }
+    }
+
+    /// The medians are those of the sorted errors, for every count of links up to 12.
+    #[test]
+    fn medians_as_sorted() {
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        for k in 1..=12 {
+            for _ in 0..200 {
+                let z: Vec<f64> = (0..k)
+                    .map(|_| {
+                        x ^= x << 13;
+                        x ^= x >> 7;
+                        x ^= x << 17;
+                        // Ties too: a few values only.
+                        (x % 7) as f64 * 0.25
+                    })
+                    .collect();
+                let mut s = z.clone();
+                s.sort_by(f64::total_cmp);
+                assert_eq!(medians(&z), Some((s[(k - 1) / 2], s[k / 2])));
+            }
+        }
+        assert_eq!(medians(&[]), None);
     }
 }

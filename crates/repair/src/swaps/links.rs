@@ -47,22 +47,52 @@ pub fn learn_links(
         return out;
     }
     let step = n.div_ceil(LEARN_FRAMES).max(1);
-    let frames: Vec<usize> = (0..n).step_by(step).collect();
-    let ok = |i: usize, f: usize| trial.valid[i][f] && finite(&trial.xyz[i][f]);
+    // Each marker's coordinates at the sampled frames, one array per axis, NaN where the
+    // sample is missing: every pair reads them (1 770 pairs for 60 markers), and read from
+    // the trial's rows, a frame apart by `step`, each sample was a cache miss and its
+    // validity checked again per pair. Per axis, a pair's distances are computed over all
+    // the frames at once, several at a time, and the missing ones (NaN, as any distance
+    // with a missing end is) dropped after.
+    let sampled: Vec<[Vec<f64>; 3]> = (0..m)
+        .map(|i| {
+            let at = |c: usize| -> Vec<f64> {
+                (0..n)
+                    .step_by(step)
+                    .map(|f| {
+                        let p = &trial.xyz[i][f];
+                        if trial.valid[i][f] && finite(p) {
+                            p[c]
+                        } else {
+                            f64::NAN
+                        }
+                    })
+                    .collect()
+            };
+            [at(0), at(1), at(2)]
+        })
+        .collect();
     // Each marker's links to the markers after it, markers in parallel.
     let found: Vec<Vec<(usize, Link)>> = (0..m)
         .into_par_iter()
         .map(|a| {
-            let mut ds: Vec<f64> = Vec::with_capacity(frames.len());
+            let len = sampled[a][0].len();
+            let mut ds: Vec<u64> = Vec::with_capacity(len);
+            let mut all = vec![0.0f64; len];
             let mut mine = Vec::new();
             for b in a + 1..m {
+                let ([xa, ya, za], [xb, yb, zb]) = (&sampled[a], &sampled[b]);
+                // All of one length, so that the loop checks no index.
+                let (xa, ya, za) = (&xa[..len], &ya[..len], &za[..len]);
+                let (xb, yb, zb) = (&xb[..len], &yb[..len], &zb[..len]);
+                // The same sum, in the same order, as [`dist`].
+                for (k, d) in all.iter_mut().enumerate() {
+                    *d = ((xa[k] - xb[k]).powi(2)
+                        + (ya[k] - yb[k]).powi(2)
+                        + (za[k] - zb[k]).powi(2))
+                    .sqrt();
+                }
                 ds.clear();
-                ds.extend(
-                    frames
-                        .iter()
-                        .filter(|&&f| ok(a, f) && ok(b, f))
-                        .map(|&f| dist(&trial.xyz[a][f], &trial.xyz[b][f])),
-                );
+                ds.extend(all.iter().filter(|d| !d.is_nan()).map(|d| d.to_bits()));
                 if let Some((d0, spread)) = cluster(&mut ds, max_spread_mm, min_support) {
                     mine.push((
                         b,
@@ -94,26 +124,43 @@ pub fn learn_links(
 /// The centre and spread of the densest window of a pair's distances, when it holds
 /// `min_support` of them (at least 20), its spread is at most `max_spread_mm` and the
 /// markers are at least 5 mm apart.
-fn cluster(ds: &mut [f64], max_spread_mm: f64, min_support: f64) -> Option<(f64, f64)> {
+///
+/// The distances come as the bits of their `f64`s: a distance is never negative (nor NaN),
+/// and the bits of such numbers order as the numbers do, so they are selected and sorted as
+/// integers, with no comparison function called per step (what the search spent most on in
+/// trials of many markers, most of whose pairs are no link). The ranks, and so every result,
+/// are the same as sorting the numbers.
+fn cluster(ds: &mut [u64], max_spread_mm: f64, min_support: f64) -> Option<(f64, f64)> {
     if ds.len() < 20 {
         return None;
     }
+    let val = f64::from_bits;
     // Most pairs are no link, and need no sort to say so: a window holding at least half
     // the distances (`min_support` is at least 0.5) holds the median or the distance just
     // below it, so all of its distances are within the window's width of one of those two.
     let m = ds.len() / 2;
-    let (lower, &mut median, _) = ds.select_nth_unstable_by(m, f64::total_cmp);
-    let below = lower.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let (lower, &mut median, _) = ds.select_nth_unstable(m);
+    let median = val(median);
+    let below = lower
+        .iter()
+        .map(|&d| val(d))
+        .fold(f64::NEG_INFINITY, f64::max);
     let w = window_mm(median);
-    let near = |c: f64| ds.iter().filter(|&&d| (d - c).abs() <= w).count();
-    if (near(median).max(near(below)) as f64) < min_support * ds.len() as f64 {
+    // Both counts in one pass over the distances.
+    let (mut at_median, mut at_below) = (0usize, 0usize);
+    for &d in ds.iter() {
+        let d = val(d);
+        at_median += usize::from((d - median).abs() <= w);
+        at_below += usize::from((d - below).abs() <= w);
+    }
+    if (at_median.max(at_below) as f64) < min_support * ds.len() as f64 {
         return None;
     }
-    ds.sort_unstable_by(f64::total_cmp);
+    ds.sort_unstable();
     // Densest window [i, j).
     let (mut best, mut bi, mut j) = (0usize, 0usize, 0usize);
     for i in 0..ds.len() {
-        while j < ds.len() && ds[j] - ds[i] <= w {
+        while j < ds.len() && val(ds[j]) - val(ds[i]) <= w {
             j += 1;
         }
         if j - i > best {
@@ -125,10 +172,11 @@ fn cluster(ds: &mut [f64], max_spread_mm: f64, min_support: f64) -> Option<(f64,
         return None;
     }
     let win = &ds[bi..bi + best];
-    let c = win[win.len() / 2];
-    let mut dev: Vec<f64> = win.iter().map(|d| (d - c).abs()).collect();
+    let c = val(win[win.len() / 2]);
+    // Deviations are not negative either: ordered by their bits too.
+    let mut dev: Vec<u64> = win.iter().map(|&d| (val(d) - c).abs().to_bits()).collect();
     let mid = dev.len() / 2;
-    let spread = 1.4826 * *dev.select_nth_unstable_by(mid, f64::total_cmp).1;
+    let spread = 1.4826 * val(*dev.select_nth_unstable(mid).1);
     (spread <= max_spread_mm && c >= 5.0).then_some((c, spread))
 }
 
