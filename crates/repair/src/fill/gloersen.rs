@@ -340,7 +340,7 @@ impl Model {
         // weighted coordinates on the rows: its singular values are the square roots of the
         // eigenvalues (see `components`). From the pass's sums where they apply, else from Y.
         let moments = if rn >= cols {
-            sums.covariance(&kept, &whole, &on_all)
+            sums.covariance(&kept, whole, &on_all)
         } else {
             None
         };
@@ -452,12 +452,12 @@ impl Model {
             }
             for (i, &j) in kept.iter().enumerate() {
                 let p = if i == ti { [0.0; 3] } else { at(j, f) };
-                for ax in 0..3 {
+                for (ax, &x) in p.iter().enumerate() {
                     let c = 3 * i + ax;
                     mz[c] = if i == ti {
                         0.0
                     } else {
-                        (p[ax] - mean[c]) / sd[c] * wc(c)
+                        (x - mean[c]) / sd[c] * wc(c)
                     };
                 }
             }
