@@ -158,13 +158,10 @@ pub(super) struct Model {
     mean: Vec<f64>,
     sd: Vec<f64>,
     w: Vec<f64>,
-    /// The first `k` components of the zeroed matrix (`cols × k`), of the complete one
-    /// only the target's three rows (`3 × k`, row-major), and T (`k × k`, column-major:
-    /// the fill reads it a column at a time).
-    p_zero: DMatrix<f64>,
-    p_no_target: Vec<f64>,
-    tm_cols: Vec<f64>,
-    k: usize,
+    /// The published product read for the target (`3 × cols`, row-major): a frame's
+    /// normalised, weighted row with the target zeroed, times this row by row, is the
+    /// target's normalised, weighted coordinates there.
+    read: Vec<f64>,
 }
 
 /// Whole-trial models built in one pass of [`fill_gaps`], by what a model depends on
@@ -388,16 +385,22 @@ impl Model {
         };
         let p_no = signed(no.vectors(k));
         let p_zero = signed(zero.vectors(k));
-        // T = P_noᵀ P_zero (k × k), by columns.
-        let mut tm_cols = vec![0.0; k * k];
-        for a in 0..k {
-            for b in 0..k {
-                tm_cols[b * k + a] = (0..cols).map(|c| p_no[(c, a)] * p_zero[(c, b)]).sum();
-            }
-        }
-        let p_no_target = (0..3)
-            .flat_map(|ax| (0..k).map(move |a| (3 * ti + ax, a)))
-            .map(|(c, a)| p_no[(c, a)])
+        // T = P_noᵀ P_zero (k × k).
+        let tm = DMatrix::from_fn(k, k, |a, b| {
+            (0..cols)
+                .map(|c| p_no[(c, a)] * p_zero[(c, b)])
+                .sum::<f64>()
+        });
+        // The published product M_zeros · PC_zeros · T · PC_no_gapsᵀ read for the target's
+        // three columns only: (PC_no_gaps's target rows · Tᵀ · PC_zerosᵀ), 3 × cols, made
+        // once here, so a fill is three sums over a frame's row instead of the scores, T
+        // and the read-back per frame (on Facial-Sing, k 65 of 98 columns, the fills were a
+        // sixth of the process: `docs/price.md`). The same product to rounding.
+        let target_rows = p_no.rows(3 * ti, 3);
+        let read = (target_rows * tm.transpose()) * p_zero.transpose();
+        let read: Vec<f64> = (0..3)
+            .flat_map(|ax| (0..cols).map(move |c| (ax, c)))
+            .map(|(ax, c)| read[(ax, c)])
             .collect();
         Ok(Model {
             kept,
@@ -407,10 +410,7 @@ impl Model {
             mean,
             sd,
             w,
-            p_zero,
-            p_no_target,
-            tm_cols,
-            k,
+            read,
         })
     }
 
@@ -424,27 +424,19 @@ impl Model {
             mean,
             sd,
             w,
-            p_zero,
-            p_no_target,
-            tm_cols,
-            k,
+            read,
         } = self;
-        let (ti, k) = (*ti, *k);
+        let ti = *ti;
         let d = t.data;
         let cols = 3 * kept.len();
-        debug_assert_eq!(tm_cols.len(), k * k);
         let at = |j: usize, f: usize| {
             let p = d.at(j, f);
             [0, 1, 2].map(|k| p[k] - mean_trj[f][k])
         };
         let wc = |c: usize| w[c / 3];
-        // Per frame, in buffers made once: the normalised, weighted row with the target
-        // zeroed (its mean with it, as the paper's matrices with zeros have zero mean there),
-        // its scores on the zeroed components, and those carried into the complete ones.
-        // Each sum runs in the order it always did, so the fill is the same to the bit.
+        // Per frame, in a buffer made once: the normalised, weighted row with the target
+        // zeroed (its mean with it, as the paper's matrices with zeros have zero mean there).
         let mut mz = vec![0.0; cols];
-        let mut s = vec![0.0; k];
-        let mut u = vec![0.0; k];
         let mut out = Vec::with_capacity(span.len());
         for f in span.first..=span.last {
             if missing.binary_search(&f).is_err() {
@@ -461,22 +453,11 @@ impl Model {
                     };
                 }
             }
-            // Scores on the zeroed components (a column of `p_zero` each).
-            for (sb, col) in s.iter_mut().zip(p_zero.column_iter()) {
-                *sb = mz.iter().zip(col.iter()).map(|(x, p)| x * p).sum();
-            }
-            // The published product M_zeros · PC_zeros · T · PC_no_gapsᵀ: the row of scores
-            // times T, as written (T's two bases are nearly the same, the target's weight
-            // being 0.02, so T is close to a signed identity either way round); `tm_cols`
-            // holds T's columns, each summed over its rows in order.
-            for (ub, col) in u.iter_mut().zip(tm_cols.chunks_exact(k)) {
-                *ub = s.iter().zip(col).map(|(x, t)| x * t).sum();
-            }
             let mut p = [0.0; 3];
             for (ax, v) in p.iter_mut().enumerate() {
                 let c = 3 * ti + ax;
-                let row = &p_no_target[ax * k..(ax + 1) * k];
-                let r: f64 = u.iter().zip(row).map(|(x, q)| x * q).sum();
+                let row = &read[ax * cols..(ax + 1) * cols];
+                let r: f64 = mz.iter().zip(row).map(|(x, g)| x * g).sum();
                 *v = mean[c] + r * sd[c] / wc(c) + mean_trj[f][ax];
             }
             out.push(p);
