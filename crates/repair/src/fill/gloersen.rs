@@ -186,9 +186,9 @@ pub(crate) struct Cache {
 
 type FrameKey = (Option<usize>, usize);
 
-/// Bytes of [`TargetFrame`]s a [`Cache`] holds before it is emptied: a frame is a distance
-/// per marker and frame (1.3 MB on 03_rolling, 68 markers × 2 305 frames), and a gap's
-/// models ask for its target's and for those of up to four other markers' holes.
+/// Bytes of [`TargetFrame`]s a [`Cache`] holds before it is emptied: a frame is two
+/// coordinates per frame and a sum per marker (0.1 MB on 03_rolling, 2 305 frames), so
+/// this holds every target of the corpora's trials.
 const FRAME_BYTES: usize = 32 << 20;
 
 type Key = (Option<usize>, usize, Vec<(usize, usize)>);
@@ -292,7 +292,7 @@ impl Model {
         let whole = &frame.whole;
         let mean_trj = Arc::clone(&frame.mean_trj);
         // Mean distance of each marker to the target over the frames both are recorded.
-        let dists = frame.mean_distances(&valid, t.m, &target_ok);
+        let dists = frame.mean_distances(d.xyz, &valid, t.m, &target_ok);
         let known: Vec<f64> = dists.iter().flatten().copied().collect();
         let thresh = DISTAL_THRESHOLD * known.iter().sum::<f64>() / known.len().max(1) as f64;
         // 2. The markers kept: the target, and every other marker that is near or recorded

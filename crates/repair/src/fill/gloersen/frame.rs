@@ -1,7 +1,6 @@
 //! What every model of one target in one pass's data shares before its own holes enter:
 //! the markers recorded throughout (step 1's frame), their mean trajectory, and each other
-//! marker's distance to the target on every frame, summed over the frames both are
-//! recorded on.
+//! marker's distance to the target summed over the frames both are recorded on.
 //!
 //! A model's holes take frames from its target only, so they change neither which other
 //! markers are recorded throughout nor where they are; they change only which frames a
@@ -9,9 +8,10 @@
 //! over every frame again (on 03_rolling, 68 markers × 2 305 frames per model, the models'
 //! largest part after the covariance, `docs/price.md`), for the handful of models a target
 //! has per pass. Here the sums over every frame the target is recorded on are made once
-//! per target, and a model takes off its holes' frames (a few per cent of the trial): the
-//! same means to rounding, not to the bit (the held-apart evaluation's figures are in
-//! `docs/price.md`).
+//! per target, and a model takes off its holes' frames (a few per cent of the trial, their
+//! distances worked out again): the same means to rounding, not to the bit (the held-apart
+//! evaluation's figures are in `docs/price.md`). Only the sums are kept, not the distances
+//! frame by frame, so a pass holds every target's frame.
 
 use super::super::data::Data;
 use std::sync::Arc;
@@ -25,11 +25,11 @@ pub(super) struct TargetFrame {
     pub whole: Vec<usize>,
     /// Their mean trajectory, per frame.
     pub mean_trj: Arc<Vec<[f64; 3]>>,
-    /// Per marker, its distance to the target on every frame the target is recorded on
-    /// (both less the mean trajectory), 0 elsewhere; empty for the target itself.
-    dist: Vec<Vec<f64>>,
-    /// Per marker, the sum of `dist` over the frames both it and the target are recorded
-    /// on, in frame order, and their count.
+    /// The target's coordinates less the mean trajectory, per frame.
+    target: Vec<[f64; 3]>,
+    /// Per marker, the sum of its distances to the target (see [`TargetFrame::dist`]) over
+    /// the frames both are recorded on, in frame order, and their count; (0, 0) for the
+    /// target itself.
     total: Vec<(f64, usize)>,
     /// The frames the target is recorded on.
     recorded: Vec<bool>,
@@ -46,69 +46,59 @@ impl TargetFrame {
             return None;
         }
         let mean_trj = super::mean_trajectory(d, &whole);
-        let target_rec = d.row(m);
         let target: Vec<[f64; 3]> = (0..n)
             .map(|f| {
                 let (p, mt) = (d.xyz[m][f], mean_trj[f]);
                 [p[0] - mt[0], p[1] - mt[1], p[2] - mt[2]]
             })
             .collect();
-        let dist: Vec<Vec<f64>> = (0..markers)
-            .map(|j| {
-                if j == m {
-                    return Vec::new();
-                }
-                (0..n)
-                    .map(|f| {
-                        if !target_rec[f] {
-                            return 0.0;
-                        }
-                        let (p, mt, q) = (d.xyz[j][f], mean_trj[f], target[f]);
-                        let a = [p[0] - mt[0], p[1] - mt[1], p[2] - mt[2]];
-                        ((a[0] - q[0]).powi(2) + (a[1] - q[1]).powi(2) + (a[2] - q[2]).powi(2))
-                            .sqrt()
-                    })
-                    .collect()
-            })
-            .collect();
-        let total = (0..markers)
+        let mut frame = TargetFrame {
+            complete,
+            whole,
+            mean_trj: Arc::new(mean_trj),
+            target,
+            total: Vec::new(),
+            recorded: d.row(m).to_vec(),
+        };
+        frame.total = (0..markers)
             .map(|j| {
                 if j == m {
                     return (0.0, 0);
                 }
                 let (mut s, mut c) = (0.0, 0usize);
-                for ((&t, &v), &x) in target_rec.iter().zip(d.row(j)).zip(&dist[j]) {
+                for (f, (&t, &v)) in frame.recorded.iter().zip(d.row(j)).enumerate() {
                     if t && v {
-                        s += x;
+                        s += frame.dist(d.xyz, j, f);
                         c += 1;
                     }
                 }
                 (s, c)
             })
             .collect();
-        Some(TargetFrame {
-            complete,
-            whole,
-            mean_trj: Arc::new(mean_trj),
-            dist,
-            total,
-            recorded: target_rec.to_vec(),
-        })
+        Some(frame)
+    }
+
+    /// Marker `j`'s distance to the target at frame `f`, both less the mean trajectory.
+    fn dist(&self, xyz: &[Vec<[f64; 3]>], j: usize, f: usize) -> f64 {
+        let (p, mt, q) = (xyz[j][f], self.mean_trj[f], self.target[f]);
+        let a = [p[0] - mt[0], p[1] - mt[1], p[2] - mt[2]];
+        ((a[0] - q[0]).powi(2) + (a[1] - q[1]).powi(2) + (a[2] - q[2]).powi(2)).sqrt()
     }
 
     /// Bytes the frame holds, for the cache's bound.
     pub(super) fn bytes(&self) -> usize {
-        let n = self.mean_trj.len();
-        n * 24 + self.dist.iter().map(|v| v.len() * 8).sum::<usize>()
+        self.mean_trj.len() * 49 + self.total.len() * 17
     }
 
     /// Each marker's mean distance to target `m` over the frames both are recorded
     /// (`valid`: each marker's validity as the model reads it, the target's `target_ok`,
-    /// which lies within the frames the target is recorded on): the sums over every such
-    /// frame less the frames `target_ok` takes away. The target's own is 0, and a marker
-    /// never recorded with it has none.
+    /// which lies within the frames the target is recorded on; `xyz` the coordinates of the
+    /// data the frame was made from): the sums over every such frame less the frames
+    /// `target_ok` takes away. The target's own is 0, and a marker never recorded with it
+    /// has none.
     pub(super) fn mean_distances(
         &self,
+        xyz: &[Vec<[f64; 3]>],
         valid: &[&[bool]],
         m: usize,
         target_ok: &[bool],
@@ -116,7 +106,7 @@ impl TargetFrame {
         let removed: Vec<usize> = (0..target_ok.len())
             .filter(|&f| self.recorded[f] && !target_ok[f])
             .collect();
-        (0..self.dist.len())
+        (0..self.total.len())
             .map(|j| {
                 if j == m {
                     return Some(0.0);
@@ -124,7 +114,7 @@ impl TargetFrame {
                 let (mut s, mut c) = self.total[j];
                 for &f in &removed {
                     if valid[j][f] {
-                        s -= self.dist[j][f];
+                        s -= self.dist(xyz, j, f);
                         c -= 1;
                     }
                 }
