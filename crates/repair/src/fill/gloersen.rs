@@ -39,11 +39,13 @@ use super::data::{Data, TrialModels};
 use super::donors::Donors;
 use super::{SkipReason, Span, Target};
 use crate::linalg::Leading;
+use frame::TargetFrame;
 use nalgebra::DMatrix;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 use sums::Sums;
 
+mod frame;
 mod sums;
 
 /// σ of the distance weighting, in mm (the paper's default).
@@ -80,7 +82,10 @@ fn fill_without(
     crate::profile::count(crate::profile::Count::Gloersen);
     match t.data.gloersen {
         Some(cache) => cache.fill(t, span, holes, mm_per_unit),
-        None => Model::build(t, holes, mm_per_unit, &Sums::new(&t.data))?.fill(t, span),
+        None => {
+            let frame = TargetFrame::new(&t.data, t.m).ok_or(SkipReason::NoDonors)?;
+            Model::build(t, holes, mm_per_unit, &Sums::new(&t.data), &frame)?.fill(t, span)
+        }
     }
 }
 
@@ -148,16 +153,15 @@ pub(super) struct Model {
     ti: usize,
     /// The target's missing frames, in order.
     missing: Vec<usize>,
-    mean_trj: Vec<[f64; 3]>,
+    /// Step 1's mean trajectory (its target's, shared by its models).
+    mean_trj: Arc<Vec<[f64; 3]>>,
     mean: Vec<f64>,
     sd: Vec<f64>,
     w: Vec<f64>,
-    /// The first `k` components of the zeroed matrix (`cols × k`), of the complete one
-    /// only the target's three rows (`3 × k`, row-major), and T (`k × k`).
-    p_zero: DMatrix<f64>,
-    p_no_target: Vec<f64>,
-    tm: Vec<f64>,
-    k: usize,
+    /// The published product read for the target (`3 × cols`, row-major): a frame's
+    /// normalised, weighted row with the target zeroed, times this row by row, is the
+    /// target's normalised, weighted coordinates there.
+    read: Vec<f64>,
 }
 
 /// Whole-trial models built in one pass of [`fill_gaps`], by what a model depends on
@@ -174,7 +178,18 @@ pub(crate) struct Cache {
     models: Mutex<HashMap<Key, Arc<Built>>>,
     /// The pass's sums the models' covariances are downdated from, made for the first.
     sums: OnceLock<Sums>,
+    /// Per target (and marker read as recorded, as in [`Key`]), what its models share
+    /// ([`TargetFrame`]), `None` where it has no frame; emptied when it holds more than
+    /// [`FRAME_BYTES`].
+    frames: Mutex<Vec<(FrameKey, Arc<Option<TargetFrame>>)>>,
 }
+
+type FrameKey = (Option<usize>, usize);
+
+/// Bytes of [`TargetFrame`]s a [`Cache`] holds before it is emptied: a frame is two
+/// coordinates per frame and a sum per marker (0.1 MB on 03_rolling, 2 305 frames), so
+/// this holds every target of the corpora's trials.
+const FRAME_BYTES: usize = 32 << 20;
 
 type Key = (Option<usize>, usize, Vec<(usize, usize)>);
 type Built = Result<Model, SkipReason>;
@@ -201,6 +216,31 @@ impl TrialModels for Cache {
 }
 
 impl Cache {
+    /// The target's frame in this pass's data, made on first use.
+    fn frame(&self, t: &Target) -> Arc<Option<TargetFrame>> {
+        let key = (t.data.own.map(|(m, _)| m), t.m);
+        let hit = self.frames.lock().ok().and_then(|c| {
+            c.iter()
+                .find(|(k, _)| *k == key)
+                .map(|(_, f)| Arc::clone(f))
+        });
+        if let Some(f) = hit {
+            return f;
+        }
+        let f = Arc::new(TargetFrame::new(&t.data, t.m));
+        if let Ok(mut c) = self.frames.lock() {
+            let held: usize = c
+                .iter()
+                .filter_map(|(_, f)| f.as_ref().as_ref().map(TargetFrame::bytes))
+                .sum();
+            if held > FRAME_BYTES {
+                c.clear();
+            }
+            c.push((key, Arc::clone(&f)));
+        }
+        f
+    }
+
     /// The target's model in this pass's data, built on first use.
     fn model(&self, t: &Target, holes: &[(usize, usize)], mm_per_unit: f64) -> Arc<Built> {
         let key = (t.data.own.map(|(m, _)| m), t.m, holes.to_vec());
@@ -209,7 +249,11 @@ impl Cache {
         }
         // Built outside the lock: two threads may build the same model, never a wrong one.
         let sums = self.sums.get_or_init(|| Sums::new(&t.data));
-        let m = Arc::new(Model::build(t, holes, mm_per_unit, sums));
+        let m = Arc::new(match self.frame(t).as_ref() {
+            Some(frame) => Model::build(t, holes, mm_per_unit, sums, frame),
+            None => Err(SkipReason::NoDonors),
+        });
+
         if let Ok(mut c) = self.models.lock() {
             if c.len() >= CACHE_MODELS {
                 c.clear();
@@ -229,6 +273,7 @@ impl Model {
         holes: &[(usize, usize)],
         mm_per_unit: f64,
         sums: &Sums,
+        frame: &TargetFrame,
     ) -> Result<Model, SkipReason> {
         crate::profile::count(crate::profile::Count::GloersenModel);
         let d = t.data;
@@ -241,22 +286,13 @@ impl Model {
         let valid: Vec<&[bool]> = (0..markers)
             .map(|j| if j == t.m { &target_ok[..] } else { d.row(j) })
             .collect();
-        let complete: Vec<bool> = valid.iter().map(|v| v.iter().all(|&o| o)).collect();
-        // 1. The mean trajectory of the markers recorded throughout.
-        let whole: Vec<usize> = (0..markers).filter(|&j| complete[j] && j != t.m).collect();
-        if whole.is_empty() {
-            return Err(SkipReason::NoDonors);
-        }
-        let mean_trj = mean_trajectory(&d, &whole);
-        // A marker's coordinates at a frame with the mean trajectory's subtracted.
-        let centred = |j: usize, f: usize| {
-            let p = d.xyz[j][f];
-            let m = mean_trj[f];
-            [p[0] - m[0], p[1] - m[1], p[2] - m[2]]
-        };
-        let target: Vec<[f64; 3]> = (0..n).map(|f| centred(t.m, f)).collect();
+        // 1. The mean trajectory of the markers recorded throughout (the target's, and so
+        // the model's, whatever its holes: see `frame`).
+        let complete = &frame.complete;
+        let whole = &frame.whole;
+        let mean_trj = Arc::clone(&frame.mean_trj);
         // Mean distance of each marker to the target over the frames both are recorded.
-        let dists = mean_distances(d.xyz, &valid, t.m, &mean_trj, &target, &target_ok);
+        let dists = frame.mean_distances(d.xyz, &valid, t.m, &target_ok);
         let known: Vec<f64> = dists.iter().flatten().copied().collect();
         let thresh = DISTAL_THRESHOLD * known.iter().sum::<f64>() / known.len().max(1) as f64;
         // 2. The markers kept: the target, and every other marker that is near or recorded
@@ -301,7 +337,7 @@ impl Model {
         // weighted coordinates on the rows: its singular values are the square roots of the
         // eigenvalues (see `components`). From the pass's sums where they apply, else from Y.
         let moments = if rn >= cols {
-            sums.covariance(&kept, &whole, &on_all)
+            sums.covariance(&kept, whole, &on_all)
         } else {
             None
         };
@@ -350,15 +386,21 @@ impl Model {
         let p_no = signed(no.vectors(k));
         let p_zero = signed(zero.vectors(k));
         // T = P_noᵀ P_zero (k × k).
-        let mut tm = vec![0.0; k * k];
-        for a in 0..k {
-            for b in 0..k {
-                tm[a * k + b] = (0..cols).map(|c| p_no[(c, a)] * p_zero[(c, b)]).sum();
-            }
-        }
-        let p_no_target = (0..3)
-            .flat_map(|ax| (0..k).map(move |a| (3 * ti + ax, a)))
-            .map(|(c, a)| p_no[(c, a)])
+        let tm = DMatrix::from_fn(k, k, |a, b| {
+            (0..cols)
+                .map(|c| p_no[(c, a)] * p_zero[(c, b)])
+                .sum::<f64>()
+        });
+        // The published product M_zeros · PC_zeros · T · PC_no_gapsᵀ read for the target's
+        // three columns only: (PC_no_gaps's target rows · Tᵀ · PC_zerosᵀ), 3 × cols, made
+        // once here, so a fill is three sums over a frame's row instead of the scores, T
+        // and the read-back per frame (on Facial-Sing, k 65 of 98 columns, the fills were a
+        // sixth of the process: `docs/price.md`). The same product to rounding.
+        let target_rows = p_no.rows(3 * ti, 3);
+        let read = (target_rows * tm.transpose()) * p_zero.transpose();
+        let read: Vec<f64> = (0..3)
+            .flat_map(|ax| (0..cols).map(move |c| (ax, c)))
+            .map(|(ax, c)| read[(ax, c)])
             .collect();
         Ok(Model {
             kept,
@@ -368,10 +410,7 @@ impl Model {
             mean,
             sd,
             w,
-            p_zero,
-            p_no_target,
-            tm,
-            k,
+            read,
         })
     }
 
@@ -385,12 +424,9 @@ impl Model {
             mean,
             sd,
             w,
-            p_zero,
-            p_no_target,
-            tm,
-            k,
+            read,
         } = self;
-        let (ti, k) = (*ti, *k);
+        let ti = *ti;
         let d = t.data;
         let cols = 3 * kept.len();
         let at = |j: usize, f: usize| {
@@ -398,45 +434,34 @@ impl Model {
             [0, 1, 2].map(|k| p[k] - mean_trj[f][k])
         };
         let wc = |c: usize| w[c / 3];
-        let is_target = |c: usize| c / 3 == ti;
-        // Normalised, weighted rows; with the target zeroed (its mean with it, as the paper's
-        // matrices with zeros have zero mean there).
-        let norm = |x: &[f64], zero: bool| -> Vec<f64> {
-            (0..cols)
-                .map(|c| {
-                    if zero && is_target(c) {
+        // Per frame, in a buffer made once: the normalised, weighted row with the target
+        // zeroed (its mean with it, as the paper's matrices with zeros have zero mean there).
+        let mut mz = vec![0.0; cols];
+        let mut out = Vec::with_capacity(span.len());
+        for f in span.first..=span.last {
+            if missing.binary_search(&f).is_err() {
+                return Err(SkipReason::NoContext);
+            }
+            for (i, &j) in kept.iter().enumerate() {
+                let p = if i == ti { [0.0; 3] } else { at(j, f) };
+                for (ax, &x) in p.iter().enumerate() {
+                    let c = 3 * i + ax;
+                    mz[c] = if i == ti {
                         0.0
                     } else {
-                        (x[c] - mean[c]) / sd[c] * wc(c)
-                    }
-                })
-                .collect()
-        };
-        let out = (span.first..=span.last)
-            .map(|f| {
-                if missing.binary_search(&f).is_err() {
-                    return Err(SkipReason::NoContext);
+                        (x - mean[c]) / sd[c] * wc(c)
+                    };
                 }
-                let mz = norm(&raw_zeroed(kept, t.m, f, &at), true);
-                // Scores on the zeroed components, carried into the complete ones.
-                let s: Vec<f64> = (0..k)
-                    .map(|b| (0..cols).map(|c| mz[c] * p_zero[(c, b)]).sum())
-                    .collect();
-                // The published product M_zeros · PC_zeros · T · PC_no_gapsᵀ: the row of scores
-                // times T, as written (T's two bases are nearly the same, the target's weight
-                // being 0.02, so T is close to a signed identity either way round).
-                let u: Vec<f64> = (0..k)
-                    .map(|b| (0..k).map(|a| s[a] * tm[a * k + b]).sum())
-                    .collect();
-                let mut p = [0.0; 3];
-                for (ax, v) in p.iter_mut().enumerate() {
-                    let c = 3 * ti + ax;
-                    let r: f64 = (0..k).map(|a| u[a] * p_no_target[ax * k + a]).sum();
-                    *v = mean[c] + r * sd[c] / wc(c) + mean_trj[f][ax];
-                }
-                Ok(p)
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+            }
+            let mut p = [0.0; 3];
+            for (ax, v) in p.iter_mut().enumerate() {
+                let c = 3 * ti + ax;
+                let row = &read[ax * cols..(ax + 1) * cols];
+                let r: f64 = mz.iter().zip(row).map(|(x, g)| x * g).sum();
+                *v = mean[c] + r * sd[c] / wc(c) + mean_trj[f][ax];
+            }
+            out.push(p);
+        }
         Ok(out)
     }
 }
@@ -605,51 +630,6 @@ fn without_null(mut vecs: DMatrix<f64>, vals: &[f64]) -> DMatrix<f64> {
     vecs
 }
 
-/// Markers whose distances to the target [`mean_distances`] sums side by side: each its own
-/// sum, in frame order, so the sums are the one-marker-at-a-time loop's to the bit, but
-/// independent, so the processor overlaps them (on 03_rolling this loop was the model's
-/// largest cost after the covariance).
-const DIST_LANES: usize = 8;
-
-/// Each marker's mean distance to the target (`target`: its centred coordinates) over the
-/// frames both are recorded (`target_ok` the target's validity), after subtracting the mean
-/// trajectory `mean_trj`; the target's own is 0, and a marker never recorded with it has
-/// none.
-fn mean_distances(
-    xyz: &[Vec<[f64; 3]>],
-    valid: &[&[bool]],
-    m: usize,
-    mean_trj: &[[f64; 3]],
-    target: &[[f64; 3]],
-    target_ok: &[bool],
-) -> Vec<Option<f64>> {
-    let n = target.len();
-    let others: Vec<usize> = (0..xyz.len()).filter(|&j| j != m).collect();
-    let mut out = vec![None; xyz.len()];
-    out[m] = Some(0.0);
-    for block in others.chunks(DIST_LANES) {
-        let mut s = [0.0f64; DIST_LANES];
-        let mut c = [0usize; DIST_LANES];
-        for f in (0..n).filter(|&f| target_ok[f]) {
-            let (mt, q) = (mean_trj[f], target[f]);
-            for (l, &j) in block.iter().enumerate() {
-                let p = xyz[j][f];
-                let a = [p[0] - mt[0], p[1] - mt[1], p[2] - mt[2]];
-                let dd =
-                    ((a[0] - q[0]).powi(2) + (a[1] - q[1]).powi(2) + (a[2] - q[2]).powi(2)).sqrt();
-                // Adding +0 leaves a sum of non-negative terms as it was, bit for bit.
-                let v = valid[j][f];
-                s[l] += if v { dd } else { 0.0 };
-                c[l] += usize::from(v);
-            }
-        }
-        for (l, &j) in block.iter().enumerate() {
-            out[j] = (c[l] > 0).then(|| s[l] / c[l] as f64);
-        }
-    }
-    out
-}
-
 /// [`components`] from the covariance XᵀX / (n − 1) itself.
 fn from_covariance(cov_no: DMatrix<f64>, ti: usize) -> (Components, Components) {
     let cols = cov_no.nrows();
@@ -714,19 +694,6 @@ fn normalised(
             .for_each(|v| *v = (*v - mean[c]) / sd[c] * w[c / 3]);
     }
     (mean, sd, x)
-}
-
-/// The kept markers' centred coordinates at frame `f`, the target's set to zero (it is
-/// missing there).
-fn raw_zeroed(
-    kept: &[usize],
-    m: usize,
-    f: usize,
-    at: &dyn Fn(usize, usize) -> [f64; 3],
-) -> Vec<f64> {
-    kept.iter()
-        .flat_map(|&j| if j == m { [0.0; 3] } else { at(j, f) })
-        .collect()
 }
 
 #[cfg(test)]

@@ -25,7 +25,7 @@ use super::outcome::SkipReason;
 use super::subspace::{
     centroid, neighbours_through, row, scoring_group, sums, training, Shared, Sums,
 };
-use crate::linalg::symmetric_eigen;
+use crate::linalg::Leading;
 
 /// Fewest training frames accepted (as for PCA).
 const MIN_TRAIN: usize = 10;
@@ -188,7 +188,9 @@ impl Model {
             return Err(SkipReason::NoContext);
         }
         let (mean, cov) = s.moments();
-        let (vals, vecs) = symmetric_eigen(&cov, dims);
+        // Every eigenvalue, and only the r leading eigenvectors the model keeps.
+        let eigen = Leading::new(&cov, dims);
+        let vals = eigen.values();
         let total: f64 = vals.iter().map(|v| v.max(0.0)).sum();
         if total <= 0.0 {
             return Err(SkipReason::Degenerate);
@@ -207,7 +209,7 @@ impl Model {
         let free = dims - 3;
         let left: f64 = vals[r.min(free)..free].iter().map(|v| v.max(0.0)).sum();
         let noise = (left / (free - r).max(1) as f64).max(1e-9 * total);
-        let basis = vecs.columns(0, r).into_owned();
+        let basis = eigen.vectors(r);
 
         // Scores at the training frames, and their first and second differences where the
         // neighbouring frames trained too.

@@ -11,8 +11,15 @@ use super::model::{deviation, donor_index, drift};
 use super::steps::slowed;
 use crate::profile::{self, Count, Method, Work};
 
-/// Other markers tried at most when the target has too little room.
-const OTHER_MARKERS: usize = 4;
+/// Other markers tried at most when the target has too little room. Each costs a plan and,
+/// from `GLOERSEN_FROM` frames, a published-PCA model of its own (their holes are in
+/// different markers, so they share none): on 03_rolling a fifth of the published PCA's
+/// time. 3 instead of 4 (issue 35, `docs/price.md`), `fill_eval --methods auto --gaps 10`
+/// against 4: held-apart cells 1.8 % better to 1.1 % worse, tuned ones 1.1 % better to
+/// 1.1 % worse, the calibration within half a point; 2 was 4.1 % worse on the tuned labs'
+/// walking gaps of 80 frames in 2–3 markers. 8 instead of 4 was chosen in 0 of 26 folds
+/// of `fill_eval --nested`.
+const OTHER_MARKERS: usize = 3;
 /// Residuals per side the spline goes through: 8 instead of 5 was chosen in 25 of 26 folds
 /// of `fill_eval --nested` (3 in 1), every cell within 0.5 % of 5's: it hardly matters.
 pub(super) const RESID_NODES: usize = 8;
