@@ -156,11 +156,25 @@ fn cluster(ds: &mut [u64], max_spread_mm: f64, min_support: f64) -> Option<(f64,
     if (at_median.max(at_below) as f64) < min_support * ds.len() as f64 {
         return None;
     }
-    ds.sort_unstable();
+    // Only the distances a window of that size can hold are sorted: such a window holds the
+    // median or the one below it (it spans at least half the ranks), so each of its
+    // distances is within `w` above `below` or below `median`, computed as the scan below
+    // computes a window's width (a difference rounds the same way or less when its smaller
+    // term grows). The densest window is then the same, and the first of its size the same,
+    // as over all the distances; when it is too small, it was too small over all of them.
+    // Sorting those (half to two thirds of a link's distances) instead of all was a third
+    // of the sort's time.
+    let n = ds.len();
+    let mut near: Vec<u64> = ds
+        .iter()
+        .copied()
+        .filter(|&d| below - val(d) <= w && val(d) - median <= w)
+        .collect();
+    near.sort_unstable();
     // Densest window [i, j).
     let (mut best, mut bi, mut j) = (0usize, 0usize, 0usize);
-    for i in 0..ds.len() {
-        while j < ds.len() && val(ds[j]) - val(ds[i]) <= w {
+    for i in 0..near.len() {
+        while j < near.len() && val(near[j]) - val(near[i]) <= w {
             j += 1;
         }
         if j - i > best {
@@ -168,10 +182,10 @@ fn cluster(ds: &mut [u64], max_spread_mm: f64, min_support: f64) -> Option<(f64,
             bi = i;
         }
     }
-    if (best as f64) < min_support * ds.len() as f64 {
+    if (best as f64) < min_support * n as f64 {
         return None;
     }
-    let win = &ds[bi..bi + best];
+    let win = &near[bi..bi + best];
     let c = val(win[win.len() / 2]);
     // Deviations are not negative either: ordered by their bits too.
     let mut dev: Vec<u64> = win.iter().map(|&d| (val(d) - c).abs().to_bits()).collect();
