@@ -242,9 +242,9 @@ impl Model {
             for (v, m) in buf.iter_mut().zip(&mean) {
                 *v -= m;
             }
-            (0..r)
-                .map(|a| dot(basis.column(a).as_slice(), &buf))
-                .collect()
+            let mut z = vec![0.0; r];
+            project(basis.as_slice(), dims, &buf, &mut z);
+            z
         };
         let (mut v1, mut n1) = (vec![0.0; r], 0usize);
         let (mut v2, mut n2) = (vec![0.0; r], 0usize);
@@ -441,8 +441,9 @@ impl Model {
             for (b, m) in buf[..rows].iter_mut().zip(&self.mean) {
                 *b -= m;
             }
-            for (a, ha) in h.iter_mut().enumerate() {
-                *ha = dot(&self.basis.column(a).as_slice()[..rows], &buf[..rows]) / self.noise;
+            project(self.basis.as_slice(), dims, &buf[..rows], &mut h);
+            for ha in h.iter_mut() {
+                *ha /= self.noise;
             }
             mat_vec(Block::slice(self.info(s).as_slice(), r, r), &x[..r], &mut v);
             for (va, ha) in v.iter_mut().zip(&h) {
@@ -542,6 +543,21 @@ fn invert(a: &mut [f64], r: usize, out: &mut [f64]) -> bool {
         }
     }
     true
+}
+
+/// `z_a = Σ_i basis_ia x_i` for each of `z`'s components (`basis` column-major with
+/// `stride` rows, `x` its first rows), every sum taken in order from −0 as [`dot`] (and
+/// `Iterator::sum`) takes it, so the scores are those of a dot product per component to
+/// the bit; the components' sums advance together, which keeps several additions in
+/// flight instead of waiting on one chain at a time.
+#[inline(always)]
+fn project(basis: &[f64], stride: usize, x: &[f64], z: &mut [f64]) {
+    z.fill(-0.0);
+    for (i, &xi) in x.iter().enumerate() {
+        for (a, za) in z.iter_mut().enumerate() {
+            *za += basis[i + a * stride] * xi;
+        }
+    }
 }
 
 /// `Σ a_i b_i`, summed in order.
