@@ -192,6 +192,10 @@ macro_rules! by_size {
             10 => Self::$f::<10>($($arg),*),
             11 => Self::$f::<11>($($arg),*),
             12 => Self::$f::<12>($($arg),*),
+            13 => Self::$f::<13>($($arg),*),
+            14 => Self::$f::<14>($($arg),*),
+            15 => Self::$f::<15>($($arg),*),
+            16 => Self::$f::<16>($($arg),*),
             _ => Self::$f::<0>($($arg),*),
         }
     };
@@ -333,7 +337,8 @@ impl Model {
     /// compiled (0: `self.r`, read at run time). The same operations in the same order
     /// for every `R`, so the gains are the same to the bit; a known `R` lets the compiler
     /// unroll the small loops and drop their bounds checks, which cost more than the
-    /// arithmetic at the few components the models keep (2–11 on 03_rolling).
+    /// arithmetic at the few components the models keep (2–11 on 03_rolling, 3–16 on
+    /// Facial-Sing).
     fn recursion<const R: usize>(&self, seen: &[bool]) -> Result<Gains, SkipReason> {
         let r = if R == 0 { self.r } else { R };
         let n = 2 * r;
