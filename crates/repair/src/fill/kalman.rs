@@ -163,16 +163,43 @@ struct Gains {
 
 impl Gains {
     /// Frame `i`'s predicted covariance.
+    #[inline(always)]
     fn predicted(&self, i: usize, n: usize) -> Block<'_> {
         Block::slice(&self.predicted[i * n * n..(i + 1) * n * n], n, n)
     }
 
     /// Frame `i`'s M.
+    #[inline(always)]
     fn m(&self, i: usize, r: usize) -> Block<'_> {
         Block::slice(&self.m[i * r * r..(i + 1) * r * r], r, r)
     }
 }
 
+/// Calls `Self::f::<R>(args)` with `R` the component count `r` when it is one the models
+/// commonly keep, else `Self::f::<0>` (read at run time).
+macro_rules! by_size {
+    ($r:expr, $f:ident, $($arg:expr),*) => {
+        match $r {
+            1 => Self::$f::<1>($($arg),*),
+            2 => Self::$f::<2>($($arg),*),
+            3 => Self::$f::<3>($($arg),*),
+            4 => Self::$f::<4>($($arg),*),
+            5 => Self::$f::<5>($($arg),*),
+            6 => Self::$f::<6>($($arg),*),
+            7 => Self::$f::<7>($($arg),*),
+            8 => Self::$f::<8>($($arg),*),
+            9 => Self::$f::<9>($($arg),*),
+            10 => Self::$f::<10>($($arg),*),
+            11 => Self::$f::<11>($($arg),*),
+            12 => Self::$f::<12>($($arg),*),
+            13 => Self::$f::<13>($($arg),*),
+            14 => Self::$f::<14>($($arg),*),
+            15 => Self::$f::<15>($($arg),*),
+            16 => Self::$f::<16>($($arg),*),
+            _ => Self::$f::<0>($($arg),*),
+        }
+    };
+}
 impl Model {
     fn train(
         s: &Sums,
@@ -219,9 +246,9 @@ impl Model {
             for (v, m) in buf.iter_mut().zip(&mean) {
                 *v -= m;
             }
-            (0..r)
-                .map(|a| dot(basis.column(a).as_slice(), &buf))
-                .collect()
+            let mut z = vec![0.0; r];
+            project(basis.as_slice(), dims, &buf, &mut z);
+            z
         };
         let (mut v1, mut n1) = (vec![0.0; r], 0usize);
         let (mut v2, mut n2) = (vec![0.0; r], 0usize);
@@ -301,7 +328,19 @@ impl Model {
         if let Some((_, g)) = self.gains.borrow().iter().find(|(s, _)| s == seen) {
             return Ok(Rc::clone(g));
         }
-        let r = self.r;
+        let g = Rc::new(by_size!(self.r, recursion, self, seen)?);
+        self.gains.borrow_mut().push((seen.to_vec(), Rc::clone(&g)));
+        Ok(g)
+    }
+
+    /// The covariance recursion of [`Model::gains`], for `R` components known when
+    /// compiled (0: `self.r`, read at run time). The same operations in the same order
+    /// for every `R`, so the gains are the same to the bit; a known `R` lets the compiler
+    /// unroll the small loops and drop their bounds checks, which cost more than the
+    /// arithmetic at the few components the models keep (2–11 on 03_rolling, 3–16 on
+    /// Facial-Sing).
+    fn recursion<const R: usize>(&self, seen: &[bool]) -> Result<Gains, SkipReason> {
+        let r = if R == 0 { self.r } else { R };
         let n = 2 * r;
         let len = seen.len();
         let mut g = Gains {
@@ -318,7 +357,7 @@ impl Model {
             }
             // The observation informs the scores only (J, r × r), so the update needs an
             // r × r inverse (Woodbury): with M = (I + J P_zz)⁻¹, P⁺ = P − P_·z M J P_z·.
-            let j = Block::all(self.info(s));
+            let j = Block::slice(self.info(s).as_slice(), r, r);
             mat_mul(j, Block::of(&p, n, r, r), &mut jp);
             for a in 0..r {
                 jp[a + a * r] += 1.0;
@@ -346,8 +385,6 @@ impl Model {
                 }
             }
         }
-        let g = Rc::new(g);
-        self.gains.borrow_mut().push((seen.to_vec(), Rc::clone(&g)));
         Ok(g)
     }
 
@@ -371,11 +408,25 @@ impl Model {
         lo: usize,
         hi: usize,
     ) -> Result<Vec<Vec<f64>>, SkipReason> {
-        let (r, known) = (self.r, self.known);
-        let n = 2 * r;
-        let dims = known + 3;
         let seen: Vec<bool> = (lo..=hi).map(|f| t.ok(f)).collect();
         let g = self.gains(&seen)?;
+        Ok(by_size!(self.r, passes, self, t, nb, lo, &seen, &g))
+    }
+
+    /// The filter's and smoother's passes of [`Model::smooth`] over the gains, for `R`
+    /// components known when compiled (0: at run time), as [`Model::recursion`].
+    fn passes<const R: usize>(
+        &self,
+        t: &Target,
+        nb: &[(usize, f64)],
+        lo: usize,
+        seen: &[bool],
+        g: &Gains,
+    ) -> Vec<Vec<f64>> {
+        let r = if R == 0 { self.r } else { R };
+        let known = self.known;
+        let n = 2 * r;
+        let dims = known + 3;
         let len = seen.len();
         let mut x = vec![0.0; n];
         // Per frame the predicted state and M (h − J x_z), the scaled innovation (h: the
@@ -395,10 +446,11 @@ impl Model {
             for (b, m) in buf[..rows].iter_mut().zip(&self.mean) {
                 *b -= m;
             }
-            for (a, ha) in h.iter_mut().enumerate() {
-                *ha = dot(&self.basis.column(a).as_slice()[..rows], &buf[..rows]) / self.noise;
+            project(self.basis.as_slice(), dims, &buf[..rows], &mut h);
+            for ha in h.iter_mut() {
+                *ha /= self.noise;
             }
-            mat_vec(Block::all(self.info(s)), &x[..r], &mut v);
+            mat_vec(Block::slice(self.info(s).as_slice(), r, r), &x[..r], &mut v);
             for (va, ha) in v.iter_mut().zip(&h) {
                 *va = ha - *va;
             }
@@ -418,7 +470,11 @@ impl Model {
             let p = g.predicted(i, n).rows(r);
             mat_vec(p, &lam, &mut t1);
             mat_t_vec(g.m(i, r), &t1, &mut t2);
-            mat_vec(Block::all(self.info(seen[i])), &t2, &mut back);
+            mat_vec(
+                Block::slice(self.info(seen[i]).as_slice(), r, r),
+                &t2,
+                &mut back,
+            );
             for a in 0..r {
                 lam[a] -= innov[i * r + a] + back[a];
             }
@@ -428,13 +484,14 @@ impl Model {
                 lam[r + a] += lam[a];
             }
         }
-        Ok(out)
+        out
     }
 }
 
 /// `P ← F P Fᵀ + Q` in place, for the transition F = [[I, I], [0, I]] (blocks of `r`): the
 /// velocity rows added to the score rows, then the velocity columns to the score columns,
 /// without a general product.
+#[inline(always)]
 fn predict(p: &mut [f64], process: &[f64], r: usize) {
     let n = 2 * r;
     for c in 0..n {
@@ -454,6 +511,7 @@ fn predict(p: &mut [f64], process: &[f64], r: usize) {
 
 /// `out = A⁻¹` for the `r × r` matrix `a` (column-major, overwritten) by Gauss–Jordan
 /// elimination with partial pivoting; false if `a` is singular.
+#[inline(always)]
 fn invert(a: &mut [f64], r: usize, out: &mut [f64]) -> bool {
     out.fill(0.0);
     for k in 0..r {
@@ -492,7 +550,23 @@ fn invert(a: &mut [f64], r: usize, out: &mut [f64]) -> bool {
     true
 }
 
+/// `z_a = Σ_i basis_ia x_i` for each of `z`'s components (`basis` column-major with
+/// `stride` rows, `x` its first rows), every sum taken in order from −0 as [`dot`] (and
+/// `Iterator::sum`) takes it, so the scores are those of a dot product per component to
+/// the bit; the components' sums advance together, which keeps several additions in
+/// flight instead of waiting on one chain at a time.
+#[inline(always)]
+fn project(basis: &[f64], stride: usize, x: &[f64], z: &mut [f64]) {
+    z.fill(-0.0);
+    for (i, &xi) in x.iter().enumerate() {
+        for (a, za) in z.iter_mut().enumerate() {
+            *za += basis[i + a * stride] * xi;
+        }
+    }
+}
+
 /// `Σ a_i b_i`, summed in order.
+#[inline(always)]
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
@@ -510,6 +584,7 @@ struct Block<'a> {
 
 impl<'a> Block<'a> {
     /// A whole `rows × cols` matrix stored in `data`.
+    #[inline(always)]
     fn slice(data: &'a [f64], rows: usize, cols: usize) -> Block<'a> {
         Block {
             data,
@@ -520,6 +595,7 @@ impl<'a> Block<'a> {
     }
 
     /// The top-left `rows × cols` of a matrix of `stride` rows stored in `data`.
+    #[inline(always)]
     fn of(data: &'a [f64], stride: usize, rows: usize, cols: usize) -> Block<'a> {
         Block {
             data,
@@ -529,21 +605,19 @@ impl<'a> Block<'a> {
         }
     }
 
-    /// All of `m`.
-    fn all(m: &'a DMatrix<f64>) -> Block<'a> {
-        Block::slice(m.as_slice(), m.nrows(), m.ncols())
-    }
-
     /// The first `rows` rows.
+    #[inline(always)]
     fn rows(self, rows: usize) -> Block<'a> {
         Block { rows, ..self }
     }
 
     /// The first `cols` columns.
+    #[inline(always)]
     fn cols(self, cols: usize) -> Block<'a> {
         Block { cols, ..self }
     }
 
+    #[inline(always)]
     fn col(&self, c: usize) -> &'a [f64] {
         &self.data[c * self.stride..c * self.stride + self.rows]
     }
@@ -552,6 +626,7 @@ impl<'a> Block<'a> {
 /// `y = A x`, each row summed over the columns in order, as nalgebra's product of a
 /// matrix and a vector sums (so the smoother's estimates are those of the products it
 /// replaces, bit for bit), into `y` instead of a new vector.
+#[inline(always)]
 fn mat_vec(a: Block, x: &[f64], y: &mut [f64]) {
     let y = &mut y[..a.rows];
     for (c, &xc) in x.iter().enumerate().take(a.cols) {
@@ -570,6 +645,7 @@ fn mat_vec(a: Block, x: &[f64], y: &mut [f64]) {
 
 /// `y = Aᵀ x`: each entry the column's dot product with `x`, in order (as nalgebra's
 /// product of the transposed copy and a vector sums).
+#[inline(always)]
 fn mat_t_vec(a: Block, x: &[f64], y: &mut [f64]) {
     for (c, yc) in y.iter_mut().enumerate().take(a.cols) {
         *yc = dot(a.col(c), x);
@@ -577,6 +653,7 @@ fn mat_t_vec(a: Block, x: &[f64], y: &mut [f64]) {
 }
 
 /// `out = A B` (`out` with `A`'s rows), column by column, each a [`mat_vec`].
+#[inline(always)]
 fn mat_mul(a: Block, b: Block, out: &mut [f64]) {
     let rows = a.rows;
     for c in 0..b.cols {
