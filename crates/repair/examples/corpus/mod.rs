@@ -40,21 +40,27 @@ pub fn load_recorded(path: &std::path::Path) -> Result<Trial, String> {
 fn load_with(path: &std::path::Path, recorded: bool) -> Result<Trial, String> {
     let c = c3d::read_file(path).map_err(|e| e.to_string())?;
     let outputs = c.model_output_labels();
-    let k = c3d::mm_per_unit(&c.point_units());
-    let p = c.points();
     let markers: Vec<usize> = (0..c.point_labels().len())
         .filter(|&i| !outputs.contains(&c.point_labels()[i]))
         .collect();
+    trial_of(&c, &markers, recorded)
+}
+
+/// The trial of `c`'s points `points` (in that order), in mm: a sample is missing where the
+/// file marks it so, at the origin (see [`load`]), or, with `recorded`, of residual 0 when
+/// the file has any residual above 0 among those points. A point with no sample left is not
+/// in the trial. One reading for every evaluation, so that one that keeps other points
+/// (`fill_eval --donors`, the records' own point lists) reads each sample as the rest do.
+pub fn trial_of(c: &c3d::C3d, points: &[usize], recorded: bool) -> Result<Trial, String> {
+    let k = c3d::mm_per_unit(&c.point_units());
+    let p = c.points();
     let drop_processed = recorded
-        && markers.iter().any(|&i| {
+        && points.iter().any(|&i| {
             let r = p.residuals(i);
             (0..p.frames()).any(|f| p.is_valid(f, i) && r[f] > 0.0)
         });
     let (mut xyz, mut valid) = (Vec::new(), Vec::new());
-    for (i, l) in c.point_labels().iter().enumerate() {
-        if outputs.contains(l) {
-            continue;
-        }
+    for &i in points {
         let r = p.residuals(i);
         let t = p.trajectory(i);
         let v: Vec<bool> = (0..p.frames())

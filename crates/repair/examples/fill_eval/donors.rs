@@ -535,35 +535,11 @@ fn load_as_recorded(path: &std::path::Path, recorded: bool) -> Result<Trial, Str
         .flat_map(|p| c.parameters.get_strings("POINT", p).unwrap_or_default())
         .filter(|s| !s.is_empty())
         .collect();
-    let k = c3d::mm_per_unit(&c.point_units());
-    let p = c.points();
     let labels = c.point_labels();
     let points: Vec<usize> = (0..labels.len())
         .filter(|&i| !listed.contains(&labels[i]))
         .collect();
-    let drop_processed = recorded
-        && points.iter().any(|&i| {
-            let r = p.residuals(i);
-            (0..p.frames()).any(|f| p.is_valid(f, i) && r[f] > 0.0)
-        });
-    let (mut xyz, mut valid) = (Vec::new(), Vec::new());
-    for i in points {
-        let r = p.residuals(i);
-        let t = p.trajectory(i);
-        let v: Vec<bool> = (0..p.frames())
-            .map(|f| p.is_valid(f, i) && !(drop_processed && r[f] == 0.0) && t[f] != [0.0; 3])
-            .collect();
-        if !v.iter().any(|&x| x) {
-            continue;
-        }
-        xyz.push(
-            t.iter()
-                .map(|q| [q[0] as f64 * k, q[1] as f64 * k, q[2] as f64 * k])
-                .collect(),
-        );
-        valid.push(v);
-    }
-    Trial::new(c.point_rate() as f64, xyz, valid).map_err(|e| e.to_string())
+    crate::corpus::trial_of(&c, &points, recorded)
 }
 
 fn mean(v: impl Iterator<Item = f64>) -> Option<f64> {
