@@ -98,25 +98,13 @@ pub(crate) fn donor_study(recs: &[Rec]) {
     let act = activities_of(recs);
     // Whether a measure sets the failing activities apart from walking at all.
     println!("\nMedians per activity (of the records that have the measure):\n");
-    println!(
-        "| activity | records | {} |",
-        (1..=NM)
-            .map(|k| format!("measure {k}"))
-            .collect::<Vec<_>>()
-            .join(" | ")
-    );
-    println!("|---|---|{}", "---|".repeat(NM));
+    table_head("records");
     for name in ROWS {
         let of: Vec<&Measured> = measured
             .iter()
             .filter(|m| act.get(&m.0.file).copied() == Some(name))
             .collect();
-        let med = |k: usize| {
-            let mut v: Vec<f64> = of.iter().filter_map(|m| m.1[k]).collect();
-            v.sort_by(f64::total_cmp);
-            v.get(v.len() / 2)
-                .map_or("–".to_string(), |x| format!("{x:.4}"))
-        };
+        let med = |k: usize| median_cell(of.iter().filter_map(|m| m.1[k]).collect(), 4);
         println!(
             "| {name} | {} | {} |",
             of.len(),
@@ -135,6 +123,26 @@ pub(crate) fn donor_study(recs: &[Rec]) {
     where_they_fail(&measured, &act, &base);
 }
 
+/// The head of a table with one row per activity, a count column named `counted` and a
+/// column per measure.
+fn table_head(counted: &str) {
+    println!(
+        "| activity | {counted} | {} |",
+        (1..=NM)
+            .map(|k| format!("measure {k}"))
+            .collect::<Vec<_>>()
+            .join(" | ")
+    );
+    println!("|---|---|{}", "---|".repeat(NM));
+}
+
+/// The upper median of `v` with `digits` decimals, "–" for none.
+fn median_cell(mut v: Vec<f64>, digits: usize) -> String {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2)
+        .map_or("–".to_string(), |x| format!("{x:.digits$}"))
+}
+
 /// Whether the measures set apart the gaps the shipped features misjudge: per activity of
 /// [`ROWS`], each measure's median over the gaps above twice their estimate (lab and
 /// activity apart), within 2x of it, and below half of it.
@@ -144,14 +152,7 @@ fn where_they_fail(
     base: &[(usize, GapScore)],
 ) {
     println!("\nMedians of each measure by how the shipped features' estimate (lab and activity apart) fared: above twice / within 2x / below half:\n");
-    println!(
-        "| activity | gaps above / within / below | {} |",
-        (1..=NM)
-            .map(|k| format!("measure {k}"))
-            .collect::<Vec<_>>()
-            .join(" | ")
-    );
-    println!("|---|---|{}", "---|".repeat(NM));
+    table_head("gaps above / within / below");
     for name in ROWS {
         let of: Vec<&(usize, GapScore)> = base
             .iter()
@@ -175,10 +176,7 @@ fn where_they_fail(
                 .collect::<Vec<usize>>()
         });
         let med = |k: usize, v: &[usize]| {
-            let mut x: Vec<f64> = v.iter().filter_map(|&i| measured[i].1[k]).collect();
-            x.sort_by(f64::total_cmp);
-            x.get(x.len() / 2)
-                .map_or("–".to_string(), |x| format!("{x:.3}"))
+            median_cell(v.iter().filter_map(|&i| measured[i].1[k]).collect(), 3)
         };
         println!(
             "| {name} | {} | {} |",
