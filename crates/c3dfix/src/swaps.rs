@@ -140,8 +140,9 @@ pub(crate) fn swaps_with(
 
 /// The finds among `points` of `c`, whose trajectories `trial` holds in the file's units
 /// (as [`to_trial`] gives them, with any validity): a repair passes its own trial, so that a
-/// long trial is held once. The samples the finding leaves out (at the origin, residual 0;
-/// see [`drop_processed`]) are left out for the finding only: `trial` comes back as it was.
+/// long trial is held once. The samples the finding leaves out (at the origin, residual 0,
+/// see [`drop_processed`]; c3dfix's own fills, see [`drop_own_fills`]) are left out for the
+/// finding only: `trial` comes back as it was.
 pub(crate) fn find_on_trial(
     c: &c3d::C3d,
     path: &Path,
@@ -162,6 +163,7 @@ pub(crate) fn find_on_trial(
         }
     }
     drop_processed(c, points, trial);
+    drop_own_fills(c, points, trial);
     let found = if !trial.valid.iter().flatten().any(|&v| v) {
         Err(trial_err(
             "every marker sample is missing: there is nothing to check".into(),
@@ -190,6 +192,29 @@ pub(crate) fn find_on_trial(
     };
     trial.valid = kept;
     found
+}
+
+/// c3dfix's own fills are no data (the rule every later run follows, see [`crate::rerun`]):
+/// a fill is where the fill put the marker, within its expected error, not where a camera
+/// saw a label, so it is no evidence of which point the label sat on. Read as data, a fill
+/// a few millimetres off its donors' distances was a "jump" on a repaired file that the
+/// original did not show (pyCGM's `*154`, filled over frames 695–711 at the trial's start
+/// with an expected error of 11 mm, then called a settled jump over 695–712): finding on a
+/// repaired file sees the trial as recorded, as the repair's other stages do. The trial
+/// comes back as it was (the caller restores `valid`).
+fn drop_own_fills(c: &c3d::C3d, points: &[usize], trial: &mut repair::Trial) {
+    let record = crate::rerun::Record::read(c);
+    for &(p, first, last) in &record.filled {
+        let Some(row) = points.iter().position(|&q| q == p) else {
+            continue;
+        };
+        if let Some(valid) = trial.valid.get_mut(row) {
+            let end = (last + 1).min(valid.len());
+            if first < end {
+                valid[first..end].fill(false);
+            }
+        }
+    }
 }
 
 /// The residuals as evidence: a sample of residual 0 is one the capture software computed
