@@ -23,12 +23,9 @@ use super::donors::Donors;
 use super::options::FillOptions;
 use super::outcome::SkipReason;
 use super::subspace::{
-    centroid, neighbours_through, row, scoring_group, sums, training, Shared, Sums,
+    basis, centroid, neighbours_through, own_basis, row, scoring_basis, scoring_group, sums, Basis,
+    Shared, MIN_TRAIN,
 };
-use crate::linalg::Leading;
-
-/// Fewest training frames accepted (as for PCA).
-const MIN_TRAIN: usize = 10;
 /// Context frames on each side of the gap the smoother runs over: enough for the filter to
 /// settle from its prior before it reaches the gap. On the corpus evaluation (quick run),
 /// 20 frames changed no mean error by more than 0.03 mm at 1.2–1.6× the cost, 5 frames
@@ -61,12 +58,12 @@ pub(super) fn raw(
         None => cache
             .model
             .get_or_init(|| {
-                let s = training(t, plan, shared, opts, &[])?;
-                Model::train(&s, t, nb, opts).map(Rc::new)
+                let b = own_basis(t, plan, shared, opts)?;
+                Model::train(&b, t, nb).map(Rc::new)
             })
             .clone()?,
         Some(Some(h)) => {
-            let (g, members) = scoring_group(t, plan, shared, opts, h)?;
+            let (g, _) = scoring_group(t, plan, shared, opts, h)?;
             let hit = cache
                 .scoring
                 .borrow()
@@ -76,15 +73,17 @@ pub(super) fn raw(
             match hit {
                 Some(m) => m,
                 None => {
-                    let s = training(t, plan, shared, opts, &members)?;
-                    let m = Rc::new(Model::train(&s, t, nb, opts)?);
+                    let (_, b) = scoring_basis(t, plan, shared, opts, h)?;
+                    let m = Rc::new(Model::train(&b, t, nb)?);
                     cache.scoring.borrow_mut().push((g, Rc::clone(&m)));
                     m
                 }
             }
         }
         Some(None) => {
-            Rc::new(sums(t, plan.region, nb, opts).and_then(|s| Model::train(&s, t, nb, opts))?)
+            let known = 3 * nb.len();
+            let b = sums(t, plan.region, nb, opts).and_then(|s| basis(&s, known, opts))?;
+            Rc::new(Model::train(&b, t, nb)?)
         }
     };
     // The smoother's window: the context each side, within the run where every neighbour
@@ -201,42 +200,22 @@ macro_rules! by_size {
     };
 }
 impl Model {
-    fn train(
-        s: &Sums,
-        t: &Target,
-        nb: &[(usize, f64)],
-        opts: &FillOptions,
-    ) -> Result<Model, SkipReason> {
+    fn train(b: &Basis, t: &Target, nb: &[(usize, f64)]) -> Result<Model, SkipReason> {
         crate::profile::count(crate::profile::Count::KalmanModel);
         let known = 3 * nb.len();
         let dims = known + 3;
-        let frames = s.frames();
-        if frames.len() < MIN_TRAIN {
-            return Err(SkipReason::NoContext);
-        }
-        let (mean, cov) = s.moments();
-        // Every eigenvalue, and only the r leading eigenvectors the model keeps.
-        let eigen = Leading::new(&cov, dims);
-        let vals = eigen.values();
-        let total: f64 = vals.iter().map(|v| v.max(0.0)).sum();
-        if total <= 0.0 {
-            return Err(SkipReason::Degenerate);
-        }
-        // As for PCA: the components that explain `pca_variance`, no more than the
-        // neighbours determine (centring ties three of their directions). Fewer (99 or
-        // 99.5 %) were worse at every gap length on the corpus evaluation.
-        let max_pcs = (known - 3).min(frames.len() - 1).max(1);
-        let (mut r, mut acc) = (0, 0.0);
-        while r < max_pcs && acc < opts.pca_variance * total {
-            acc += vals[r].max(0.0);
-            r += 1;
-        }
+        let frames = &b.frames;
+        // The components PCA keeps on the same rows (see `Basis`): those that explain
+        // `pca_variance`, no more than the neighbours determine. Fewer (99 or 99.5 %) were
+        // worse at every gap length on the corpus evaluation.
+        let (vals, total, r) = (&b.values, b.total, b.vectors.ncols());
         // The variance left in the free directions, spread evenly (probabilistic PCA's
         // maximum-likelihood noise); a floor keeps the update well posed on clean data.
         let free = dims - 3;
         let left: f64 = vals[r.min(free)..free].iter().map(|v| v.max(0.0)).sum();
         let noise = (left / (free - r).max(1) as f64).max(1e-9 * total);
-        let basis = eigen.vectors(r);
+        let basis = b.vectors.clone();
+        let mean = b.mean.clone();
 
         // Scores at the training frames, and their first and second differences where the
         // neighbouring frames trained too.
@@ -743,8 +722,8 @@ mod tests {
         let span = Span::new(120, 159, data.frames);
         let opts = FillOptions::default();
         let plan = Plan::build(&t, span, &opts);
-        let s = training(&t, &plan, &plan.subspace, &opts, &[]).unwrap();
-        let model = Model::train(&s, &t, &plan.pca, &opts).unwrap();
+        let b = own_basis(&t, &plan, &plan.subspace, &opts).unwrap();
+        let model = Model::train(&b, &t, &plan.pca).unwrap();
         assert!(model.r >= 3, "components kept: {}", model.r);
         let got = model.smooth(&t, &plan.pca, 100, 179).unwrap();
         let want = rts(&model, &t, &plan.pca, 100, 179);
