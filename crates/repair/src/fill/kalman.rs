@@ -23,9 +23,10 @@ use super::donors::Donors;
 use super::options::FillOptions;
 use super::outcome::SkipReason;
 use super::subspace::{
-    basis, centroid, neighbours_through, own_basis, row, scoring_basis, scoring_group, sums, Basis,
-    Shared, MIN_TRAIN,
+    basis, centroid, neighbours_through, own_basis, plan_rows, row, rows_of, scoring_basis,
+    scoring_group, sums, Basis, Rows, Shared, MIN_TRAIN,
 };
+
 /// Context frames on each side of the gap the smoother runs over: enough for the filter to
 /// settle from its prior before it reaches the gap. On the corpus evaluation (quick run),
 /// 20 frames changed no mean error by more than 0.03 mm at 1.2–1.6× the cost, 5 frames
@@ -59,7 +60,7 @@ pub(super) fn raw(
             .model
             .get_or_init(|| {
                 let b = own_basis(t, plan, shared, opts)?;
-                Model::train(&b, t, nb).map(Rc::new)
+                Model::train(&b, plan_rows(t, plan, shared, opts)?, nb).map(Rc::new)
             })
             .clone()?,
         Some(Some(h)) => {
@@ -74,7 +75,8 @@ pub(super) fn raw(
                 Some(m) => m,
                 None => {
                     let (_, b) = scoring_basis(t, plan, shared, opts, h)?;
-                    let m = Rc::new(Model::train(&b, t, nb)?);
+                    let rows = plan_rows(t, plan, shared, opts)?;
+                    let m = Rc::new(Model::train(&b, rows, nb)?);
                     cache.scoring.borrow_mut().push((g, Rc::clone(&m)));
                     m
                 }
@@ -83,7 +85,12 @@ pub(super) fn raw(
         Some(None) => {
             let known = 3 * nb.len();
             let b = sums(t, plan.region, nb, opts).and_then(|s| basis(&s, known, opts))?;
-            Rc::new(Model::train(&b, t, nb)?)
+            let data = rows_of(t, nb, &b.frames);
+            let rows = Rows {
+                frames: &b.frames,
+                data: &data,
+            };
+            Rc::new(Model::train(&b, rows, nb)?)
         }
     };
     // The smoother's window: the context each side, within the run where every neighbour
@@ -200,7 +207,9 @@ macro_rules! by_size {
     };
 }
 impl Model {
-    fn train(b: &Basis, t: &Target, nb: &[(usize, f64)]) -> Result<Model, SkipReason> {
+    /// The model of the components `b`, whose training rows are among `rows` (see
+    /// [`Rows`]).
+    fn train(b: &Basis, rows: Rows, nb: &[(usize, f64)]) -> Result<Model, SkipReason> {
         crate::profile::count(crate::profile::Count::KalmanModel);
         let known = 3 * nb.len();
         let dims = known + 3;
@@ -219,41 +228,16 @@ impl Model {
 
         // Scores at the training frames, and their first and second differences where the
         // neighbouring frames trained too.
-        let mut buf = vec![0.0; dims];
-        let mut score = |f: usize| -> Vec<f64> {
-            row(t, nb, f, &mut buf);
-            for (v, m) in buf.iter_mut().zip(&mean) {
-                *v -= m;
-            }
-            let mut z = vec![0.0; r];
-            project(basis.as_slice(), dims, &buf, &mut z);
-            z
-        };
-        let (mut v1, mut n1) = (vec![0.0; r], 0usize);
-        let (mut v2, mut n2) = (vec![0.0; r], 0usize);
-        let mut prev: Option<(usize, Vec<f64>)> = None;
-        let mut prev2: Option<(usize, Vec<f64>)> = None;
-        for &f in frames {
-            let z = score(f);
-            if let Some((pf, pz)) = &prev {
-                if pf + 1 == f {
-                    for a in 0..r {
-                        v1[a] += (z[a] - pz[a]).powi(2);
-                    }
-                    n1 += 1;
-                    if let Some((ppf, ppz)) = &prev2 {
-                        if ppf + 2 == f {
-                            for a in 0..r {
-                                v2[a] += (z[a] - 2.0 * pz[a] + ppz[a]).powi(2);
-                            }
-                            n2 += 1;
-                        }
-                    }
-                }
-            }
-            prev2 = prev.take();
-            prev = Some((f, z));
-        }
+        let ((v1, n1), (v2, n2)) = by_size!(
+            r,
+            differences,
+            frames,
+            rows,
+            &mean,
+            basis.as_slice(),
+            dims,
+            r
+        )?;
         if n2 < MIN_TRAIN {
             return Err(SkipReason::NoContext);
         }
@@ -299,6 +283,75 @@ impl Model {
             noise,
             gains: RefCell::new(Vec::new()),
         })
+    }
+
+    /// Per component, the sums of the squared first and second differences of the scores
+    /// over the training `frames` (each frame's row from `rows`, less `mean`, on `basis`:
+    /// `dims × r`, column-major) where the frames before it trained too, and how many of
+    /// each. Compiled per component count, as [`Model::recursion`]; each score is summed in
+    /// the order [`project`] sums it, so the bits are the same.
+    #[allow(clippy::type_complexity)]
+    fn differences<const R: usize>(
+        frames: &[usize],
+        rows: Rows,
+        mean: &[f64],
+        basis: &[f64],
+        dims: usize,
+        r: usize,
+    ) -> Result<((Vec<f64>, usize), (Vec<f64>, usize)), SkipReason> {
+        let r = if R == 0 { r } else { R };
+        // The basis by rows (`dims × r`, row-major), so that a row's share of every score
+        // is one short contiguous run.
+        let by_rows: Vec<f64> = (0..dims)
+            .flat_map(|i| (0..r).map(move |a| basis[i + a * dims]))
+            .collect();
+        let mut buf = vec![0.0; dims];
+        let (mut z, mut pz, mut ppz) = (vec![0.0; r], vec![0.0; r], vec![0.0; r]);
+        let (mut pf, mut ppf): (Option<usize>, Option<usize>) = (None, None);
+        let (mut v1, mut n1) = (vec![0.0; r], 0usize);
+        let (mut v2, mut n2) = (vec![0.0; r], 0usize);
+        let mut at = 0;
+        for &f in frames {
+            // The model's frames are in `rows.frames`, in order.
+            at += rows.frames[at..]
+                .iter()
+                .position(|&g| g == f)
+                .ok_or(SkipReason::NoContext)?;
+            let x = &rows.data[at * dims..(at + 1) * dims];
+            for ((v, &xv), m) in buf.iter_mut().zip(x).zip(mean) {
+                *v = xv - m;
+            }
+            let zr = &mut z[..r];
+            zr.fill(-0.0);
+            for (&xi, bi) in buf.iter().zip(by_rows.chunks_exact(r)) {
+                let bi = &bi[..r];
+                for a in 0..r {
+                    zr[a] += bi[a] * xi;
+                }
+            }
+            if let Some(p) = pf {
+                if p + 1 == f {
+                    let (zr, pzr) = (&z[..r], &pz[..r]);
+                    for a in 0..r {
+                        v1[a] += (zr[a] - pzr[a]).powi(2);
+                    }
+                    n1 += 1;
+                    if let Some(pp) = ppf {
+                        if pp + 2 == f {
+                            let ppzr = &ppz[..r];
+                            for a in 0..r {
+                                v2[a] += (zr[a] - 2.0 * pzr[a] + ppzr[a]).powi(2);
+                            }
+                            n2 += 1;
+                        }
+                    }
+                }
+            }
+            std::mem::swap(&mut ppz, &mut pz);
+            std::mem::swap(&mut pz, &mut z);
+            (ppf, pf) = (pf, Some(f));
+        }
+        Ok(((v1, n1), (v2, n2)))
     }
 
     /// The covariances for a window whose frames see the target where `seen` is true: the
@@ -723,7 +776,8 @@ mod tests {
         let opts = FillOptions::default();
         let plan = Plan::build(&t, span, &opts);
         let b = own_basis(&t, &plan, &plan.subspace, &opts).unwrap();
-        let model = Model::train(&b, &t, &plan.pca).unwrap();
+        let rows = plan_rows(&t, &plan, &plan.subspace, &opts).unwrap();
+        let model = Model::train(&b, rows, &plan.pca).unwrap();
         assert!(model.r >= 3, "components kept: {}", model.r);
         let got = model.smooth(&t, &plan.pca, 100, 179).unwrap();
         let want = rts(&model, &t, &plan.pca, 100, 179);

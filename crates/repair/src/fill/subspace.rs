@@ -32,6 +32,47 @@ pub(crate) struct Shared {
     /// from these (see [`Basis`]).
     own: OnceCell<Result<Rc<Basis>, SkipReason>>,
     scoring: OnceCell<Vec<OnceCell<Result<Rc<Basis>, SkipReason>>>>,
+    /// The rows of the plan's training frames ([`row`] each, `dims` apiece), for the
+    /// Kalman smoother's training scores.
+    rows: OnceCell<Vec<f64>>,
+}
+
+/// Training rows gathered once ([`row`] of each frame, `dims` numbers apiece, frame after
+/// frame): a plan's whole window, whose frames every model of the plan trains on a part
+/// of. The Kalman smoother's models score every training frame, and worked each row out
+/// again per model (its neighbours' centroid and offsets), as many times as the plan has
+/// models.
+#[derive(Clone, Copy)]
+pub(super) struct Rows<'a> {
+    pub(super) frames: &'a [usize],
+    pub(super) data: &'a [f64],
+}
+
+/// The rows of `frames` (see [`Rows`]).
+pub(super) fn rows_of(t: &Target, nb: &[(usize, f64)], frames: &[usize]) -> Vec<f64> {
+    let dims = 3 * nb.len() + 3;
+    let mut data = vec![0.0; frames.len() * dims];
+    for (&f, out) in frames.iter().zip(data.chunks_exact_mut(dims)) {
+        row(t, nb, f, out);
+    }
+    data
+}
+
+/// The rows of the plan's training frames (the gap's own model's), made on first use.
+pub(super) fn plan_rows<'s>(
+    t: &Target,
+    plan: &Donors,
+    shared: &'s Shared,
+    opts: &FillOptions,
+) -> Result<Rows<'s>, SkipReason> {
+    let all = plan_sums(t, plan, shared, opts)?;
+    let data = shared
+        .rows
+        .get_or_init(|| rows_of(t, &plan.pca, &all.frames));
+    Ok(Rows {
+        frames: &all.frames,
+        data,
+    })
 }
 
 /// The principal components of one set of training rows, as PCA and the Kalman smoother
