@@ -102,6 +102,8 @@ impl Leading {
         // the first of its cluster.
         let mut last: Vec<Option<(usize, f64, usize)>> = vec![None; n];
         let mut rng = crate::rng::SplitMix64::new(0x5eed);
+        let mut lu = Lu::default();
+        let mut x = Vec::with_capacity(n);
         for j in 0..k {
             let (b0, b1) = blocks[j];
             let norm = block_norm(&diag[b0..b1], &off[b0..b1 - 1]);
@@ -120,12 +122,13 @@ impl Leading {
             let count = last[b0].map_or(0, |(c, _, _)| c + 1);
             last[b0] = Some((count, lambda, cluster_start));
             let m = b1 - b0;
-            let mut x = vec![0.0; m];
+            x.clear();
+            x.resize(m, 0.0);
             if norm == 0.0 || m == 1 {
                 // A zero block (or a 1 × 1 one): any orthonormal basis of it.
                 x[count.min(m - 1)] = 1.0;
             } else {
-                let lu = Lu::new(&diag[b0..b1], &off[b0..b1 - 1], lambda, norm);
+                lu.factor(&diag[b0..b1], &off[b0..b1 - 1], lambda, norm);
                 x.iter_mut().for_each(|v| *v = rng.uniform() - 0.5);
                 for _ in 0..STEPS {
                     lu.solve(&mut x);
@@ -452,6 +455,7 @@ fn block_norm(d: &[f64], e: &[f64]) -> f64 {
 }
 
 /// LU with partial pivoting of the tridiagonal less λI: U has two superdiagonals.
+#[derive(Default)]
 struct Lu {
     /// The pivots' reciprocals: the back substitution's chain multiplies, not divides.
     inv_u0: Vec<f64>,
@@ -462,11 +466,24 @@ struct Lu {
 }
 
 impl Lu {
-    fn new(d: &[f64], e: &[f64], lambda: f64, norm: f64) -> Lu {
+    /// Factors T − λI into this one's buffers (made once per decomposition's vectors: a
+    /// vector's allocations cost about what its factorisation does).
+    fn factor(&mut self, d: &[f64], e: &[f64], lambda: f64, norm: f64) {
         let m = d.len();
         let tiny = f64::EPSILON * norm;
-        let (mut u0, mut u1, mut u2) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
-        let (mut mult, mut swap) = (vec![0.0; m], vec![false; m]);
+        let Lu {
+            inv_u0: u0,
+            u1,
+            u2,
+            mult,
+            swap,
+        } = self;
+        for v in [&mut *u0, &mut *u1, &mut *u2, &mut *mult] {
+            v.clear();
+            v.resize(m, 0.0);
+        }
+        swap.clear();
+        swap.resize(m, false);
         // The row being eliminated into: its entries at columns i and i + 1.
         let (mut x0, mut x1) = (d[0] - lambda, e.first().copied().unwrap_or(0.0));
         for i in 0..m - 1 {
@@ -498,13 +515,7 @@ impl Lu {
         } else {
             x0
         };
-        Lu {
-            inv_u0: u0.iter().map(|u| 1.0 / u).collect(),
-            u1,
-            u2,
-            mult,
-            swap,
-        }
+        u0.iter_mut().for_each(|u| *u = 1.0 / *u);
     }
 
     /// Solves (T − λI) x = y in place.
