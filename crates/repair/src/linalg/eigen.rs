@@ -19,9 +19,10 @@ use nalgebra::DMatrix;
 /// nalgebra's (LAPACK allows 30 per eigenvalue; none of the corpora's matrices came near).
 const MAX_SWEEPS: usize = 60;
 /// Inverse-iteration steps per eigenvector. From an accurate eigenvalue one step reaches
-/// the eigenvector to rounding unless the start vector happens to lack it; three leave no
-/// such chance.
-const STEPS: usize = 3;
+/// the eigenvector to rounding unless the start vector happens to lack it (by a share of
+/// the order of rounding); a second leaves no such chance. Three moved no fill of the
+/// held-apart evaluation by a millionth (`docs/price.md`, price11) and cost a third more.
+const STEPS: usize = 2;
 /// Eigenvalues closer than this share of their block's norm form a cluster whose vectors
 /// are orthogonalised against each other (LAPACK's `dstein`).
 const CLUSTER: f64 = 1e-3;
