@@ -30,8 +30,8 @@ pub(crate) struct Shared {
     /// The components of the gap's own rows, and per group of holes those of the rows
     /// without them: PCA's model and the Kalman smoother's of the same rows both start
     /// from these (see [`Basis`]).
-    own: OnceCell<Result<Rc<Basis>, SkipReason>>,
-    scoring: OnceCell<Vec<OnceCell<Result<Rc<Basis>, SkipReason>>>>,
+    own: LazyBasis,
+    scoring: OnceCell<Vec<LazyBasis>>,
     /// The rows of the plan's training frames ([`row`] each, `dims` apiece), for the
     /// Kalman smoother's training scores.
     rows: OnceCell<Vec<f64>>,
@@ -74,6 +74,9 @@ pub(super) fn plan_rows<'s>(
         data,
     })
 }
+
+/// A [`Basis`] made on first use.
+type LazyBasis = OnceCell<Result<Rc<Basis>, SkipReason>>;
 
 /// The principal components of one set of training rows, as PCA and the Kalman smoother
 /// both keep them: the components that explain `pca_variance` of the variance, no more
