@@ -752,6 +752,72 @@ mod tests {
         out
     }
 
+    /// The training scores' differences from the plan's rows, compiled per component count
+    /// or not, equal those worked out frame by frame from each frame's row (the training
+    /// before the rows were shared), bit for bit, for the gap's own model and for a group
+    /// of `auto`'s holes.
+    #[test]
+    fn differences_from_the_plan_rows_equal_frame_by_frame() {
+        let trial = crate::synth::gait_like(24, 8, 800, 100.0, 0.3, 7);
+        let mut valid = trial.valid.clone();
+        valid[0][400..450].fill(false);
+        let steps = max_steps(&trial.xyz, &valid);
+        let data = Data::new(&trial.xyz, &valid, &steps);
+        let t = Target {
+            m: 0,
+            data,
+            hole: None,
+        };
+        let opts = FillOptions::default();
+        let plan = Plan::build(&t, Span::new(400, 449, 800), &opts);
+        plan.exclude.set(vec![(200, 239), (600, 639)]).unwrap();
+        let (nb, shared) = (&plan.pca, &plan.subspace);
+        let dims = 3 * nb.len() + 3;
+        let rows = plan_rows(&t, &plan, shared, &opts).unwrap();
+        let own = own_basis(&t, &plan, shared, &opts).unwrap();
+        let (_, holes) = scoring_basis(&t, &plan, shared, &opts, (200, 239)).unwrap();
+        assert!(holes.frames.len() + 80 <= own.frames.len());
+        for b in [own, holes] {
+            let r = b.vectors.ncols();
+            let (mut v1, mut n1, mut v2, mut n2) = (vec![0.0; r], 0, vec![0.0; r], 0);
+            let mut buf = vec![0.0; dims];
+            let mut seen: Vec<(usize, Vec<f64>)> = Vec::new();
+            for &f in &b.frames {
+                row(&t, nb, f, &mut buf);
+                buf.iter_mut().zip(&b.mean).for_each(|(v, m)| *v -= m);
+                let mut z = vec![0.0; r];
+                project(b.vectors.as_slice(), dims, &buf, &mut z);
+                let k = seen.len();
+                if k >= 1 && seen[k - 1].0 + 1 == f {
+                    let pz = &seen[k - 1].1;
+                    (0..r).for_each(|a| v1[a] += (z[a] - pz[a]).powi(2));
+                    n1 += 1;
+                    if k >= 2 && seen[k - 2].0 + 2 == f {
+                        let ppz = &seen[k - 2].1;
+                        (0..r).for_each(|a| v2[a] += (z[a] - 2.0 * pz[a] + ppz[a]).powi(2));
+                        n2 += 1;
+                    }
+                }
+                seen.push((f, z));
+            }
+            let want = ((v1, n1), (v2, n2));
+            let (frames, mean, basis) = (&b.frames, &b.mean, b.vectors.as_slice());
+            macro_rules! compiled {
+                ($($k:literal),*) => {
+                    match r {
+                        $($k => Model::differences::<$k>(frames, rows, mean, basis, dims, r),)*
+                        _ => panic!("{r} components"),
+                    }
+                };
+            }
+            let fixed = compiled!(1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16).unwrap();
+            let run_time = Model::differences::<0>(frames, rows, mean, basis, dims, r).unwrap();
+            assert!(n1 > 100 && n2 > 100, "{n1} {n2}");
+            assert_eq!(fixed, want);
+            assert_eq!(run_time, want);
+        }
+    }
+
     #[test]
     fn smoother_matches_rauch_tung_striebel() {
         // The rigid cluster with 0.5 mm of deterministic jitter, so the model keeps
