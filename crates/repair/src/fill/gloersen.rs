@@ -501,17 +501,14 @@ fn components(x: &DMatrix<f64>, ti: usize) -> (Components, Components) {
     if rn >= cols {
         return from_covariance((x.transpose() * x) / scale, ti);
     }
-    let from_frames = |x: DMatrix<f64>| {
-        let gram = (&x * x.transpose()) / scale;
-        Components::Frames {
-            eigen: Leading::new(gram.as_slice(), rn),
-            x,
-            scale,
-        }
-    };
     let mut zeroed = x.clone();
     zeroed.columns_mut(3 * ti, 3).fill(0.0);
-    (from_frames(x.clone()), from_frames(zeroed))
+    let gram = |x: &DMatrix<f64>| (x * x.transpose()) / scale;
+    let (g_all, g_zeroed) = (gram(x), gram(&zeroed));
+    // Decomposed together: their QL iterations overlap (`Leading::pair`).
+    let (e_all, e_zeroed) = Leading::pair(g_all.as_slice(), rn, g_zeroed.as_slice(), rn);
+    let frames = |eigen, x| Components::Frames { eigen, x, scale };
+    (frames(e_all, x.clone()), frames(e_zeroed, zeroed))
 }
 
 /// One set of principal components: its eigenvalues at once, its eigenvectors on request.
@@ -638,7 +635,10 @@ fn from_covariance(cov_no: DMatrix<f64>, ti: usize) -> (Components, Components) 
     let block = DMatrix::from_fn(others.len(), others.len(), |a, b| {
         cov_no[(others[a], others[b])]
     });
-    let eigen = Leading::new(block.as_slice(), others.len());
+    // Decomposed together with the whole covariance, their QL iterations overlapping
+    // (`Leading::pair`). The covariance is symmetric (to rounding; the decomposition reads
+    // one triangle), so its column-major slice serves as a row-major one.
+    let (eigen, whole) = Leading::pair(block.as_slice(), others.len(), cov_no.as_slice(), cols);
     // The block's eigenvalues and the three zeros, descending (the zeros after every
     // eigenvalue above 0 and before any below it, as a sort of all of them puts them).
     let mut merged: Vec<(f64, Option<usize>)> = eigen
@@ -650,10 +650,8 @@ fn from_covariance(cov_no: DMatrix<f64>, ti: usize) -> (Components, Components) 
         .collect();
     merged.sort_by(|a, b| b.0.total_cmp(&a.0));
     let (values, order) = merged.into_iter().unzip();
-    // Symmetric (to rounding; the decomposition reads one triangle), so its column-major
-    // slice serves as a row-major one.
     (
-        Components::Columns(Leading::new(cov_no.as_slice(), cols)),
+        Components::Columns(whole),
         Components::Block {
             eigen,
             ti,

@@ -23,12 +23,10 @@ use super::donors::Donors;
 use super::options::FillOptions;
 use super::outcome::SkipReason;
 use super::subspace::{
-    centroid, neighbours_through, row, scoring_group, sums, training, Shared, Sums,
+    basis, centroid, neighbours_through, own_basis, plan_rows, row, rows_of, scoring_basis,
+    scoring_group, sums, Basis, Rows, Shared, MIN_TRAIN,
 };
-use crate::linalg::Leading;
 
-/// Fewest training frames accepted (as for PCA).
-const MIN_TRAIN: usize = 10;
 /// Context frames on each side of the gap the smoother runs over: enough for the filter to
 /// settle from its prior before it reaches the gap. On the corpus evaluation (quick run),
 /// 20 frames changed no mean error by more than 0.03 mm at 1.2–1.6× the cost, 5 frames
@@ -61,12 +59,12 @@ pub(super) fn raw(
         None => cache
             .model
             .get_or_init(|| {
-                let s = training(t, plan, shared, opts, &[])?;
-                Model::train(&s, t, nb, opts).map(Rc::new)
+                let b = own_basis(t, plan, shared, opts)?;
+                Model::train(&b, plan_rows(t, plan, shared, opts)?, nb).map(Rc::new)
             })
             .clone()?,
         Some(Some(h)) => {
-            let (g, members) = scoring_group(t, plan, shared, opts, h)?;
+            let (g, _) = scoring_group(t, plan, shared, opts, h)?;
             let hit = cache
                 .scoring
                 .borrow()
@@ -76,15 +74,23 @@ pub(super) fn raw(
             match hit {
                 Some(m) => m,
                 None => {
-                    let s = training(t, plan, shared, opts, &members)?;
-                    let m = Rc::new(Model::train(&s, t, nb, opts)?);
+                    let (_, b) = scoring_basis(t, plan, shared, opts, h)?;
+                    let rows = plan_rows(t, plan, shared, opts)?;
+                    let m = Rc::new(Model::train(&b, rows, nb)?);
                     cache.scoring.borrow_mut().push((g, Rc::clone(&m)));
                     m
                 }
             }
         }
         Some(None) => {
-            Rc::new(sums(t, plan.region, nb, opts).and_then(|s| Model::train(&s, t, nb, opts))?)
+            let known = 3 * nb.len();
+            let b = sums(t, plan.region, nb, opts).and_then(|s| basis(&s, known, opts))?;
+            let data = rows_of(t, nb, &b.frames);
+            let rows = Rows {
+                frames: &b.frames,
+                data: &data,
+            };
+            Rc::new(Model::train(&b, rows, nb)?)
         }
     };
     // The smoother's window: the context each side, within the run where every neighbour
@@ -201,80 +207,37 @@ macro_rules! by_size {
     };
 }
 impl Model {
-    fn train(
-        s: &Sums,
-        t: &Target,
-        nb: &[(usize, f64)],
-        opts: &FillOptions,
-    ) -> Result<Model, SkipReason> {
+    /// The model of the components `b`, whose training rows are among `rows` (see
+    /// [`Rows`]).
+    fn train(b: &Basis, rows: Rows, nb: &[(usize, f64)]) -> Result<Model, SkipReason> {
         crate::profile::count(crate::profile::Count::KalmanModel);
         let known = 3 * nb.len();
         let dims = known + 3;
-        let frames = s.frames();
-        if frames.len() < MIN_TRAIN {
-            return Err(SkipReason::NoContext);
-        }
-        let (mean, cov) = s.moments();
-        // Every eigenvalue, and only the r leading eigenvectors the model keeps.
-        let eigen = Leading::new(&cov, dims);
-        let vals = eigen.values();
-        let total: f64 = vals.iter().map(|v| v.max(0.0)).sum();
-        if total <= 0.0 {
-            return Err(SkipReason::Degenerate);
-        }
-        // As for PCA: the components that explain `pca_variance`, no more than the
-        // neighbours determine (centring ties three of their directions). Fewer (99 or
-        // 99.5 %) were worse at every gap length on the corpus evaluation.
-        let max_pcs = (known - 3).min(frames.len() - 1).max(1);
-        let (mut r, mut acc) = (0, 0.0);
-        while r < max_pcs && acc < opts.pca_variance * total {
-            acc += vals[r].max(0.0);
-            r += 1;
-        }
+        let frames = &b.frames;
+        // The components PCA keeps on the same rows (see `Basis`): those that explain
+        // `pca_variance`, no more than the neighbours determine. Fewer (99 or 99.5 %) were
+        // worse at every gap length on the corpus evaluation.
+        let (vals, total, r) = (&b.values, b.total, b.vectors.ncols());
         // The variance left in the free directions, spread evenly (probabilistic PCA's
         // maximum-likelihood noise); a floor keeps the update well posed on clean data.
         let free = dims - 3;
         let left: f64 = vals[r.min(free)..free].iter().map(|v| v.max(0.0)).sum();
         let noise = (left / (free - r).max(1) as f64).max(1e-9 * total);
-        let basis = eigen.vectors(r);
+        let basis = b.vectors.clone();
+        let mean = b.mean.clone();
 
         // Scores at the training frames, and their first and second differences where the
         // neighbouring frames trained too.
-        let mut buf = vec![0.0; dims];
-        let mut score = |f: usize| -> Vec<f64> {
-            row(t, nb, f, &mut buf);
-            for (v, m) in buf.iter_mut().zip(&mean) {
-                *v -= m;
-            }
-            let mut z = vec![0.0; r];
-            project(basis.as_slice(), dims, &buf, &mut z);
-            z
-        };
-        let (mut v1, mut n1) = (vec![0.0; r], 0usize);
-        let (mut v2, mut n2) = (vec![0.0; r], 0usize);
-        let mut prev: Option<(usize, Vec<f64>)> = None;
-        let mut prev2: Option<(usize, Vec<f64>)> = None;
-        for &f in frames {
-            let z = score(f);
-            if let Some((pf, pz)) = &prev {
-                if pf + 1 == f {
-                    for a in 0..r {
-                        v1[a] += (z[a] - pz[a]).powi(2);
-                    }
-                    n1 += 1;
-                    if let Some((ppf, ppz)) = &prev2 {
-                        if ppf + 2 == f {
-                            for a in 0..r {
-                                v2[a] += (z[a] - 2.0 * pz[a] + ppz[a]).powi(2);
-                            }
-                            n2 += 1;
-                        }
-                    }
-                }
-            }
-            prev2 = prev.take();
-            prev = Some((f, z));
-        }
+        let ((v1, n1), (v2, n2)) = by_size!(
+            r,
+            differences,
+            frames,
+            rows,
+            &mean,
+            basis.as_slice(),
+            dims,
+            r
+        )?;
         if n2 < MIN_TRAIN {
             return Err(SkipReason::NoContext);
         }
@@ -320,6 +283,75 @@ impl Model {
             noise,
             gains: RefCell::new(Vec::new()),
         })
+    }
+
+    /// Per component, the sums of the squared first and second differences of the scores
+    /// over the training `frames` (each frame's row from `rows`, less `mean`, on `basis`:
+    /// `dims × r`, column-major) where the frames before it trained too, and how many of
+    /// each. Compiled per component count, as [`Model::recursion`]; each score is summed in
+    /// the order [`project`] sums it, so the bits are the same.
+    #[allow(clippy::type_complexity)]
+    fn differences<const R: usize>(
+        frames: &[usize],
+        rows: Rows,
+        mean: &[f64],
+        basis: &[f64],
+        dims: usize,
+        r: usize,
+    ) -> Result<((Vec<f64>, usize), (Vec<f64>, usize)), SkipReason> {
+        let r = if R == 0 { r } else { R };
+        // The basis by rows (`dims × r`, row-major), so that a row's share of every score
+        // is one short contiguous run.
+        let by_rows: Vec<f64> = (0..dims)
+            .flat_map(|i| (0..r).map(move |a| basis[i + a * dims]))
+            .collect();
+        let mut buf = vec![0.0; dims];
+        let (mut z, mut pz, mut ppz) = (vec![0.0; r], vec![0.0; r], vec![0.0; r]);
+        let (mut pf, mut ppf): (Option<usize>, Option<usize>) = (None, None);
+        let (mut v1, mut n1) = (vec![0.0; r], 0usize);
+        let (mut v2, mut n2) = (vec![0.0; r], 0usize);
+        let mut at = 0;
+        for &f in frames {
+            // The model's frames are in `rows.frames`, in order.
+            at += rows.frames[at..]
+                .iter()
+                .position(|&g| g == f)
+                .ok_or(SkipReason::NoContext)?;
+            let x = &rows.data[at * dims..(at + 1) * dims];
+            for ((v, &xv), m) in buf.iter_mut().zip(x).zip(mean) {
+                *v = xv - m;
+            }
+            let zr = &mut z[..r];
+            zr.fill(-0.0);
+            for (&xi, bi) in buf.iter().zip(by_rows.chunks_exact(r)) {
+                let bi = &bi[..r];
+                for a in 0..r {
+                    zr[a] += bi[a] * xi;
+                }
+            }
+            if let Some(p) = pf {
+                if p + 1 == f {
+                    let (zr, pzr) = (&z[..r], &pz[..r]);
+                    for a in 0..r {
+                        v1[a] += (zr[a] - pzr[a]).powi(2);
+                    }
+                    n1 += 1;
+                    if let Some(pp) = ppf {
+                        if pp + 2 == f {
+                            let ppzr = &ppz[..r];
+                            for a in 0..r {
+                                v2[a] += (zr[a] - 2.0 * pzr[a] + ppzr[a]).powi(2);
+                            }
+                            n2 += 1;
+                        }
+                    }
+                }
+            }
+            std::mem::swap(&mut ppz, &mut pz);
+            std::mem::swap(&mut pz, &mut z);
+            (ppf, pf) = (pf, Some(f));
+        }
+        Ok(((v1, n1), (v2, n2)))
     }
 
     /// The covariances for a window whose frames see the target where `seen` is true: the
@@ -720,6 +752,72 @@ mod tests {
         out
     }
 
+    /// The training scores' differences from the plan's rows, compiled per component count
+    /// or not, equal those worked out frame by frame from each frame's row (the training
+    /// before the rows were shared), bit for bit, for the gap's own model and for a group
+    /// of `auto`'s holes.
+    #[test]
+    fn differences_from_the_plan_rows_equal_frame_by_frame() {
+        let trial = crate::synth::gait_like(24, 8, 800, 100.0, 0.3, 7);
+        let mut valid = trial.valid.clone();
+        valid[0][400..450].fill(false);
+        let steps = max_steps(&trial.xyz, &valid);
+        let data = Data::new(&trial.xyz, &valid, &steps);
+        let t = Target {
+            m: 0,
+            data,
+            hole: None,
+        };
+        let opts = FillOptions::default();
+        let plan = Plan::build(&t, Span::new(400, 449, 800), &opts);
+        plan.exclude.set(vec![(200, 239), (600, 639)]).unwrap();
+        let (nb, shared) = (&plan.pca, &plan.subspace);
+        let dims = 3 * nb.len() + 3;
+        let rows = plan_rows(&t, &plan, shared, &opts).unwrap();
+        let own = own_basis(&t, &plan, shared, &opts).unwrap();
+        let (_, holes) = scoring_basis(&t, &plan, shared, &opts, (200, 239)).unwrap();
+        assert!(holes.frames.len() + 80 <= own.frames.len());
+        for b in [own, holes] {
+            let r = b.vectors.ncols();
+            let (mut v1, mut n1, mut v2, mut n2) = (vec![0.0; r], 0, vec![0.0; r], 0);
+            let mut buf = vec![0.0; dims];
+            let mut seen: Vec<(usize, Vec<f64>)> = Vec::new();
+            for &f in &b.frames {
+                row(&t, nb, f, &mut buf);
+                buf.iter_mut().zip(&b.mean).for_each(|(v, m)| *v -= m);
+                let mut z = vec![0.0; r];
+                project(b.vectors.as_slice(), dims, &buf, &mut z);
+                let k = seen.len();
+                if k >= 1 && seen[k - 1].0 + 1 == f {
+                    let pz = &seen[k - 1].1;
+                    (0..r).for_each(|a| v1[a] += (z[a] - pz[a]).powi(2));
+                    n1 += 1;
+                    if k >= 2 && seen[k - 2].0 + 2 == f {
+                        let ppz = &seen[k - 2].1;
+                        (0..r).for_each(|a| v2[a] += (z[a] - 2.0 * pz[a] + ppz[a]).powi(2));
+                        n2 += 1;
+                    }
+                }
+                seen.push((f, z));
+            }
+            let want = ((v1, n1), (v2, n2));
+            let (frames, mean, basis) = (&b.frames, &b.mean, b.vectors.as_slice());
+            macro_rules! compiled {
+                ($($k:literal),*) => {
+                    match r {
+                        $($k => Model::differences::<$k>(frames, rows, mean, basis, dims, r),)*
+                        _ => panic!("{r} components"),
+                    }
+                };
+            }
+            let fixed = compiled!(1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16).unwrap();
+            let run_time = Model::differences::<0>(frames, rows, mean, basis, dims, r).unwrap();
+            assert!(n1 > 100 && n2 > 100, "{n1} {n2}");
+            assert_eq!(fixed, want);
+            assert_eq!(run_time, want);
+        }
+    }
+
     #[test]
     fn smoother_matches_rauch_tung_striebel() {
         // The rigid cluster with 0.5 mm of deterministic jitter, so the model keeps
@@ -743,8 +841,9 @@ mod tests {
         let span = Span::new(120, 159, data.frames);
         let opts = FillOptions::default();
         let plan = Plan::build(&t, span, &opts);
-        let s = training(&t, &plan, &plan.subspace, &opts, &[]).unwrap();
-        let model = Model::train(&s, &t, &plan.pca, &opts).unwrap();
+        let b = own_basis(&t, &plan, &plan.subspace, &opts).unwrap();
+        let rows = plan_rows(&t, &plan, &plan.subspace, &opts).unwrap();
+        let model = Model::train(&b, rows, &plan.pca).unwrap();
         assert!(model.r >= 3, "components kept: {}", model.r);
         let got = model.smooth(&t, &plan.pca, 100, 179).unwrap();
         let want = rts(&model, &t, &plan.pca, 100, 179);

@@ -17,17 +17,15 @@ use super::donors::Donors;
 use super::options::FillOptions;
 use super::outcome::SkipReason;
 use super::subspace::{
-    centroid, group, known_row, neighbours_through, plan_sums, scoring_groups, sums, without,
-    Shared, Sums,
+    basis, centroid, group, known_row, neighbours_through, own_basis, plan_sums, scoring_basis,
+    scoring_groups, sums, without, Basis, Shared, Sums,
 };
-use crate::linalg::{solve_in_place, Leading};
+use crate::linalg::solve_in_place;
 use crate::profile::{self, Count};
 use std::cell::OnceCell;
 
 /// Gaps shorter than this are filled with a scoring model (see `raw`).
 const SHARE_BELOW: usize = 20;
-/// Fewest training frames accepted.
-const MIN_TRAIN: usize = 10;
 
 /// A trained model reduced to what prediction needs: the target's centred position is
 /// `mean_t + B (y - mean_k)` for the neighbours' weighted centred coordinates `y`.
@@ -76,9 +74,11 @@ pub(super) fn raw(
             Ok(s) => s,
             Err(e) => return cache.model.get_or_init(|| Err(e)),
         };
-        let (g, members) = group(plan, shared, s, h);
+        let (g, _) = group(plan, shared, s, h);
         let models = scoring_models(plan, shared, cache, s);
-        models[g].get_or_init(|| model(&without(s, &base, nb, &members), known, opts))
+        models[g].get_or_init(|| {
+            scoring_basis(t, plan, shared, opts, h).and_then(|(_, b)| model(&b, known))
+        })
     };
     let fresh;
     let model = match (t.hole, plan.hole) {
@@ -94,14 +94,20 @@ pub(super) fn raw(
             let h0 = plan.exclude.get().and_then(|v| v.first().copied());
             scoring(h0.unwrap_or((0, 0)))
         }
-        (h, p) if h == p => cache.model.get_or_init(|| model(all()?, known, opts)),
+        (h, p) if h == p => cache
+            .model
+            .get_or_init(|| own_basis(t, plan, shared, opts).and_then(|b| model(&b, known))),
         (Some(h), None) if plan.exclude.get().is_some_and(|v| v.contains(&h)) => scoring(h),
         (Some(h), None) => {
-            fresh = all().and_then(|s| model(&without(s, &base, nb, &[h]), known, opts));
+            fresh = all()
+                .and_then(|s| basis(&without(s, &base, nb, &[h]), known, opts))
+                .and_then(|b| model(&b, known));
             &fresh
         }
         _ => {
-            fresh = sums(t, plan.region, nb, opts).and_then(|s| model(&s, known, opts));
+            fresh = sums(t, plan.region, nb, opts)
+                .and_then(|s| basis(&s, known, opts))
+                .and_then(|b| model(&b, known));
             &fresh
         }
     };
@@ -145,32 +151,11 @@ fn scoring_models<'c>(
         .get_or_init(|| (0..count).map(|_| OnceCell::new()).collect())
 }
 
-/// The model of the rows summed in `s`.
-fn model(s: &Sums, known: usize, opts: &FillOptions) -> Result<Model, SkipReason> {
+/// The model of the components `comp` (of rows with `known` neighbour coordinates).
+fn model(comp: &Basis, known: usize) -> Result<Model, SkipReason> {
     profile::count(Count::PcaModel);
-    let dims = known + 3;
-    let n = s.frames().len();
-    if n < MIN_TRAIN {
-        return Err(SkipReason::NoContext);
-    }
-    let (mean, cov) = s.moments();
-    // All the eigenvalues choose the components; only the kept ones' vectors are made.
-    let eigen = Leading::new(&cov, dims);
-    let vals = eigen.values();
-    let total: f64 = vals.iter().map(|v| v.max(0.0)).sum();
-    if total <= 0.0 {
-        return Err(SkipReason::Degenerate);
-    }
-    // Centring on the neighbours' centroid ties their coordinates (they sum to zero once
-    // unweighted), so the known rows carry at most `known - 3` independent directions.
-    let max_pcs = (known - 3).min(n - 1).max(1);
-    let mut pcs = 0;
-    let mut acc = 0.0;
-    while pcs < max_pcs && acc < opts.pca_variance * total {
-        acc += vals[pcs].max(0.0);
-        pcs += 1;
-    }
-    let vecs = eigen.vectors(pcs);
+    let vecs = &comp.vectors;
+    let mut pcs = vecs.ncols();
     // Scores from known rows: z = (Vk' Vk)^-1 Vk' y; B = Vt (Vk' Vk)^-1 Vk' (3 × known).
     // Should the known rows not determine every kept component, drop the weakest.
     let p = loop {
@@ -202,5 +187,8 @@ fn model(s: &Sums, known: usize, opts: &FillOptions) -> Result<Model, SkipReason
                 .sum();
         }
     }
-    Ok(Model { mean, bmat })
+    Ok(Model {
+        mean: comp.mean.clone(),
+        bmat,
+    })
 }

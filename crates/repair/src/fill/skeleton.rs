@@ -39,21 +39,27 @@ struct Runs {
 }
 
 impl Runs {
-    /// The runs of `values` (one per window frame, `None` where either marker is invalid).
-    fn new(j: usize, values: &[Option<f64>]) -> Runs {
+    /// The runs of `values` (one per window frame, `None` where either marker is invalid),
+    /// read twice (forwards, then backwards) rather than gathered first: a skeleton reads
+    /// a window of up to thousands of frames for each of its donors.
+    fn new(j: usize, w: usize, values: impl Fn(usize) -> Option<f64>) -> Runs {
         let add = |(mn, mx, n): (f64, f64, usize), v: Option<f64>| match v {
             Some(v) => (mn.min(v), mx.max(v), n + 1),
             None => (mn, mx, n),
         };
         let empty = (f64::INFINITY, 0.0f64, 0usize);
-        let mut pre = Vec::with_capacity(values.len() + 1);
-        pre.push(empty);
-        for (i, &v) in values.iter().enumerate() {
-            pre.push(add(pre[i], v));
+        let mut pre = Vec::with_capacity(w + 1);
+        let mut acc = empty;
+        pre.push(acc);
+        for i in 0..w {
+            acc = add(acc, values(i));
+            pre.push(acc);
         }
-        let mut suf = vec![empty; values.len() + 1];
-        for i in (0..values.len()).rev() {
-            suf[i] = add(suf[i + 1], values[i]);
+        let mut suf = vec![empty; w + 1];
+        let mut acc = empty;
+        for (i, s) in suf[..w].iter_mut().enumerate().rev() {
+            acc = add(acc, values(i));
+            *s = acc;
         }
         Runs { j, pre, suf }
     }
@@ -87,11 +93,9 @@ impl Skeleton {
         let runs: Vec<Runs> = donors
             .into_iter()
             .map(|j| {
-                let (xt, xj) = (&d.xyz[t.m], &d.xyz[j]);
-                let values: Vec<Option<f64>> = (lo..=hi)
-                    .map(|f| (t.ok(f) && d.ok(j, f)).then(|| dist2(xt[f], xj[f])))
-                    .collect();
-                Runs::new(j, &values)
+                let (xt, xj) = (&d.xyz[t.m][lo..=hi], &d.xyz[j][lo..=hi]);
+                let ok = |f: usize| t.ok(f) && d.ok(j, f);
+                Runs::new(j, hi - lo + 1, |i| ok(lo + i).then(|| dist2(xt[i], xj[i])))
             })
             .collect();
         let mut s = Skeleton::from_runs(&runs, lo, None, span.len())?;

@@ -5,6 +5,7 @@
 //! together they hold at most a fifth of the rows (see [`groups`]).
 
 use std::cell::OnceCell;
+use std::rc::Rc;
 
 use nalgebra::DMatrix;
 
@@ -12,7 +13,11 @@ use super::data::{Span, Target};
 use super::donors::Donors;
 use super::options::FillOptions;
 use super::outcome::SkipReason;
+use crate::linalg::Leading;
 use crate::profile::{self, Count};
+
+/// Fewest training frames a PCA or Kalman model accepts.
+pub(super) const MIN_TRAIN: usize = 10;
 
 /// What PCA and the Kalman smoother share for one plan, gathered on first use: the
 /// training sums of the gap's window, and which artificial holes train together.
@@ -22,6 +27,159 @@ pub(crate) struct Shared {
     sums: OnceCell<Result<Sums, SkipReason>>,
     /// Per hole of the plan's `exclude`, the group of holes it is trained without.
     groups: OnceCell<Vec<usize>>,
+    /// The components of the gap's own rows, and per group of holes those of the rows
+    /// without them: PCA's model and the Kalman smoother's of the same rows both start
+    /// from these (see [`Basis`]).
+    own: LazyBasis,
+    scoring: OnceCell<Vec<LazyBasis>>,
+    /// The rows of the plan's training frames ([`row`] each, `dims` apiece), for the
+    /// Kalman smoother's training scores.
+    rows: OnceCell<Vec<f64>>,
+}
+
+/// Training rows gathered once ([`row`] of each frame, `dims` numbers apiece, frame after
+/// frame): a plan's whole window, whose frames every model of the plan trains on a part
+/// of. The Kalman smoother's models score every training frame, and worked each row out
+/// again per model (its neighbours' centroid and offsets), as many times as the plan has
+/// models.
+#[derive(Clone, Copy)]
+pub(super) struct Rows<'a> {
+    pub(super) frames: &'a [usize],
+    pub(super) data: &'a [f64],
+}
+
+/// The rows of `frames` (see [`Rows`]).
+pub(super) fn rows_of(t: &Target, nb: &[(usize, f64)], frames: &[usize]) -> Vec<f64> {
+    let dims = 3 * nb.len() + 3;
+    let mut data = vec![0.0; frames.len() * dims];
+    for (&f, out) in frames.iter().zip(data.chunks_exact_mut(dims)) {
+        row(t, nb, f, out);
+    }
+    data
+}
+
+/// The rows of the plan's training frames (the gap's own model's), made on first use.
+pub(super) fn plan_rows<'s>(
+    t: &Target,
+    plan: &Donors,
+    shared: &'s Shared,
+    opts: &FillOptions,
+) -> Result<Rows<'s>, SkipReason> {
+    let all = plan_sums(t, plan, shared, opts)?;
+    let data = shared
+        .rows
+        .get_or_init(|| rows_of(t, &plan.pca, &all.frames));
+    Ok(Rows {
+        frames: &all.frames,
+        data,
+    })
+}
+
+/// A [`Basis`] made on first use.
+type LazyBasis = OnceCell<Result<Rc<Basis>, SkipReason>>;
+
+/// The principal components of one set of training rows, as PCA and the Kalman smoother
+/// both keep them: the components that explain `pca_variance` of the variance, no more
+/// than the neighbours determine. Both trained their own from the same rows (a gap's own
+/// window, or the window without a group of `auto`'s holes), so each such decomposition
+/// was made twice for every gap the smoother is weighed on; made once, the two models are
+/// the same to the bit (the decomposition is deterministic).
+#[derive(Debug)]
+pub(crate) struct Basis {
+    /// The training frames.
+    pub(super) frames: Vec<usize>,
+    /// The mean row.
+    pub(super) mean: Vec<f64>,
+    /// Every eigenvalue of the rows' covariance, descending.
+    pub(super) values: Vec<f64>,
+    /// Their sum, negative ones (rounding's) counted as 0.
+    pub(super) total: f64,
+    /// The kept components (`dims × kept`).
+    pub(super) vectors: DMatrix<f64>,
+}
+
+/// The components of the rows summed in `s` (`known` neighbour coordinates, the target's
+/// three after them).
+pub(super) fn basis(s: &Sums, known: usize, opts: &FillOptions) -> Result<Basis, SkipReason> {
+    let dims = known + 3;
+    let n = s.frames.len();
+    if n < MIN_TRAIN {
+        return Err(SkipReason::NoContext);
+    }
+    let (mean, cov) = s.moments();
+    // All the eigenvalues choose the components; only the kept ones' vectors are made.
+    let eigen = Leading::new(&cov, dims);
+    let vals = eigen.values();
+    let total: f64 = vals.iter().map(|v| v.max(0.0)).sum();
+    if total <= 0.0 {
+        return Err(SkipReason::Degenerate);
+    }
+    // Centring on the neighbours' centroid ties their coordinates (they sum to zero once
+    // unweighted), so the known rows carry at most `known - 3` independent directions.
+    // Fewer components (99 or 99.5 % for the smoother) were worse at every gap length on
+    // the corpus evaluation.
+    let max_pcs = (known - 3).min(n - 1).max(1);
+    let (mut pcs, mut acc) = (0, 0.0);
+    while pcs < max_pcs && acc < opts.pca_variance * total {
+        acc += vals[pcs].max(0.0);
+        pcs += 1;
+    }
+    Ok(Basis {
+        frames: s.frames.clone(),
+        mean,
+        values: vals.to_vec(),
+        total,
+        vectors: eigen.vectors(pcs),
+    })
+}
+
+/// The components of the plan's own rows (the gap's window), made on first use.
+pub(super) fn own_basis(
+    t: &Target,
+    plan: &Donors,
+    shared: &Shared,
+    opts: &FillOptions,
+) -> Result<Rc<Basis>, SkipReason> {
+    shared
+        .own
+        .get_or_init(|| {
+            let all = plan_sums(t, plan, shared, opts)?;
+            basis(all, 3 * plan.pca.len(), opts).map(Rc::new)
+        })
+        .clone()
+}
+
+/// The components of the rows without artificial hole `h`'s group (see [`group`]), made
+/// on first use; with the group's index.
+pub(super) fn scoring_basis(
+    t: &Target,
+    plan: &Donors,
+    shared: &Shared,
+    opts: &FillOptions,
+    h: (usize, usize),
+) -> Result<(usize, Rc<Basis>), SkipReason> {
+    let all = plan_sums(t, plan, shared, opts)?;
+    let (g, members) = group(plan, shared, all, h);
+    let count = scoring_groups(plan, shared, all)
+        .last()
+        .map_or(1, |&g| g + 1);
+    let cells = shared
+        .scoring
+        .get_or_init(|| (0..count).map(|_| OnceCell::new()).collect());
+    let cell = cells.get(g).ok_or(SkipReason::NoContext)?;
+    let b = cell.get_or_init(|| {
+        let base = Target {
+            hole: plan.hole,
+            ..*t
+        };
+        basis(
+            &without(all, &base, &plan.pca, &members),
+            3 * plan.pca.len(),
+            opts,
+        )
+        .map(Rc::new)
+    });
+    b.clone().map(|b| (g, b))
 }
 
 pub(super) fn centroid(t: &Target, nb: &[(usize, f64)], f: usize) -> [f64; 3] {
@@ -113,11 +271,6 @@ pub(super) fn sums(
 }
 
 impl Sums {
-    /// The training frames.
-    pub(super) fn frames(&self) -> &[usize] {
-        &self.frames
-    }
-
     /// Mean row and covariance (row-major, `dims × dims`) of the rows summed.
     pub(super) fn moments(&self) -> (Vec<f64>, Vec<f64>) {
         let dims = self.shift.len();
@@ -203,23 +356,6 @@ pub(super) fn scoring_group(
     h: (usize, usize),
 ) -> Result<(usize, Vec<(usize, usize)>), SkipReason> {
     Ok(group(plan, shared, plan_sums(t, plan, shared, opts)?, h))
-}
-
-/// The training sums of the plan's window without the artificial holes `exclude` (none:
-/// the gap's own model's rows).
-pub(super) fn training(
-    t: &Target,
-    plan: &Donors,
-    shared: &Shared,
-    opts: &FillOptions,
-    exclude: &[(usize, usize)],
-) -> Result<Sums, SkipReason> {
-    let all = plan_sums(t, plan, shared, opts)?;
-    let base = Target {
-        hole: plan.hole,
-        ..*t
-    };
-    Ok(without(all, &base, &plan.pca, exclude))
 }
 
 /// Holes sharing a scoring model: consecutive ones while together they remove at most

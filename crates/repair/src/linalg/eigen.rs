@@ -19,9 +19,10 @@ use nalgebra::DMatrix;
 /// nalgebra's (LAPACK allows 30 per eigenvalue; none of the corpora's matrices came near).
 const MAX_SWEEPS: usize = 60;
 /// Inverse-iteration steps per eigenvector. From an accurate eigenvalue one step reaches
-/// the eigenvector to rounding unless the start vector happens to lack it; three leave no
-/// such chance.
-const STEPS: usize = 3;
+/// the eigenvector to rounding unless the start vector happens to lack it (by a share of
+/// the order of rounding); a second leaves no such chance. Three moved no fill of the
+/// held-apart evaluation by a millionth (`docs/price.md`, price11) and cost a third more.
+const STEPS: usize = 2;
 /// Eigenvalues closer than this share of their block's norm form a cluster whose vectors
 /// are orthogonalised against each other (LAPACK's `dstein`).
 const CLUSTER: f64 = 1e-3;
@@ -52,21 +53,40 @@ impl Leading {
     /// The eigenvalues of the symmetric `n` × `n` matrix `a` (either order: it is
     /// symmetric, and only its lower triangle, column-major, is read).
     pub(crate) fn new(a: &[f64], n: usize) -> Leading {
-        let (reflectors, tau, diag, off) = tridiagonalise(a, n);
-        match tridiagonal_values(&diag, &off) {
-            Some((values, blocks)) => Leading {
-                n,
-                values,
-                kind: Kind::Tridiagonal {
-                    reflectors,
-                    tau,
-                    diag,
-                    off,
-                    blocks,
+        let [one] = Self::many([(a, n)]);
+        one
+    }
+
+    /// [`Leading::new`] of two matrices at once: the same decompositions, their QL
+    /// iterations run side by side (see [`run_together`]).
+    pub(crate) fn pair(a: &[f64], na: usize, b: &[f64], nb: usize) -> (Leading, Leading) {
+        let [x, y] = Self::many([(a, na), (b, nb)]);
+        (x, y)
+    }
+
+    fn many<const K: usize>(mats: [(&[f64], usize); K]) -> [Leading; K] {
+        let reduced = mats.map(|(a, n)| tridiagonalise(a, n));
+        let values = tridiagonal_values(reduced.each_ref().map(|(_, _, d, e)| (&d[..], &e[..])));
+        let mut values = values.into_iter();
+        let mut i = 0;
+        reduced.map(|(reflectors, tau, diag, off)| {
+            let (a, n) = mats[i];
+            i += 1;
+            match values.next().flatten() {
+                Some((values, blocks)) => Leading {
+                    n,
+                    values,
+                    kind: Kind::Tridiagonal {
+                        reflectors,
+                        tau,
+                        diag,
+                        off,
+                        blocks,
+                    },
                 },
-            },
-            None => Self::full(a, n),
-        }
+                None => Self::full(a, n),
+            }
+        })
     }
 
     fn full(a: &[f64], n: usize) -> Leading {
@@ -102,6 +122,8 @@ impl Leading {
         // the first of its cluster.
         let mut last: Vec<Option<(usize, f64, usize)>> = vec![None; n];
         let mut rng = crate::rng::SplitMix64::new(0x5eed);
+        let mut lu = Lu::default();
+        let mut x = Vec::with_capacity(n);
         for j in 0..k {
             let (b0, b1) = blocks[j];
             let norm = block_norm(&diag[b0..b1], &off[b0..b1 - 1]);
@@ -120,12 +142,13 @@ impl Leading {
             let count = last[b0].map_or(0, |(c, _, _)| c + 1);
             last[b0] = Some((count, lambda, cluster_start));
             let m = b1 - b0;
-            let mut x = vec![0.0; m];
+            x.clear();
+            x.resize(m, 0.0);
             if norm == 0.0 || m == 1 {
                 // A zero block (or a 1 × 1 one): any orthonormal basis of it.
                 x[count.min(m - 1)] = 1.0;
             } else {
-                let lu = Lu::new(&diag[b0..b1], &off[b0..b1 - 1], lambda, norm);
+                lu.factor(&diag[b0..b1], &off[b0..b1 - 1], lambda, norm);
                 x.iter_mut().for_each(|v| *v = rng.uniform() - 0.5);
                 for _ in 0..STEPS {
                     lu.solve(&mut x);
@@ -313,31 +336,65 @@ fn back_transform(reflectors: &[f64], tau: &[f64], n: usize, z: &mut DMatrix<f64
     }
 }
 
-/// The tridiagonal's eigenvalues, descending, each with its unreduced block (split where
-/// an off-diagonal entry is negligible beside its diagonal neighbours); `None` when the QL
-/// does not converge.
+/// Each tridiagonal's eigenvalues, descending, each with its unreduced block (split where
+/// an off-diagonal entry is negligible beside its diagonal neighbours); `None` for one whose
+/// QL does not converge. Every block of every matrix is an independent QL iteration, run
+/// two at a time ([`run_together`]).
 #[allow(clippy::type_complexity)]
-fn tridiagonal_values(diag: &[f64], off: &[f64]) -> Option<(Vec<f64>, Vec<(usize, usize)>)> {
-    let n = diag.len();
-    let mut found: Vec<(f64, (usize, usize))> = Vec::with_capacity(n);
-    let mut b0 = 0;
-    for i in 0..n {
-        let split =
-            i + 1 == n || off[i].abs() <= f64::EPSILON * (diag[i].abs() + diag[i + 1].abs());
-        if split {
-            let mut d = diag[b0..=i].to_vec();
-            let mut e: Vec<f64> = off[b0..i].to_vec();
-            e.push(0.0);
-            ql(&mut d, &mut e)?;
-            found.extend(d.into_iter().map(|v| (v, (b0, i + 1))));
-            b0 = i + 1;
+fn tridiagonal_values<const K: usize>(
+    mats: [(&[f64], &[f64]); K],
+) -> [Option<(Vec<f64>, Vec<(usize, usize)>)>; K] {
+    let mut jobs: Vec<(usize, (usize, usize), Ql)> = Vec::new();
+    for (k, (diag, off)) in mats.iter().enumerate() {
+        let n = diag.len();
+        let mut b0 = 0;
+        for i in 0..n {
+            let split =
+                i + 1 == n || off[i].abs() <= f64::EPSILON * (diag[i].abs() + diag[i + 1].abs());
+            if split {
+                let mut e: Vec<f64> = off[b0..i].to_vec();
+                e.push(0.0);
+                jobs.push((k, (b0, i + 1), Ql::new(diag[b0..=i].to_vec(), e)));
+                b0 = i + 1;
+            }
         }
     }
-    if found.iter().any(|(v, _)| !v.is_finite()) {
-        return None;
+    for pair in jobs.chunks_mut(2) {
+        match pair {
+            [(_, _, a), (_, _, b)] => run_together(a, b),
+            [(_, _, a)] => while a.step() {},
+            _ => {}
+        }
     }
-    found.sort_by(|a, b| b.0.total_cmp(&a.0));
-    Some(found.into_iter().unzip())
+    let mut out: [Option<(Vec<f64>, Vec<(usize, usize)>)>; K] = std::array::from_fn(|_| None);
+    for (k, slot) in out.iter_mut().enumerate() {
+        let mine = jobs.iter().filter(|(j, _, _)| *j == k);
+        if mine.clone().any(|(_, _, q)| q.failed) {
+            continue;
+        }
+        let mut found: Vec<(f64, (usize, usize))> = mine
+            .flat_map(|(_, b, q)| q.d.iter().map(move |&v| (v, *b)))
+            .collect();
+        if found.iter().any(|(v, _)| !v.is_finite()) {
+            continue;
+        }
+        found.sort_by(|a, b| b.0.total_cmp(&a.0));
+        *slot = Some(found.into_iter().unzip());
+    }
+    out
+}
+
+/// Two QL iterations stepped in turn, a rotation of each: each rotation waits on the one
+/// before it in its own sweep (a division, then another), so one sweep alone leaves the
+/// processor idle most of the time, and two independent ones overlap. Each performs the
+/// same operations in the same order as alone.
+fn run_together(a: &mut Ql, b: &mut Ql) {
+    loop {
+        let (more_a, more_b) = (a.step(), b.step());
+        if !(more_a || more_b) {
+            break;
+        }
+    }
 }
 
 /// The eigenvalues of the tridiagonal `d` (diagonal) and `e` (e[i] couples i and i + 1,
@@ -345,75 +402,133 @@ fn tridiagonal_values(diag: &[f64], off: &[f64]) -> Option<(Vec<f64>, Vec<(usize
 /// form without square roots (LAPACK's `dsterf`, its QL branch), which works on the squares
 /// of `e`. Each rotation of a sweep depends on the one before, so the sweep is bound by the
 /// latency of its chain; this form's chain is a third shorter than the textbook QL's (no
-/// square root on it).
-fn ql(d: &mut [f64], e: &mut [f64]) -> Option<()> {
-    let n = d.len();
-    // An off-diagonal entry is negligible beside its diagonal neighbours (LAPACK's test)
-    // or beside the block's norm (EISPACK's `tql1` test): the reduction has already made
-    // errors of that size, and the small eigenvalues of a nearly singular covariance would
-    // otherwise take sweeps to reach a relative accuracy nothing reads.
-    let norm = block_norm(d, &e[..n.saturating_sub(1)]);
-    let eps2 = f64::EPSILON * f64::EPSILON;
-    let norm2 = norm * norm;
-    e.iter_mut().for_each(|x| *x *= *x);
-    let mut sweeps_left = MAX_SWEEPS * n;
-    let mut l = 0;
-    while l < n {
-        let mut m = l;
-        while m + 1 < n {
-            if e[m] <= eps2 * (d[m] * d[m + 1]).abs().max(norm2) {
-                break;
-            }
-            m += 1;
+/// square root on it). Stepped one rotation (or one search for the next sweep) at a time,
+/// so that two can run together ([`run_together`]).
+struct Ql {
+    d: Vec<f64>,
+    e: Vec<f64>,
+    norm2: f64,
+    sweeps_left: usize,
+    /// The first eigenvalue not yet converged.
+    l: usize,
+    /// The QL did not converge within [`MAX_SWEEPS`] per eigenvalue.
+    failed: bool,
+    /// Whether a sweep is in progress: its end `m`, the next rotation's row + 1 (`i`; the
+    /// sweep ends at `l`), and its running values.
+    sweep: bool,
+    m: usize,
+    i: usize,
+    sigma: f64,
+    gamma: f64,
+    p: f64,
+    c: f64,
+    s: f64,
+}
+
+impl Ql {
+    fn new(d: Vec<f64>, mut e: Vec<f64>) -> Ql {
+        let n = d.len();
+        // An off-diagonal entry is negligible beside its diagonal neighbours (LAPACK's
+        // test) or beside the block's norm (EISPACK's `tql1` test): the reduction has
+        // already made errors of that size, and the small eigenvalues of a nearly singular
+        // covariance would otherwise take sweeps to reach a relative accuracy nothing reads.
+        let norm = block_norm(&d, &e[..n.saturating_sub(1)]);
+        e.iter_mut().for_each(|x| *x *= *x);
+        Ql {
+            d,
+            e,
+            norm2: norm * norm,
+            sweeps_left: MAX_SWEEPS * n,
+            l: 0,
+            failed: false,
+            sweep: false,
+            m: 0,
+            i: 0,
+            sigma: 0.0,
+            gamma: 0.0,
+            p: 0.0,
+            c: 0.0,
+            s: 0.0,
         }
-        if m + 1 < n {
-            e[m] = 0.0;
-        }
-        if m == l {
-            l += 1;
-            continue;
-        }
-        if m == l + 1 {
-            (d[l], d[l + 1]) = eigen2(d[l], e[l].sqrt(), d[l + 1]);
-            e[l] = 0.0;
-            l += 2;
-            continue;
-        }
-        if sweeps_left == 0 {
-            return None;
-        }
-        sweeps_left -= 1;
-        let rte = e[l].sqrt();
-        let mut sigma = (d[l + 1] - d[l]) / (2.0 * rte);
-        let r = hypot(sigma, 1.0);
-        sigma = d[l] - rte / (sigma + r.copysign(sigma));
-        let (mut c, mut s) = (1.0, 0.0);
-        let mut gamma = d[m] - sigma;
-        let mut p = gamma * gamma;
-        for i in (l..m).rev() {
+    }
+
+    /// One rotation of the sweep in progress, or else the deflations up to the next sweep
+    /// and its start; false when every eigenvalue has converged (or the QL failed).
+    #[inline(always)]
+    fn step(&mut self) -> bool {
+        let (d, e) = (&mut self.d, &mut self.e);
+        let n = d.len();
+        if self.sweep {
+            let l = self.l;
+            let i = self.i - 1;
             let bb = e[i];
-            let r = p + bb;
-            if i + 1 != m {
-                e[i + 1] = s * r;
+            let r = self.p + bb;
+            if i + 1 != self.m {
+                e[i + 1] = self.s * r;
             }
-            let old_c = c;
+            let old_c = self.c;
             let inv = 1.0 / r;
-            c = p * inv;
-            s = bb * inv;
-            let old_gamma = gamma;
+            self.c = self.p * inv;
+            self.s = bb * inv;
+            let old_gamma = self.gamma;
             let alpha = d[i];
-            gamma = c * (alpha - sigma) - s * old_gamma;
-            d[i + 1] = old_gamma + (alpha - gamma);
-            p = if c != 0.0 {
-                gamma * gamma / c
+            self.gamma = self.c * (alpha - self.sigma) - self.s * old_gamma;
+            d[i + 1] = old_gamma + (alpha - self.gamma);
+            self.p = if self.c != 0.0 {
+                self.gamma * self.gamma / self.c
             } else {
                 old_c * bb
             };
+            self.i = i;
+            if i == l {
+                e[l] = self.s * self.p;
+                d[l] = self.sigma + self.gamma;
+                self.sweep = false;
+            }
+            return true;
         }
-        e[l] = s * p;
-        d[l] = sigma + gamma;
+        let eps2 = f64::EPSILON * f64::EPSILON;
+        let mut l = self.l;
+        while l < n && !self.failed {
+            let mut m = l;
+            while m + 1 < n {
+                if e[m] <= eps2 * (d[m] * d[m + 1]).abs().max(self.norm2) {
+                    break;
+                }
+                m += 1;
+            }
+            if m + 1 < n {
+                e[m] = 0.0;
+            }
+            if m == l {
+                l += 1;
+                continue;
+            }
+            if m == l + 1 {
+                (d[l], d[l + 1]) = eigen2(d[l], e[l].sqrt(), d[l + 1]);
+                e[l] = 0.0;
+                l += 2;
+                continue;
+            }
+            if self.sweeps_left == 0 {
+                self.failed = true;
+                break;
+            }
+            self.sweeps_left -= 1;
+            let rte = e[l].sqrt();
+            let mut sigma = (d[l + 1] - d[l]) / (2.0 * rte);
+            let r = hypot(sigma, 1.0);
+            sigma = d[l] - rte / (sigma + r.copysign(sigma));
+            self.sigma = sigma;
+            (self.c, self.s) = (1.0, 0.0);
+            self.gamma = d[m] - sigma;
+            self.p = self.gamma * self.gamma;
+            (self.m, self.i, self.sweep, self.l) = (m, m, true, l);
+            return true;
+        }
+        self.l = l;
+        false
     }
-    Some(())
 }
 
 /// The eigenvalues of the 2 × 2 symmetric [[a, b], [b, c]] (LAPACK's `dlae2`): the one of
@@ -452,6 +567,7 @@ fn block_norm(d: &[f64], e: &[f64]) -> f64 {
 }
 
 /// LU with partial pivoting of the tridiagonal less λI: U has two superdiagonals.
+#[derive(Default)]
 struct Lu {
     /// The pivots' reciprocals: the back substitution's chain multiplies, not divides.
     inv_u0: Vec<f64>,
@@ -462,11 +578,24 @@ struct Lu {
 }
 
 impl Lu {
-    fn new(d: &[f64], e: &[f64], lambda: f64, norm: f64) -> Lu {
+    /// Factors T − λI into this one's buffers (made once per decomposition's vectors: a
+    /// vector's allocations cost about what its factorisation does).
+    fn factor(&mut self, d: &[f64], e: &[f64], lambda: f64, norm: f64) {
         let m = d.len();
         let tiny = f64::EPSILON * norm;
-        let (mut u0, mut u1, mut u2) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
-        let (mut mult, mut swap) = (vec![0.0; m], vec![false; m]);
+        let Lu {
+            inv_u0: u0,
+            u1,
+            u2,
+            mult,
+            swap,
+        } = self;
+        for v in [&mut *u0, &mut *u1, &mut *u2, &mut *mult] {
+            v.clear();
+            v.resize(m, 0.0);
+        }
+        swap.clear();
+        swap.resize(m, false);
         // The row being eliminated into: its entries at columns i and i + 1.
         let (mut x0, mut x1) = (d[0] - lambda, e.first().copied().unwrap_or(0.0));
         for i in 0..m - 1 {
@@ -498,13 +627,7 @@ impl Lu {
         } else {
             x0
         };
-        Lu {
-            inv_u0: u0.iter().map(|u| 1.0 / u).collect(),
-            u1,
-            u2,
-            mult,
-            swap,
-        }
+        u0.iter_mut().for_each(|u| *u = 1.0 / *u);
     }
 
     /// Solves (T − λI) x = y in place.
@@ -582,6 +705,43 @@ mod tests {
                 (same - 1.0).abs() < 1e-8,
                 "vector {j}: {same} in its eigenspace"
             );
+        }
+    }
+
+    /// Two decompositions made together ([`Leading::pair`], their QL iterations stepped in
+    /// turn) equal each made alone, bit for bit: values and vectors, on matrices of
+    /// different sizes, one of them splitting into blocks (a zero coupling) and one with
+    /// repeated eigenvalues.
+    #[test]
+    fn pairs_equal_singles_bit_for_bit() {
+        let mut rng = SplitMix64::new(11);
+        let mut random = |n: usize| {
+            let g = DMatrix::from_fn(n, n, |_, _| rng.normal());
+            &g * g.transpose()
+        };
+        let mut split = DMatrix::<f64>::zeros(30, 30);
+        split.view_mut((0, 0), (12, 12)).copy_from(&random(12));
+        split.view_mut((12, 12), (18, 18)).copy_from(&random(18));
+        let repeated = with_values(&[3.0, 3.0, 3.0, 1.0, 1.0, 0.5, 0.0, 0.0], 5);
+        let cases = [
+            (random(27), random(24)),
+            (random(75), random(5)),
+            (split, random(40)),
+            (repeated, random(1)),
+        ];
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
+        for (a, b) in &cases {
+            let (na, nb) = (a.nrows(), b.nrows());
+            let (pa, pb) = Leading::pair(a.as_slice(), na, b.as_slice(), nb);
+            for (paired, m, n) in [(pa, a, na), (pb, b, nb)] {
+                let alone = Leading::new(m.as_slice(), n);
+                assert_eq!(bits(paired.values()), bits(alone.values()));
+                let k = n.min(6);
+                assert_eq!(
+                    bits(paired.vectors(k).as_slice()),
+                    bits(alone.vectors(k).as_slice())
+                );
+            }
         }
     }
 
