@@ -170,6 +170,7 @@ const LABELLED_MAX_SAMPLES: usize = 2_000_000;
 
 impl Ctx<'_> {
     /// Position of marker `i` at `f`, with markers `sw` exchanged.
+    #[inline(always)]
     fn pos(&self, i: usize, f: usize, sw: Option<(usize, usize)>) -> Option<[f64; 3]> {
         let j = match sw {
             Some((a, b)) if i == a => b,
@@ -183,16 +184,19 @@ impl Ctx<'_> {
     /// markers `sw` exchanged; `None` without a position or a valid link. The lower
     /// median: above 1 only when a strict majority of the links broke (both of two), so
     /// one marker that strays does not drag its partners along.
+    #[inline]
     fn score(&self, m: usize, f: usize, sw: Option<(usize, usize)>) -> Option<f64> {
         self.scores(m, f, sw).map(|s| s.0)
     }
 
     /// The upper median, above 1 when half the links broke: two markers of one segment
     /// that trade places keep their own link, so each keeps one unbroken link more.
+    #[inline]
     fn loose(&self, m: usize, f: usize, sw: Option<(usize, usize)>) -> Option<f64> {
         self.scores(m, f, sw).map(|s| s.1)
     }
 
+    #[inline(always)]
     fn scores(&self, m: usize, f: usize, sw: Option<(usize, usize)>) -> Option<(f64, f64)> {
         if sw.is_none() {
             if let Some(&[lo, hi]) = self.labelled.get(f * self.links.len() + m) {
@@ -491,6 +495,7 @@ impl Ctx<'_> {
     }
 
     /// [`Ctx::leap`] as a vector: a jump's two leaps, going and coming back, are opposite.
+    #[inline]
     fn leap_vec(&self, m: usize, f: usize) -> Option<[f64; 3]> {
         if f < 2 || f + 1 >= self.t.frames() {
             return None;
@@ -539,6 +544,7 @@ impl Ctx<'_> {
 
     /// Size of marker `m`'s step out of its predicted path (constant velocity) at `f`,
     /// with `sw` exchanged on the frames `span` holds.
+    #[inline]
     fn step(
         &self,
         m: usize,
