@@ -1452,11 +1452,8 @@ mod tests {
                 valid[m][f] = next() > 0.08;
             }
         }
-        for f in 200..260 {
-            let (p, q) = (xyz[0][f], xyz[2][f]);
-            xyz[0][f] = q;
-            xyz[2][f] = p;
-        }
+        let (first, rest) = xyz.split_at_mut(1);
+        first[0][200..260].swap_with_slice(&mut rest[1][200..260]);
         for p in &mut xyz[4][400..430] {
             p[0] += 30.0;
         }
