@@ -209,7 +209,7 @@ pub(crate) fn repair_configured(
         }
         _ => {
             let point_in_scope = |p: usize| only.as_ref().is_none_or(|o| o.contains(&p));
-            swap_stage::run(c, name, opts.swaps, &point_in_scope, &mut trial)?
+            swap_stage::run(c, name, opts.swaps, &point_in_scope, &points, &mut trial)?
         }
     };
     let mut spikes = cfg.spikes().copied();

@@ -9,7 +9,6 @@
 //! outside `--markers`, are reported and change nothing.
 
 use crate::error::{Error, Result};
-use crate::markers::marker_indices;
 use crate::options::SwapsMode;
 use crate::rerun::Undone;
 use crate::swaps::{swaps_with, SwapFind};
@@ -60,21 +59,28 @@ pub struct Stage {
 /// than 2 markers or 3 frames, every sample missing) is not an error here: the repair goes
 /// on and the note says why nothing was checked.
 ///
-/// `trial` is the repair's trial of the file's markers (rows as
-/// [`crate::markers::marker_indices`]): the finding reads it, and a swap undone is exchanged
-/// back in it as in the file, so the later stages read the undone samples.
+/// `trial` is the repair's trial of the file's markers, `points` (as
+/// [`crate::markers::marker_indices`] gives them) its rows: the finding reads it, and a swap
+/// undone is exchanged back in it as in the file, so the later stages read the undone
+/// samples.
 pub fn run(
     c: &mut c3d::C3d,
     name: &Path,
     mode: SwapsMode,
     in_scope: &dyn Fn(usize) -> bool,
+    points: &[usize],
     trial: &mut repair::Trial,
 ) -> Result<Stage> {
     let mut stage = Stage::default();
     if mode == SwapsMode::Off {
         return Ok(stage);
     }
-    let found = match swaps_with(c, name, &SwapOptions::default(), Some(trial)) {
+    let found = match swaps_with(
+        c,
+        name,
+        &SwapOptions::default(),
+        Some((points, &mut *trial)),
+    ) {
         Ok(f) => f,
         Err(Error::Trial { what, .. }) => {
             stage.note = Some(what);
@@ -129,7 +135,6 @@ pub fn run(
     })?;
     // The same exchange in the trial: its rows hold the samples as decoded, so exchanging
     // them gives what reading the exchanged file would.
-    let points = marker_indices(c);
     let row = |p: usize| points.iter().position(|&q| q == p);
     for &(a, b, first, last) in &pairs {
         if let (Some(ra), Some(rb)) = (row(a), row(b)) {

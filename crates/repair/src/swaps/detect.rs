@@ -170,6 +170,7 @@ const LABELLED_MAX_SAMPLES: usize = 2_000_000;
 
 impl Ctx<'_> {
     /// Position of marker `i` at `f`, with markers `sw` exchanged.
+    #[inline(always)]
     fn pos(&self, i: usize, f: usize, sw: Option<(usize, usize)>) -> Option<[f64; 3]> {
         let j = match sw {
             Some((a, b)) if i == a => b,
@@ -183,16 +184,19 @@ impl Ctx<'_> {
     /// markers `sw` exchanged; `None` without a position or a valid link. The lower
     /// median: above 1 only when a strict majority of the links broke (both of two), so
     /// one marker that strays does not drag its partners along.
+    #[inline]
     fn score(&self, m: usize, f: usize, sw: Option<(usize, usize)>) -> Option<f64> {
         self.scores(m, f, sw).map(|s| s.0)
     }
 
     /// The upper median, above 1 when half the links broke: two markers of one segment
     /// that trade places keep their own link, so each keeps one unbroken link more.
+    #[inline]
     fn loose(&self, m: usize, f: usize, sw: Option<(usize, usize)>) -> Option<f64> {
         self.scores(m, f, sw).map(|s| s.1)
     }
 
+    #[inline(always)]
     fn scores(&self, m: usize, f: usize, sw: Option<(usize, usize)>) -> Option<(f64, f64)> {
         if sw.is_none() {
             if let Some(&[lo, hi]) = self.labelled.get(f * self.links.len() + m) {
@@ -256,16 +260,40 @@ impl Ctx<'_> {
                 // Each link's error at each frame of the block, −1 where an end is missing.
                 let mut err = vec![-1.0f64; pairs.len() * len];
                 for (row, &(a, b, d0, tol)) in err.chunks_mut(len).zip(&pairs) {
+                    let (oa, ob) = (&self.ok[a][f0..f0 + len], &self.ok[b][f0..f0 + len]);
+                    let (xa, xb) = (&self.t.xyz[a][f0..f0 + len], &self.t.xyz[b][f0..f0 + len]);
                     for (k, e) in row.iter_mut().enumerate() {
-                        let f = f0 + k;
-                        if self.ok[a][f] && self.ok[b][f] {
-                            *e = (dist(&self.t.xyz[a][f], &self.t.xyz[b][f]) - d0).abs() / tol;
+                        if oa[k] && ob[k] {
+                            *e = (dist(&xa[k], &xb[k]) - d0).abs() / tol;
                         }
                     }
                 }
-                for (m, ids) in ids.iter().enumerate() {
-                    for k in 0..len {
+                // Frame by frame, each marker in turn: the block's output is written in
+                // order, and the errors one frame reads are one column of the block's
+                // rows, the same cache lines for the next frames.
+                let few = ids.iter().all(|ids| ids.len() <= 8);
+                for (k, out) in chunk.chunks_mut(nm).enumerate() {
+                    for (m, (ids, slot)) in ids.iter().zip(out.iter_mut()).enumerate() {
                         if !self.ok[m][f0 + k] {
+                            continue;
+                        }
+                        if few {
+                            // Up to 8 links (the default's most): each link's error goes
+                            // into the network as its bits, as it stands. An error's sign
+                            // bit is clear and the mark for a missing end (−1) has it set,
+                            // so as integers the missing ones order after every error and
+                            // before the padding: the errors come out first, in the order
+                            // [`medians`] gives them, and their count is the entries with
+                            // the sign bit clear. No copy of the seen errors is made first.
+                            let mut v = [u64::MAX; 8];
+                            for (x, &id) in v.iter_mut().zip(ids) {
+                                *x = err[id * len + k].to_bits();
+                            }
+                            sort8(&mut v);
+                            let n = v.iter().filter(|&&b| b >> 63 == 0).count();
+                            if n > 0 {
+                                *slot = [f64::from_bits(v[(n - 1) / 2]), f64::from_bits(v[n / 2])];
+                            }
                             continue;
                         }
                         let mut z = [0.0f64; 32];
@@ -281,7 +309,7 @@ impl Ctx<'_> {
                             }
                         }
                         if let Some((lo, hi)) = medians(&z[..n]) {
-                            chunk[k * nm + m] = [lo, hi];
+                            *slot = [lo, hi];
                         }
                     }
                 }
@@ -467,6 +495,7 @@ impl Ctx<'_> {
     }
 
     /// [`Ctx::leap`] as a vector: a jump's two leaps, going and coming back, are opposite.
+    #[inline]
     fn leap_vec(&self, m: usize, f: usize) -> Option<[f64; 3]> {
         if f < 2 || f + 1 >= self.t.frames() {
             return None;
@@ -515,6 +544,7 @@ impl Ctx<'_> {
 
     /// Size of marker `m`'s step out of its predicted path (constant velocity) at `f`,
     /// with `sw` exchanged on the frames `span` holds.
+    #[inline]
     fn step(
         &self,
         m: usize,
@@ -937,11 +967,7 @@ fn medians(z: &[f64]) -> Option<(f64, f64)> {
         // memory, which cost more than the sort).
         let v: [u64; 8] = std::array::from_fn(|i| z.get(i).map_or(u64::MAX, |e| e.to_bits()));
         let mut v = v;
-        for &(i, j) in &SORT8 {
-            let (a, b) = (v[i], v[j]);
-            v[i] = a.min(b);
-            v[j] = a.max(b);
-        }
+        sort8(&mut v);
         return Some((f64::from_bits(v[lo]), f64::from_bits(v[hi])));
     }
     let mut v: Vec<u64> = z.iter().map(|e| e.to_bits()).collect();
@@ -955,28 +981,40 @@ fn medians(z: &[f64]) -> Option<(f64, f64)> {
     Some((f64::from_bits(v[lo]), f64::from_bits(v[hi])))
 }
 
-/// A sorting network for 8 keys (19 exchanges, 6 layers: Knuth, TAOCP 5.3.4).
-const SORT8: [(usize, usize); 19] = [
-    (0, 2),
-    (1, 3),
-    (4, 6),
-    (5, 7),
-    (0, 4),
-    (1, 5),
-    (2, 6),
-    (3, 7),
-    (0, 1),
-    (2, 3),
-    (4, 5),
-    (6, 7),
-    (2, 4),
-    (3, 5),
-    (1, 4),
-    (3, 6),
-    (1, 2),
-    (3, 4),
-    (5, 6),
-];
+/// Sort 8 keys by a sorting network (19 exchanges, 6 layers: Knuth, TAOCP 5.3.4), written
+/// out exchange by exchange so that the keys stay in registers: looped over a table of the
+/// exchanges, each read and wrote the array in memory, waiting on the one before.
+#[inline(always)]
+fn sort8(v: &mut [u64; 8]) {
+    let [mut a0, mut a1, mut a2, mut a3, mut a4, mut a5, mut a6, mut a7] = *v;
+    macro_rules! x {
+        ($p:ident, $q:ident) => {{
+            let (lo, hi) = ($p.min($q), $p.max($q));
+            $p = lo;
+            $q = hi;
+        }};
+    }
+    x!(a0, a2);
+    x!(a1, a3);
+    x!(a4, a6);
+    x!(a5, a7);
+    x!(a0, a4);
+    x!(a1, a5);
+    x!(a2, a6);
+    x!(a3, a7);
+    x!(a0, a1);
+    x!(a2, a3);
+    x!(a4, a5);
+    x!(a6, a7);
+    x!(a2, a4);
+    x!(a3, a5);
+    x!(a1, a4);
+    x!(a3, a6);
+    x!(a1, a2);
+    x!(a3, a4);
+    x!(a5, a6);
+    *v = [a0, a1, a2, a3, a4, a5, a6, a7];
+}
 
 fn norm(v: &[f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
@@ -1377,18 +1415,86 @@ fn leap_jump_find(cx: &Ctx, a: usize, s: usize, e: usize, opts: &SwapOptions) ->
 
 #[cfg(test)]
 mod tests {
-    use super::{medians, SORT8};
+    use super::{learn_links, medians, sort8, Ctx};
+    use crate::Trial;
+
+    /// Each sample's kept scores as labelled are those [`Ctx::link_scores`] computes for it,
+    /// bit for bit, with up to 8 links a marker (the network on the errors as they stand)
+    /// and with more (the general path): two rigid clusters of 12 moving and turning, noise,
+    /// samples missing, a swap and a jump inside.
+    #[test]
+    fn labelled_scores_as_computed() {
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (nm, nf) = (24, 700);
+        let offsets: Vec<[f64; 3]> = (0..nm)
+            .map(|_| [0.0, 0.0, 0.0].map(|_: f64| 200.0 * next() - 100.0))
+            .collect();
+        let mut xyz = vec![vec![[0.0; 3]; nf]; nm];
+        let mut valid = vec![vec![true; nf]; nm];
+        for f in 0..nf {
+            let t = f as f64 / 100.0;
+            for m in 0..nm {
+                let g = m % 2;
+                let a = t * (1.0 + g as f64) * 0.7;
+                let o = offsets[m];
+                let c = [400.0 * g as f64 + 50.0 * t, 30.0 * (t * 2.0).sin(), 900.0];
+                xyz[m][f] = [
+                    c[0] + o[0] * a.cos() - o[1] * a.sin() + next() - 0.5,
+                    c[1] + o[0] * a.sin() + o[1] * a.cos() + next() - 0.5,
+                    c[2] + o[2] + next() - 0.5,
+                ];
+                valid[m][f] = next() > 0.08;
+            }
+        }
+        let (first, rest) = xyz.split_at_mut(1);
+        first[0][200..260].swap_with_slice(&mut rest[1][200..260]);
+        for p in &mut xyz[4][400..430] {
+            p[0] += 30.0;
+        }
+        let trial = Trial::new(100.0, xyz, valid).expect("a trial");
+        for max_links in [8, 12] {
+            let links = learn_links(&trial, 2.5, 0.5, max_links);
+            assert!(links.iter().all(|l| l.len() >= 2), "{links:?}");
+            let most = links.iter().map(|l| l.len()).max().unwrap_or(0);
+            assert_eq!(most > 8, max_links > 8, "{most} links");
+            let ok = (0..nm)
+                .map(|m| (0..nf).map(|f| trial.valid[m][f]).collect())
+                .collect();
+            let cx = Ctx {
+                t: &trial,
+                links,
+                ok,
+                usual: Vec::new(),
+                labelled: Vec::new(),
+            };
+            let kept = cx.labelled_scores();
+            let mut seen = 0;
+            for f in 0..nf {
+                for m in 0..nm {
+                    let want = cx
+                        .link_scores(m, f, None)
+                        .map_or([-1.0; 2], |(a, b)| [a, b]);
+                    let got = kept[f * nm + m];
+                    assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "{m} at {f}");
+                    seen += usize::from(got[0] >= 0.0);
+                }
+            }
+            assert!(seen > nm * nf / 2, "{seen}");
+        }
+    }
 
     /// The network sorts every input of 0s and 1s (so, by the 0-1 principle, every input).
     #[test]
     fn sort8_sorts() {
         for bits in 0u32..256 {
-            let mut v: [u8; 8] = std::array::from_fn(|i| ((bits >> i) & 1) as u8);
-            for &(i, j) in &SORT8 {
-                let (a, b) = (v[i], v[j]);
-                v[i] = a.min(b);
-                v[j] = a.max(b);
-            }
+            let mut v: [u64; 8] = std::array::from_fn(|i| u64::from((bits >> i) & 1));
+            sort8(&mut v);
             assert!(v.windows(2).all(|w| w[0] <= w[1]), "{bits:08b}: {v:?}");
         }
     }

@@ -77,6 +77,7 @@ pub fn learn_links(
         .map(|a| {
             let len = sampled[a][0].len();
             let mut ds: Vec<u64> = Vec::with_capacity(len);
+            let mut near: Vec<u64> = Vec::with_capacity(len);
             let mut all = vec![0.0f64; len];
             let mut mine = Vec::new();
             for b in a + 1..m {
@@ -93,7 +94,8 @@ pub fn learn_links(
                 }
                 ds.clear();
                 ds.extend(all.iter().filter(|d| !d.is_nan()).map(|d| d.to_bits()));
-                if let Some((d0, spread)) = cluster(&mut ds, max_spread_mm, min_support) {
+                if let Some((d0, spread)) = cluster(&mut ds, &mut near, max_spread_mm, min_support)
+                {
                     mine.push((
                         b,
                         Link {
@@ -130,7 +132,12 @@ pub fn learn_links(
 /// integers, with no comparison function called per step (what the search spent most on in
 /// trials of many markers, most of whose pairs are no link). The ranks, and so every result,
 /// are the same as sorting the numbers.
-fn cluster(ds: &mut [u64], max_spread_mm: f64, min_support: f64) -> Option<(f64, f64)> {
+fn cluster(
+    ds: &mut [u64],
+    near: &mut Vec<u64>,
+    max_spread_mm: f64,
+    min_support: f64,
+) -> Option<(f64, f64)> {
     if ds.len() < 20 {
         return None;
     }
@@ -164,13 +171,19 @@ fn cluster(ds: &mut [u64], max_spread_mm: f64, min_support: f64) -> Option<(f64,
     // as over all the distances; when it is too small, it was too small over all of them.
     // Sorting those (half to two thirds of a link's distances) instead of all was a third
     // of the sort's time.
+    //
+    // The selection left the distances below the median's rank before it, the rest from
+    // it on: those two parts are sorted apart and follow each other (two sorts of half the
+    // length, 12 % fewer comparisons), into a buffer kept across the pairs.
     let n = ds.len();
-    let mut near: Vec<u64> = ds
-        .iter()
-        .copied()
-        .filter(|&d| below - val(d) <= w && val(d) - median <= w)
-        .collect();
-    near.sort_unstable();
+    let is_near = |d: u64| below - val(d) <= w && val(d) - median <= w;
+    near.clear();
+    near.extend(ds[..m].iter().copied().filter(|&d| is_near(d)));
+    let split = near.len();
+    near.extend(ds[m..].iter().copied().filter(|&d| is_near(d)));
+    near[..split].sort_unstable();
+    near[split..].sort_unstable();
+    let near = &near[..];
     // Densest window [i, j).
     let (mut best, mut bi, mut j) = (0usize, 0usize, 0usize);
     for i in 0..near.len() {
@@ -265,7 +278,7 @@ mod tests {
             let mut b = a.clone();
             for support in [0.5, 0.6, 0.9] {
                 let (x, y) = (
-                    cluster(&mut a, 2.5, support),
+                    cluster(&mut a, &mut Vec::new(), 2.5, support),
                     cluster_all(&mut b, 2.5, support),
                 );
                 assert_eq!(x, y, "case {case}, support {support}");
