@@ -466,18 +466,7 @@ fn measure(
             .collect()
     };
     let peak = |v: Vec<f64>| v.into_iter().reduce(f64::max);
-    let accel = |j: usize, fs: &mut dyn Iterator<Item = usize>| {
-        mean(
-            fs.filter(|&f| f >= 1 && f + 1 < n && ok(j, f - 1) && ok(j, f) && ok(j, f + 1))
-                .map(|f| {
-                    let (q0, q1, q2) = (p(j, f - 1), p(j, f), p(j, f + 1));
-                    dist(
-                        [q2[0] - q1[0], q2[1] - q1[1], q2[2] - q1[2]],
-                        [q1[0] - q0[0], q1[1] - q0[1], q1[2] - q0[2]],
-                    )
-                }),
-        )
-    };
+    let accel = |j: usize, fs: &mut dyn Iterator<Item = usize>| mean(accels(j, fs).into_iter());
     let inside = a..a + len;
     let around = a.saturating_sub(w)..(a + len + w).min(n);
     // A PCA-weighted mean of `f` over the donors that have it.
