@@ -2,8 +2,8 @@
 //!
 //! Every crate's tests find the real files through the same rules, so they live here once:
 //! `C3D_SAMPLES` (default `../shared/c3d-samples`, relative to the workspace root), and the
-//! sibling folders `c3d-extra`, `c3d-fullbody`, `c3d-more` and `bvh-samples` beside it (overridable
-//! with `C3D_EXTRA`, `C3D_FULLBODY`, `C3D_MORE` and `BVH_SAMPLES`). When a corpus is missing, tests skip with a message — unless `CI` is set,
+//! sibling folders `c3d-extra`, `c3d-fullbody`, `c3d-more`, `c3d-labs` and `bvh-samples` beside it
+//! (overridable with `C3D_EXTRA`, `C3D_FULLBODY`, `C3D_MORE`, `C3D_LABS` and `BVH_SAMPLES`). When a corpus is missing, tests skip with a message — unless `CI` is set,
 //! in which case a missing corpus is a failure.
 
 use std::path::{Path, PathBuf};
@@ -98,6 +98,14 @@ pub fn c3d_fullbody() -> Option<PathBuf> {
 pub fn c3d_more() -> Option<PathBuf> {
     let default = resolve("C3D_SAMPLES", "../shared/c3d-samples").join("../c3d-more");
     corpus("C3D_MORE", &default.to_string_lossy())
+}
+
+/// Trials from about a dozen more labs (other marker sets, treadmills, drop jumps, running,
+/// lifting, unlabelled points), beside the sample corpus by default: the next lab's trials,
+/// on which no constant was chosen before they arrived.
+pub fn c3d_labs() -> Option<PathBuf> {
+    let default = resolve("C3D_SAMPLES", "../shared/c3d-samples").join("../c3d-labs");
+    corpus("C3D_LABS", &default.to_string_lossy())
 }
 
 /// The BVH corpus, beside the sample corpus by default.
