@@ -13,6 +13,9 @@ mkdir -p "$root/target"
 : > "$skiplog"
 export C3DFIX_SKIP_LOG="$skiplog"
 cargo test --workspace --release --locked
+# Every command's outputs on the bundled trials, byte for byte against the committed digests.
+cargo build --release --locked -p c3dfix-cli --bin c3dfix
+bash tests/identity/check_samples.sh
 venv="${C3DFIX_VENV:-$root/target/venv}"
 if [ ! -x "$venv/bin/python" ]; then
   python3 -m venv "$venv"

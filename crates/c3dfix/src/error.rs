@@ -66,6 +66,16 @@ pub enum Error {
         #[source]
         source: c3d::UnknownUnit,
     },
+    /// A BVH file could not be read (the message names it).
+    #[error(transparent)]
+    Bvh(#[from] bvh::ReadError),
+    /// A BVH motion cannot be reduced to keys as asked.
+    #[error("{}: {source}", path.display())]
+    Keyframes {
+        path: PathBuf,
+        #[source]
+        source: bvh::keyframes::KeyframeError,
+    },
     /// The repair library refused the data or configuration.
     #[error("{}: {source}", path.display())]
     Repair {

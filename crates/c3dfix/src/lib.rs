@@ -34,6 +34,7 @@ pub mod files;
 pub mod gait_params;
 mod gaps;
 pub mod info;
+pub mod keyframes;
 pub mod markers;
 mod options;
 pub mod platforms;
@@ -46,6 +47,7 @@ pub mod targets;
 pub mod trial;
 pub mod units;
 
+pub use ::bvh;
 pub use ::c3d;
 pub use ::gait;
 pub use ::kinetics;
@@ -57,12 +59,13 @@ pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
 pub use events::{detect_events, Detected, EventOptions, EventSource, TrialEvent};
 pub use gait_params::{gait_parameters, GaitOptions, GaitReport};
 pub use gaps::{gaps, GapInfo};
+pub use keyframes::{keyframes, KeyMethod, KeyframeOptions, KeyframeReport, Keyframed};
 pub use options::{
     max_expected_error, RepairOptions, SwapsMode, DEFAULT_MAX_EXPECTED_ERROR_MM, DEFAULT_SWAPS,
 };
 pub use platforms::{
-    force_platforms, Baseline, BaselineSource, Contact, ForceOptions, ForcePlatforms, PlateWarning,
-    Platform,
+    force_platforms, Baseline, BaselineSource, Contact, ForceOptions, ForcePlatforms, ForcesReport,
+    PlateWarning, Platform,
 };
 pub use repair::{repair, GapBrief, Repaired, Summary};
 pub use repair_lib::{FillMethod, FilterSpec, ParseError, SpikeMode, SpikeSpec};

@@ -17,7 +17,10 @@
 //! with a warning naming the plate and the parameter; the others are computed.
 
 mod channels;
+mod table;
 mod units;
+
+pub use table::ForcesReport;
 
 use crate::error::{Error, Result, Setting};
 use c3d::C3d;
@@ -146,7 +149,6 @@ pub struct Platform {
     pub free_moment: Vec<[f64; 3]>,
     /// The push: −Fz of the plate's own frame (N), which the threshold judges
     /// ([`kinetics::plate::PlateOutput::push`]).
-    #[serde(skip)]
     pub push: Vec<f64>,
     /// Largest push over the trial (N).
     pub peak_force: f64,

@@ -7,7 +7,6 @@ use crate::console::{errln, outln};
 use crate::output::{refuse_input, write_atomic};
 use anyhow::{bail, Result};
 use c3dfix::ForcePlatforms;
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
@@ -47,11 +46,7 @@ pub fn run(a: Args) -> Result<i32> {
         errln!("c3dfix: warning: {}: {w}", a.file.display());
     }
     if let (Some(out), Some(csv)) = (&a.output, table) {
-        let text = if csv {
-            csv_table(&fp)?
-        } else {
-            json(&a.file, &fp)?
-        };
+        let text = if csv { fp.csv() } else { json(&a.file, &fp)? };
         write_atomic(out, text.as_bytes(), a.force)?;
     }
     if a.json {
@@ -63,16 +58,7 @@ pub fn run(a: Args) -> Result<i32> {
 }
 
 fn json(file: &Path, fp: &ForcePlatforms) -> Result<String> {
-    let v = serde_json::json!({
-        "file": file.display().to_string(),
-        "threshold": fp.threshold,
-        // Sample i of every plate is at start_time + i / rate s, on the file's time base
-        // (the EVENT group's): the contacts' times are on it too.
-        "start_time": fp.start_time,
-        "platforms": fp.platforms,
-        "warnings": fp.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
-    });
-    Ok(serde_json::to_string(&v)?)
+    Ok(serde_json::to_string(&fp.report(file))?)
 }
 
 fn summary(file: &Path, fp: &ForcePlatforms) -> Result<()> {
@@ -137,40 +123,4 @@ fn summary(file: &Path, fp: &ForcePlatforms) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// Every sample as CSV: time (the file's time base, as its events), then per plate force,
-/// moment, COP and free moment.
-fn csv_table(fp: &ForcePlatforms) -> Result<String> {
-    let mut s = String::from("time");
-    for p in &fp.platforms {
-        for (q, unit) in [
-            ("force", &p.units.force),
-            ("moment", &p.units.moment),
-            ("cop", &p.units.position),
-            ("free_moment", &p.units.moment),
-        ] {
-            for ax in ["x", "y", "z"] {
-                write!(s, ",plate{}_{q}_{ax} ({unit})", p.index)?;
-            }
-        }
-    }
-    s.push('\n');
-    let n = fp.samples();
-    for i in 0..n {
-        write!(s, "{}", fp.time(i))?;
-        for p in &fp.platforms {
-            for v in [&p.force, &p.moment, &p.cop, &p.free_moment] {
-                for x in v.get(i).copied().unwrap_or([f64::NAN; 3]) {
-                    if x.is_finite() {
-                        write!(s, ",{x}")?;
-                    } else {
-                        s.push(',');
-                    }
-                }
-            }
-        }
-        s.push('\n');
-    }
-    Ok(s)
 }

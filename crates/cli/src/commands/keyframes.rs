@@ -2,11 +2,11 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
-use bvh::error_metric::{Effectors, Evaluator};
-use bvh::interp::{Interp, Interpolator};
-use bvh::keyframes::{check_values, greedy, optimal, rms, Target};
-use serde::Serialize;
+use anyhow::Result;
+use bvh::error_metric::Effectors;
+use bvh::interp::Interp;
+use bvh::keyframes::Target;
+use c3dfix::{KeyMethod, KeyframeOptions, KeyframeReport};
 
 use crate::console::outln;
 use crate::output::write_atomic;
@@ -79,106 +79,41 @@ pub struct Args {
     pub plot: Option<PathBuf>,
 }
 
-#[derive(Serialize)]
-struct Report<'a> {
-    file: String,
-    method: &'static str,
-    interp: &'static str,
-    effectors: &'static str,
-    frames: usize,
-    /// Key frame indices, 0-based.
-    keys: &'a [usize],
-    /// True when no key set meeting the same target has a smaller error (optimal method,
-    /// exhaustive search); false for greedy and for the coarse-to-fine search.
-    proven_optimal: bool,
-    /// Optimal method: grid step of its first search in frames (1: exhaustive).
-    search_step: Option<usize>,
-    total_error: f64,
-    mean_frame_error: f64,
-    rms_distance: f64,
-    max_frame_error: f64,
-    frame_errors: &'a [f64],
-    /// Greedy accumulated error as frames are removed: (removed frames, total error).
-    greedy_curve: Vec<(usize, f64)>,
-    output: Option<String>,
-    plot: Option<String>,
-}
-
 pub fn run(a: Args) -> Result<i32> {
     let b = bvh::read(&a.input)?;
-    check_values(&b).with_context(|| a.input.display().to_string())?;
-    let mode: Interp = a.interp.into();
-    let effectors = if a.all_joints {
-        Effectors::AllJoints
-    } else {
-        Effectors::EndSites
-    };
     let target = match (a.keys, a.max_error) {
         (Some(k), _) => Target::Keys(k),
         (None, Some(e)) => Target::MaxError(e),
         (None, None) => anyhow::bail!("give --keys or --max-error"),
     };
-    let eval = Evaluator::new(Interpolator::new(&b, mode), effectors);
-    let run = greedy::run(&eval);
-    let (reduction, proven_optimal, search_step) = match a.method {
-        Method::Greedy => (greedy::reduce_run(&eval, &run, target)?, false, None),
-        Method::Optimal => {
-            let options = optimal::Options {
-                // 0 is no limit.
-                max_segment: a.max_segment.filter(|&f| f > 0),
-                strategy: match a.exact {
-                    true => optimal::Strategy::Exhaustive,
-                    false => optimal::Strategy::Auto,
-                },
-            };
-            let s = optimal::search(&eval, &run, target, options)?;
-            (s.reduction, s.exact, Some(s.step))
-        }
+    let opts = KeyframeOptions {
+        target,
+        method: match a.method {
+            Method::Greedy => KeyMethod::Greedy,
+            Method::Optimal => KeyMethod::Optimal,
+        },
+        interp: a.interp.into(),
+        effectors: if a.all_joints {
+            Effectors::AllJoints
+        } else {
+            Effectors::EndSites
+        },
+        // 0 is no limit.
+        max_segment: a.max_segment,
+        exact: a.exact,
+        output: a.output.clone(),
+        force: a.force,
     };
-    let frame_errors = eval.frame_errors(&reduction.keys);
-    let frames = b.motion.frames();
-    let total: f64 = frame_errors.iter().sum();
-    let max = frame_errors.iter().copied().fold(0.0, f64::max);
-
-    if let Some(out) = &a.output {
-        let rebuilt = bvh::Bvh {
-            skeleton: b.skeleton.clone(),
-            motion: eval.interpolator().resample(&reduction.keys),
-        };
-        write_atomic(out, bvh::write(&rebuilt).as_bytes(), a.force)?;
-    }
+    let done = c3dfix::keyframes(&b, &a.input, &opts)?;
+    let mut report = done.report;
     if let Some(path) = &a.plot {
         let name = crate::output::file_name(&a.input);
-        let curves = KeyframeCurves::gather(&b, effectors, name, Some((mode, &run)));
+        let curves =
+            KeyframeCurves::gather(&b, opts.effectors, name, Some((opts.interp, &done.run)));
         let svg = render_keyframe_curves(&curves)?;
         write_atomic(path, svg.as_bytes(), a.force)?;
+        report.plot = Some(path.display().to_string());
     }
-
-    let report = Report {
-        file: a.input.display().to_string(),
-        method: match a.method {
-            Method::Greedy => "greedy",
-            Method::Optimal => "optimal",
-        },
-        interp: mode.name(),
-        effectors: if a.all_joints {
-            "all-joints"
-        } else {
-            "end-sites"
-        },
-        frames,
-        keys: &reduction.keys,
-        proven_optimal,
-        search_step,
-        total_error: total,
-        mean_frame_error: total / frames.max(1) as f64,
-        rms_distance: rms(&eval, total),
-        max_frame_error: max,
-        frame_errors: &frame_errors,
-        greedy_curve: run.curve(),
-        output: a.output.as_ref().map(|p| p.display().to_string()),
-        plot: a.plot.as_ref().map(|p| p.display().to_string()),
-    };
     if a.json {
         outln!("{}", serde_json::to_string_pretty(&report)?)?;
     } else {
@@ -187,7 +122,7 @@ pub fn run(a: Args) -> Result<i32> {
     Ok(0)
 }
 
-fn print_text(r: &Report) -> Result<()> {
+fn print_text(r: &KeyframeReport) -> Result<()> {
     outln!("{}: {} frames", r.file, r.frames)?;
     outln!(
         "{} keys ({}, {} interpolation, error on {}):",
