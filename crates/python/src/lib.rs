@@ -19,6 +19,7 @@ mod options;
 mod pickling;
 mod platforms;
 mod plots;
+mod shared;
 
 pyo3::create_exception!(
     c3dfix,

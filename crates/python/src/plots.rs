@@ -5,16 +5,8 @@
 use pyo3::prelude::*;
 use std::path::PathBuf;
 
-use crate::info_view::{file_name, refuse_inputs, TrialArg};
-use crate::{err, lib_err};
-
-/// A picture library error as `C3dError`, the library's kinds in this package's words.
-pub fn show_err(e: show::Error) -> PyErr {
-    match e {
-        show::Error::Library(e) => lib_err(e),
-        e => err(e),
-    }
-}
+use crate::lib_err;
+use crate::shared::{file_name, refuse_inputs, show_err, TrialArg};
 
 /// plot(c3d, path, markers, against=None, analog=None, detect_events=False, force=False)
 ///

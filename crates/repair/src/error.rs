@@ -9,14 +9,16 @@ use thiserror::Error;
 #[non_exhaustive]
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum RepairError {
-    #[error("filter order {0} must be from 1 to {max}", max = crate::filter::MAX_ORDER)]
-    FilterOrder(usize),
+    /// The filter design's own limit travels with the error, so this vocabulary needs nothing
+    /// from the filters that use it.
+    #[error("filter order {order} must be from 1 to {max}")]
+    FilterOrder { order: usize, max: usize },
     #[error("cutoff {cutoff_hz} Hz must be above 0 and below Nyquist ({nyquist_hz} Hz)")]
     Cutoff { cutoff_hz: f64, nyquist_hz: f64 },
     #[error("cutoff {0} Hz must be above 0")]
     CutoffNotPositive(f64),
-    #[error("stopband attenuation {0} dB must be above 0 and at most {max}", max = crate::filter::MAX_ATTEN_DB)]
-    Attenuation(f64),
+    #[error("stopband attenuation {atten_db} dB must be above 0 and at most {max}")]
+    Attenuation { atten_db: f64, max: f64 },
     #[error("sample rate {0} Hz must be finite and above 0")]
     SampleRate(f64),
     #[error("signal of {len} samples is too short for filtfilt (needs more than {padlen})")]

@@ -1,10 +1,13 @@
 //! Small dense helpers: Gaussian elimination, Kabsch, symmetric eigen (via nalgebra, and
 //! [`Leading`] where only the leading eigenvectors are used).
 
-use nalgebra::{DMatrix, Matrix3, Matrix4, Vector3, Vector4};
+use nalgebra::{Matrix3, Matrix4, Vector3, Vector4};
 
 mod eigen;
 
+/// The whole decomposition, the oracle the published PCA's tests compare with.
+#[cfg(test)]
+pub(crate) use eigen::symmetric_eigen;
 pub(crate) use eigen::Leading;
 
 /// Solves `a x = rhs` in place for `n` unknowns and `r` right-hand sides by Gaussian
@@ -300,21 +303,6 @@ fn polar_rotation(a: &Matrix3<f64>) -> Option<Matrix3<f64>> {
         }
     }
     None
-}
-
-/// Eigenvalues (descending) and matching eigenvectors (columns) of a symmetric matrix given
-/// row-major.
-pub(crate) fn symmetric_eigen(a: &[f64], n: usize) -> (Vec<f64>, DMatrix<f64>) {
-    let m = DMatrix::from_row_slice(n, n, a);
-    // Converged to 1e-10 rather than machine precision: principal components need no
-    // more, and the QR sweeps stop sooner.
-    let e = nalgebra::SymmetricEigen::try_new(m.clone(), 1e-10, 0)
-        .unwrap_or_else(|| m.symmetric_eigen());
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&i, &j| e.eigenvalues[j].total_cmp(&e.eigenvalues[i]));
-    let vals = order.iter().map(|&i| e.eigenvalues[i]).collect();
-    let vecs = DMatrix::from_fn(n, n, |r, c| e.eigenvectors[(r, order[c])]);
-    (vals, vecs)
 }
 
 #[cfg(test)]

@@ -173,7 +173,7 @@ fn bad_configs_and_shapes_are_typed_errors() {
                 cutoff_hz: 6.0
             })
         ),
-        Err(RepairError::FilterOrder(0))
+        Err(RepairError::FilterOrder { order: 0, .. })
     ));
     // Options from a command line are bounded before anything is allocated from them.
     for (order, atten) in [

@@ -466,22 +466,6 @@ impl Model {
     }
 }
 
-/// The mean trajectory of the markers `whole` (recorded on every frame): step 1's frame moving
-/// with the subject, which the pass's sums ([`sums`]) and each model's own preparation both
-/// subtract. An empty `whole` gives zeros.
-fn mean_trajectory(d: &super::data::Data, whole: &[usize]) -> Vec<[f64; 3]> {
-    (0..d.frames)
-        .map(|f| {
-            let mut s = [0.0; 3];
-            for &j in whole {
-                let p = d.xyz[j][f];
-                (0..3).for_each(|k| s[k] += p[k]);
-            }
-            s.map(|v| v / whole.len().max(1) as f64)
-        })
-        .collect()
-}
-
 /// The principal components of `x`'s columns, and of the same with kept marker `ti`'s
 /// three columns set to 0: for each, the eigenvalues of XᵀX / (n − 1), descending, and
 /// their eigenvectors on request (only the leading ones are used, see [`Leading`]). One

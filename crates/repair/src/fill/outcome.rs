@@ -3,8 +3,6 @@
 use serde::Serialize;
 
 use super::method::FillMethod;
-#[cfg(doc)]
-use super::step::STEP_FACTOR;
 
 /// Why a gap was left unfilled.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -22,8 +20,9 @@ pub enum SkipReason {
     NoContext,
     /// A linear system was singular.
     Degenerate,
-    /// Every candidate fill has a step between consecutive frames above [`STEP_FACTOR`]
-    /// times the marker's largest recorded step (`step_ratio`: the smallest such ratio).
+    /// Every candidate fill has a step between consecutive frames above
+    /// [`STEP_FACTOR`](super::step::STEP_FACTOR) times the marker's largest recorded step
+    /// (`step_ratio`: the smallest such ratio).
     Implausible { step_ratio: f64 },
     /// The fill's expected error is above `max_expected_error` (both in the data's units).
     Uncertain {

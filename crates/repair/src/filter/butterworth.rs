@@ -1,6 +1,8 @@
 //! Butterworth analog prototype, as scipy.signal.buttap.
 
-use super::C64;
+use nalgebra::Complex;
+
+type C64 = Complex<f64>;
 
 /// Zeros, poles and gain of the normalized analog Butterworth low-pass of order `n`.
 pub(super) fn prototype(n: usize) -> (Vec<C64>, Vec<C64>, f64) {

@@ -1,7 +1,9 @@
 //! Chebyshev type II analog prototype, as scipy.signal.cheb2ap.
 
-use super::C64;
+use nalgebra::Complex;
 use std::f64::consts::PI;
+
+type C64 = Complex<f64>;
 
 /// Zeros, poles and gain of the analog Chebyshev II low-pass of order `n` whose stopband
 /// starts at 1 rad/s with `rs` dB of attenuation.

@@ -50,13 +50,19 @@ impl FilterSpec {
                 atten_db,
             } => {
                 if !(atten_db > 0.0 && atten_db <= MAX_ATTEN_DB) {
-                    return Err(RepairError::Attenuation(atten_db));
+                    return Err(RepairError::Attenuation {
+                        atten_db,
+                        max: MAX_ATTEN_DB,
+                    });
                 }
                 (order, cutoff_hz)
             }
         };
         if !(1..=MAX_ORDER).contains(&order) {
-            return Err(RepairError::FilterOrder(order));
+            return Err(RepairError::FilterOrder {
+                order,
+                max: MAX_ORDER,
+            });
         }
         if !(cutoff > 0.0 && cutoff.is_finite()) {
             return Err(RepairError::CutoffNotPositive(cutoff));
@@ -96,7 +102,10 @@ impl Iir {
     /// attenuation, as `scipy.signal.cheby2`.
     pub fn cheby2(order: usize, cutoff_hz: f64, atten_db: f64, fs: f64) -> Result<Iir> {
         if !(atten_db > 0.0 && atten_db <= MAX_ATTEN_DB) {
-            return Err(RepairError::Attenuation(atten_db));
+            return Err(RepairError::Attenuation {
+                atten_db,
+                max: MAX_ATTEN_DB,
+            });
         }
         let wn = normalized_cutoff(order, cutoff_hz, fs)?;
         let (z, p, k) = chebyshev2::prototype(order, atten_db);
@@ -118,7 +127,10 @@ impl Iir {
 /// Cutoff as a fraction of Nyquist, validated as scipy's iirfilter does.
 fn normalized_cutoff(order: usize, cutoff_hz: f64, fs: f64) -> Result<f64> {
     if !(1..=MAX_ORDER).contains(&order) {
-        return Err(RepairError::FilterOrder(order));
+        return Err(RepairError::FilterOrder {
+            order,
+            max: MAX_ORDER,
+        });
     }
     if !(fs > 0.0 && fs.is_finite()) {
         return Err(RepairError::SampleRate(fs));
@@ -181,7 +193,10 @@ mod tests {
     fn invalid_designs_are_typed_errors() {
         assert_eq!(
             Iir::butterworth(0, 6.0, 100.0),
-            Err(RepairError::FilterOrder(0))
+            Err(RepairError::FilterOrder {
+                order: 0,
+                max: MAX_ORDER
+            })
         );
         assert!(matches!(
             Iir::butterworth(4, 50.0, 100.0),
@@ -197,7 +212,10 @@ mod tests {
         ));
         assert_eq!(
             Iir::cheby2(4, 6.0, 0.0, 100.0),
-            Err(RepairError::Attenuation(0.0))
+            Err(RepairError::Attenuation {
+                atten_db: 0.0,
+                max: MAX_ATTEN_DB
+            })
         );
         assert!(FilterSpec::Cheby2 {
             order: 2,

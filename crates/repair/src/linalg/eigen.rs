@@ -90,7 +90,7 @@ impl Leading {
     }
 
     fn full(a: &[f64], n: usize) -> Leading {
-        let (values, vecs) = super::symmetric_eigen(a, n);
+        let (values, vecs) = symmetric_eigen(a, n);
         Leading {
             n,
             values,
@@ -191,7 +191,7 @@ fn full_vectors(
             t[(i, i + 1)] = off[i];
         }
     }
-    let (_, v) = super::symmetric_eigen(t.as_slice(), n);
+    let (_, v) = symmetric_eigen(t.as_slice(), n);
     let mut z = v.columns(0, k).into_owned();
     back_transform(reflectors, tau, n, &mut z);
     z
@@ -650,6 +650,21 @@ impl Lu {
             y[i] = s * self.inv_u0[i];
         }
     }
+}
+
+/// Eigenvalues (descending) and matching eigenvectors (columns) of a symmetric matrix given
+/// row-major.
+pub(crate) fn symmetric_eigen(a: &[f64], n: usize) -> (Vec<f64>, DMatrix<f64>) {
+    let m = DMatrix::from_row_slice(n, n, a);
+    // Converged to 1e-10 rather than machine precision: principal components need no
+    // more, and the QR sweeps stop sooner.
+    let e = nalgebra::SymmetricEigen::try_new(m.clone(), 1e-10, 0)
+        .unwrap_or_else(|| m.symmetric_eigen());
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| e.eigenvalues[j].total_cmp(&e.eigenvalues[i]));
+    let vals = order.iter().map(|&i| e.eigenvalues[i]).collect();
+    let vecs = DMatrix::from_fn(n, n, |r, c| e.eigenvectors[(r, order[c])]);
+    (vals, vecs)
 }
 
 #[cfg(test)]

@@ -45,7 +45,7 @@ impl TargetFrame {
         if whole.is_empty() {
             return None;
         }
-        let mean_trj = super::mean_trajectory(d, &whole);
+        let mean_trj = mean_trajectory(d, &whole);
         let target: Vec<[f64; 3]> = (0..n)
             .map(|f| {
                 let (p, mt) = (d.xyz[m][f], mean_trj[f]);
@@ -122,4 +122,20 @@ impl TargetFrame {
             })
             .collect()
     }
+}
+
+/// The mean trajectory of the markers `whole` (recorded on every frame): step 1's frame moving
+/// with the subject, which the pass's sums ([`super::sums`]) and each model's own preparation both
+/// subtract. An empty `whole` gives zeros.
+pub(super) fn mean_trajectory(d: &Data, whole: &[usize]) -> Vec<[f64; 3]> {
+    (0..d.frames)
+        .map(|f| {
+            let mut s = [0.0; 3];
+            for &j in whole {
+                let p = d.xyz[j][f];
+                (0..3).for_each(|k| s[k] += p[k]);
+            }
+            s.map(|v| v / whole.len().max(1) as f64)
+        })
+        .collect()
 }

@@ -61,7 +61,7 @@ impl Sums {
         let whole: Vec<usize> = (0..markers)
             .filter(|&j| d.valid[j].iter().all(|&v| v))
             .collect();
-        let mean_trj = super::mean_trajectory(d, &whole);
+        let mean_trj = super::frame::mean_trajectory(d, &whole);
         let mut z = Vec::with_capacity(markers);
         let mut shift = Vec::with_capacity(markers);
         let mut z1 = Vec::with_capacity(markers);
