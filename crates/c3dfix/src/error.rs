@@ -144,6 +144,15 @@ pub enum Conflict {
     OutputAndInPlace,
     #[error("give an output file or in-place")]
     NoDestination,
+    /// An axis rotation for an export format that has no frame to turn.
+    #[error("axes apply to the trc, mot and opensim formats only")]
+    AxesFormat,
+    /// The OpenSim pair given no folder to go into.
+    #[error("the opensim format writes its two files into a folder")]
+    PairNeedsFolder,
+    /// A folder given to a format that writes one file.
+    #[error("an output folder is for the opensim format only (the others write one file)")]
+    FolderForPair,
 }
 
 impl From<repair::ParseError> for Error {

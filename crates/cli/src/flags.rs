@@ -37,6 +37,13 @@ pub fn phrase(e: &Error) -> String {
             "give either -o OUT or --in-place, not both".into()
         }
         Error::Conflict(Conflict::NoDestination) => "give -o OUT or --in-place".into(),
+        Error::Conflict(Conflict::AxesFormat) => {
+            "--axes applies to --format trc, mot and opensim only".into()
+        }
+        Error::Conflict(Conflict::PairNeedsFolder) => "--format opensim needs --out-dir DIR".into(),
+        Error::Conflict(Conflict::FolderForPair) => {
+            "--out-dir applies to --format opensim only (use -o)".into()
+        }
         Error::OutOfRange {
             setting,
             value,

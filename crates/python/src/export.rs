@@ -6,17 +6,27 @@ use pyo3::types::PyDict;
 use std::path::PathBuf;
 
 use crate::{err, lib_err, PyC3d};
-use c3dfix::export::{self, OpenSimOptions, Points};
+use c3dfix::export::{self, ExportDestination, ExportFormat, ExportOptions, Points};
 use c3dfix::Axes;
 
-/// The points a marker table holds, from the keyword arguments.
-fn selection(markers: Option<Vec<String>>, all_points: bool) -> PyResult<Points> {
+/// The points a marker table holds, from the keyword arguments (`None`: the format's
+/// default, [`export::ExportFormat::default_points`]).
+fn selection(markers: Option<Vec<String>>, all_points: bool) -> PyResult<Option<Points>> {
     match (markers, all_points) {
         (Some(_), true) => Err(err("give markers or all_points, not both")),
-        (Some(m), false) => Ok(Points::Named(m)),
-        (None, true) => Ok(Points::All),
-        (None, false) => Ok(Points::Markers),
+        (Some(m), false) => Ok(Some(Points::Named(m))),
+        (None, true) => Ok(Some(Points::All)),
+        (None, false) => Ok(None),
     }
+}
+
+/// One file of `format` written by the library's export job.
+fn export_file(py: Python<'_>, c3d: &PyC3d, path: PathBuf, opts: ExportOptions) -> PyResult<()> {
+    let name = c3d.name();
+    py.allow_threads(|| {
+        export::export(&c3d.inner, &name, &ExportDestination::File(path), &opts).map(|_| ())
+    })
+    .map_err(lib_err)
 }
 
 fn axes(spec: Option<&str>) -> PyResult<Option<Axes>> {
@@ -39,18 +49,14 @@ pub fn export_trc(
     axes: Option<&str>,
     force: bool,
 ) -> PyResult<()> {
-    let points = selection(markers, all_points)?;
-    let rotation = self::axes(axes)?.unwrap_or_default();
-    let name = c3d
-        .name()
-        .file_name()
-        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    py.allow_threads(|| {
-        let idx = points.indices(&c3d.inner)?;
-        let t = export::trc(&c3d.inner, &name, &idx, &rotation)?;
-        c3dfix::save::write_atomic(&path, t.text.as_bytes(), force)
-    })
-    .map_err(lib_err)
+    let opts = ExportOptions {
+        format: ExportFormat::Trc,
+        points: selection(markers, all_points)?,
+        axes: self::axes(axes)?,
+        forces: c3dfix::ForceOptions::default(),
+        force,
+    };
+    export_file(py, c3d, path, opts)
 }
 
 /// export_mot(c3d, path, axes=None, threshold=10.0, zero_baseline=True, lowpass=None,
@@ -72,15 +78,14 @@ pub fn export_mot(
     lowpass: Option<&str>,
     force: bool,
 ) -> PyResult<()> {
-    let rotation = self::axes(axes)?.unwrap_or_default();
-    let opts = crate::options::force_options(threshold, zero_baseline, lowpass)?;
-    let name = c3d.name();
-    py.allow_threads(|| {
-        let fp = c3dfix::force_platforms(&c3d.inner, &opts)?;
-        let text = export::mot(&c3d.inner, &fp, &name, &rotation)?;
-        c3dfix::save::write_atomic(&path, text.as_bytes(), force)
-    })
-    .map_err(lib_err)
+    let opts = ExportOptions {
+        format: ExportFormat::Mot,
+        points: None,
+        axes: self::axes(axes)?,
+        forces: crate::options::force_options(threshold, zero_baseline, lowpass)?,
+        force,
+    };
+    export_file(py, c3d, path, opts)
 }
 
 /// export_opensim(c3d, out_dir, markers=None, all_points=False, axes=None, threshold=10.0,
@@ -105,16 +110,21 @@ pub fn export_opensim(
     lowpass: Option<&str>,
     force: bool,
 ) -> PyResult<PyObject> {
-    let opts = OpenSimOptions {
+    let opts = ExportOptions {
+        format: ExportFormat::Opensim,
         points: selection(markers, all_points)?,
         axes: self::axes(axes)?,
         forces: crate::options::force_options(threshold, zero_baseline, lowpass)?,
         force,
     };
     let name = c3d.name();
-    let done = py
-        .allow_threads(|| export::opensim(&c3d.inner, &name, &out_dir, &opts))
+    let dest = ExportDestination::Folder(out_dir);
+    let exported = py
+        .allow_threads(|| export::export(&c3d.inner, &name, &dest, &opts))
         .map_err(lib_err)?;
+    let Some(done) = exported.opensim else {
+        return Err(err("the OpenSim export wrote no pair"));
+    };
     let warn = py.get_type::<pyo3::exceptions::PyUserWarning>();
     for w in &done.warnings {
         let msg = std::ffi::CString::new(format!("{}: {w}", name.display())).map_err(err)?;

@@ -8,12 +8,14 @@
 //! marker tables: they are no positions ([`crate::markers`]).
 
 pub(crate) mod csv;
+mod job;
 mod json;
 mod mot;
 mod opensim;
 mod trc;
 
 pub use csv::{analog_csv, parameter_rows, points_csv, PARAMETERS_HEADER};
+pub use job::{analog_csv_path, export, ExportDestination, ExportFormat, ExportOptions, Exported};
 pub use json::json;
 pub use mot::mot;
 pub use opensim::{opensim, OpenSimExport, OpenSimOptions};

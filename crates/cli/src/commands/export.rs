@@ -4,13 +4,13 @@
 
 use crate::commands::info::read_c3d;
 use crate::console::{errln, out, outln};
-use crate::output::{refuse_input, write_all, write_atomic, Content, Output};
 use crate::plates::PlateArgs;
-use anyhow::{bail, Result};
-use c3dfix::export::{self, OpenSimOptions, Points};
+use anyhow::Result;
+use c3dfix::export::{self, ExportDestination, ExportOptions, Points};
 use c3dfix::Axes;
 use std::path::PathBuf;
 
+/// The formats as the command lists them (the library's [`export::ExportFormat`]).
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum ExportFormat {
     Csv,
@@ -23,6 +23,18 @@ pub enum ExportFormat {
     /// NAME.trc and NAME.mot into --out-dir, on one time base, turned to OpenSim's frame:
     /// the lab's up as Y, the direction of travel (when there is one) as X.
     Opensim,
+}
+
+impl From<ExportFormat> for export::ExportFormat {
+    fn from(f: ExportFormat) -> Self {
+        match f {
+            ExportFormat::Csv => export::ExportFormat::Csv,
+            ExportFormat::Trc => export::ExportFormat::Trc,
+            ExportFormat::Json => export::ExportFormat::Json,
+            ExportFormat::Mot => export::ExportFormat::Mot,
+            ExportFormat::Opensim => export::ExportFormat::Opensim,
+        }
+    }
 }
 
 #[derive(clap::Args)]
@@ -57,107 +69,57 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<i32> {
-    if let Some(out) = &a.output {
-        refuse_input(out, &[&a.file], "output")?;
-    }
-    let axes = match (&a.axes, a.format) {
-        (None, _) => None,
-        (Some(spec), ExportFormat::Trc | ExportFormat::Mot | ExportFormat::Opensim) => {
-            Some(Axes::parse(spec)?)
-        }
-        (Some(_), _) => bail!("--axes applies to --format trc, mot and opensim only"),
+    let format = a.format.into();
+    let dest = match (&a.output, &a.out_dir) {
+        (Some(out), _) => ExportDestination::File(out.clone()),
+        (None, Some(dir)) => ExportDestination::Folder(dir.clone()),
+        (None, None) => ExportDestination::Text,
     };
-    match (a.format, &a.out_dir) {
-        (ExportFormat::Opensim, None) => bail!("--format opensim needs --out-dir DIR"),
-        (ExportFormat::Opensim, Some(_)) => {}
-        (_, Some(_)) => bail!("--out-dir applies to --format opensim only (use -o)"),
-        _ => {}
-    }
-    let points = match (&a.markers, a.all_points, a.format) {
-        (Some(names), _, _) => Points::Named(names.clone()),
-        (None, true, _) | (None, false, ExportFormat::Json) => Points::All,
-        (None, false, _) => Points::Markers,
+    let opts = ExportOptions {
+        format,
+        points: match (&a.markers, a.all_points) {
+            (Some(names), _) => Some(Points::Named(names.clone())),
+            (None, true) => Some(Points::All),
+            (None, false) => None,
+        },
+        // Axes given to a format without a frame are refused by the library's check; they
+        // are read only where they apply, so that refusal comes first.
+        axes: match &a.axes {
+            Some(spec) if format.takes_axes() => Some(Axes::parse(spec)?),
+            Some(_) => Some(Axes::default()),
+            None => None,
+        },
+        forces: a.plates.options(),
+        force: a.force,
     };
+    opts.check(&a.file, &dest)?;
     let c = read_c3d(&a.file)?;
-    let name = crate::output::file_name(&a.file);
-    match a.format {
-        ExportFormat::Csv => {
-            let pts = export::points_csv(&c, &points.indices(&c)?);
-            let ana = (c.analog().channels() > 0).then(|| export::analog_csv(&c));
-            match &a.output {
-                Some(out) => {
-                    let ana_path = out.with_extension("analog.csv");
-                    let mut outs = vec![Output {
-                        path: out,
-                        bytes: Content::Bytes(pts.as_bytes()),
-                        replace: a.force,
-                    }];
-                    if let Some(text) = &ana {
-                        refuse_input(&ana_path, &[&a.file], "analog output")?;
-                        outs.push(Output {
-                            path: &ana_path,
-                            bytes: Content::Bytes(text.as_bytes()),
-                            replace: a.force,
-                        });
-                    }
-                    write_all(&outs)?;
-                }
-                None => {
-                    out!("{pts}")?;
-                    if let Some(text) = ana {
-                        outln!()?;
-                        out!("{text}")?;
-                    }
-                }
-            }
-        }
-        ExportFormat::Trc => {
-            let t = export::trc(&c, &name, &points.indices(&c)?, &axes.unwrap_or_default())?;
-            emit(&a.output, t.text, a.force)?;
-            warn_labels(&a.file, &t.changed_labels)?;
-        }
-        ExportFormat::Json => emit(&a.output, export::json(&c, &points.indices(&c)?)?, a.force)?,
-        ExportFormat::Mot => {
-            let fp = c3dfix::force_platforms(&c, &a.plates.options())?;
-            for w in &fp.warnings {
-                errln!("c3dfix: warning: {}: {w}", a.file.display());
-            }
-            let text = export::mot(&c, &fp, &a.file, &axes.unwrap_or_default())?;
-            emit(&a.output, text, a.force)?;
-        }
-        ExportFormat::Opensim => {
-            let Some(dir) = &a.out_dir else {
-                bail!("--format opensim needs --out-dir DIR");
-            };
-            let opts = OpenSimOptions {
-                points,
-                axes,
-                forces: a.plates.options(),
-                force: a.force,
-            };
-            let done = export::opensim(&c, &a.file, dir, &opts)?;
-            for w in &done.warnings {
-                errln!("c3dfix: warning: {}: {w}", a.file.display());
-            }
-            warn_labels(&a.file, &done.changed_labels)?;
-            let up = match done.up {
-                Some(u) if a.axes.is_none() => format!(", up {} from {}", u.up, u.source),
-                _ => String::new(),
-            };
-            let forward = done
-                .forward
-                .map_or_else(String::new, |f| format!(", travel {f} as X"));
-            outln!(
-                "{}: wrote {}{} (lab axes {} as OpenSim's X,Y,Z{up}{forward})",
-                a.file.display(),
-                done.trc.display(),
-                done.mot.as_ref().map_or_else(
-                    || " (no force plates: no MOT)".to_string(),
-                    |m| format!(" and {}", m.display())
-                ),
-                done.axes
-            )?;
-        }
+    let done = export::export(&c, &a.file, &dest, &opts)?;
+    for w in &done.warnings {
+        errln!("c3dfix: warning: {}: {w}", a.file.display());
+    }
+    warn_labels(&a.file, &done.changed_labels)?;
+    if let Some(text) = &done.text {
+        out!("{text}")?;
+    }
+    if let Some(pair) = &done.opensim {
+        let up = match pair.up {
+            Some(u) if a.axes.is_none() => format!(", up {} from {}", u.up, u.source),
+            _ => String::new(),
+        };
+        let forward = pair
+            .forward
+            .map_or_else(String::new, |f| format!(", travel {f} as X"));
+        outln!(
+            "{}: wrote {}{} (lab axes {} as OpenSim's X,Y,Z{up}{forward})",
+            a.file.display(),
+            pair.trc.display(),
+            pair.mot.as_ref().map_or_else(
+                || " (no force plates: no MOT)".to_string(),
+                |m| format!(" and {}", m.display())
+            ),
+            pair.axes
+        )?;
     }
     Ok(0)
 }
@@ -170,14 +132,4 @@ fn warn_labels(file: &std::path::Path, changed: &[String]) -> Result<()> {
         );
     }
     Ok(())
-}
-
-fn emit(out: &Option<PathBuf>, text: String, force: bool) -> Result<()> {
-    match out {
-        Some(p) => write_atomic(p, text.as_bytes(), force),
-        None => {
-            out!("{text}")?;
-            Ok(())
-        }
-    }
 }
