@@ -113,6 +113,8 @@ pub enum Setting {
     Swaps,
     /// Exports: the rotation from the lab's axes to the output's.
     Axes,
+    /// Cycles: the feet whose cycles are cut.
+    Side,
 }
 
 impl Setting {
@@ -130,6 +132,7 @@ impl Setting {
             Setting::EventSource => "event source",
             Setting::Swaps => "swaps",
             Setting::Axes => "axes",
+            Setting::Side => "side",
         }
     }
 }

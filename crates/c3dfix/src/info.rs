@@ -41,6 +41,18 @@ pub struct GroupInfo {
     pub parameters: Vec<String>,
 }
 
+/// From this many valid samples at the exact origin on, a trial's zeros look like a writer's
+/// stand-in for "missing" rather than data: a real marker lands on (0, 0, 0) to the last bit
+/// rarely, some writers store every lost point there. `info` and `repair` then say how to
+/// read such samples as missing.
+pub const ORIGIN_SUSPECT_SAMPLES: usize = 10;
+
+/// Whether `samples` valid samples at the exact origin look like a writer's missing points
+/// ([`ORIGIN_SUSPECT_SAMPLES`]).
+pub fn zeros_look_missing(samples: usize) -> bool {
+    samples >= ORIGIN_SUSPECT_SAMPLES
+}
+
 /// What `info` says about a C3D file (`c3dfix info --json` prints it as it is).
 #[derive(Serialize)]
 pub struct Report<'a> {

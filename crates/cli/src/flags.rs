@@ -18,6 +18,7 @@ pub fn flag(s: Setting) -> &'static str {
         Setting::EventSource => "--from",
         Setting::Swaps => "--swaps",
         Setting::Axes => "--axes",
+        Setting::Side => "--side",
         // A setting added to the library before it is given a flag here: its plain name.
         other => other.name(),
     }

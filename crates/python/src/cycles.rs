@@ -6,11 +6,11 @@ use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::{err, PyC3d};
+use crate::{err, lib_err, PyC3d};
 use c3dfix::events::{EventOptions, EventSource};
 use c3dfix::events_session::{session_from, CalibrationTruth, SessionReport};
 use c3dfix::gait::session::SessionOptions;
-use c3dfix::gait::{cycles::SAMPLES, MarkerNames, Side};
+use c3dfix::gait::{cycles::SAMPLES, MarkerNames};
 
 /// Each warning as a Python `UserWarning` naming the file.
 fn warn_all(py: Python<'_>, name: &str, warnings: &[String]) -> PyResult<()> {
@@ -156,12 +156,7 @@ pub fn cycles(
     detect: bool,
     source: &str,
 ) -> PyResult<PyObject> {
-    let sides = match side.trim().to_ascii_lowercase().as_str() {
-        "left" => vec![Side::Left],
-        "right" => vec![Side::Right],
-        "both" => Side::BOTH.to_vec(),
-        _ => return Err(err(format!("side={side:?}: expected left, right or both"))),
-    };
+    let sides = side.parse::<c3dfix::Feet>().map_err(lib_err)?.sides();
     let opts = c3dfix::CycleOptions {
         sides,
         markers: markers.unwrap_or_default(),

@@ -45,16 +45,6 @@ pub struct Args {
     pub force: bool,
 }
 
-/// The feet `--side` names.
-fn sides(s: &str) -> Result<Vec<Side>> {
-    match s.trim().to_ascii_lowercase().as_str() {
-        "left" | "l" => Ok(vec![Side::Left]),
-        "right" | "r" => Ok(vec![Side::Right]),
-        "both" => Ok(Side::BOTH.to_vec()),
-        _ => anyhow::bail!("--side {s}: expected left, right or both"),
-    }
-}
-
 pub fn run(a: Args) -> Result<i32> {
     let detect = if a.detect {
         let from: EventSource = a.from.as_deref().unwrap_or("auto").parse()?;
@@ -66,7 +56,7 @@ pub fn run(a: Args) -> Result<i32> {
         None
     };
     let opts = CycleOptions {
-        sides: sides(&a.side)?,
+        sides: a.side.parse::<c3dfix::Feet>()?.sides(),
         markers: a.markers.clone(),
         analog: a.analog.clone(),
         forces: a.forces,

@@ -15,8 +15,8 @@ pub struct Args {
     /// The trials: C3D files, or folders whose C3D files are all taken.
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
-    /// Trials done at once (default: one per core).
-    #[arg(long, short = 'j', value_name = "N")]
+    /// Trials done at once, 1 to 256 (default: one per core).
+    #[arg(long, short = 'j', value_name = "N", value_parser = crate::ranges::jobs)]
     pub jobs: Option<usize>,
     /// Where events come from: `plates` (a foot alone loading a plate), `kinematics` (the
     /// heel, toe and pelvis markers: Zeni 2008 and Desailly 2009 combined; never the file's

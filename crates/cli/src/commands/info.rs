@@ -39,10 +39,6 @@ pub fn run(a: Args) -> Result<i32> {
     Ok(0)
 }
 
-/// From this many valid samples at the exact origin on, `info` names `--zero-invalid`: a real
-/// marker lands on (0, 0, 0) to the last bit rarely, a writer's stand-in for "missing" often.
-pub(crate) const ORIGIN_NOTE: usize = 10;
-
 fn print_text(r: &Report) -> Result<()> {
     outln!("{}  ({} bytes)", r.file, r.bytes)?;
     outln!(
@@ -87,7 +83,7 @@ fn print_text(r: &Report) -> Result<()> {
     let markers: Vec<_> = r.markers.iter().filter(|m| !m.model_output).collect();
     let with_gaps = markers.iter().filter(|m| m.gaps > 0).count();
     let outputs = r.markers.len() - markers.len();
-    if r.origin_samples >= ORIGIN_NOTE {
+    if c3dfix::info::zeros_look_missing(r.origin_samples) {
         outln!(
             "  note         {} valid samples sit exactly at (0, 0, 0); if this writer stores missing points that way, use --zero-invalid with gaps, repair and batch",
             r.origin_samples

@@ -154,7 +154,7 @@ pub fn print_summary(s: &Summary) -> Result<()> {
         s.samples_changed,
         s.markers_changed
     )?;
-    if s.samples_at_origin >= super::info::ORIGIN_NOTE {
+    if c3dfix::info::zeros_look_missing(s.samples_at_origin) {
         outln!(
             "  note     {} samples sit exactly at (0, 0, 0) and were kept as recorded; if this writer stores missing points that way, repair with --zero-invalid",
             s.samples_at_origin

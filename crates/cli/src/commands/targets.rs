@@ -53,9 +53,6 @@ impl TargetArgs {
         if self.backup && !self.in_place {
             bail!("--backup goes with --in-place");
         }
-        if self.jobs == Some(0) {
-            bail!("--jobs must be at least 1");
-        }
         Ok(d)
     }
 
