@@ -147,6 +147,12 @@ pub enum Conflict {
     OutputAndInPlace,
     #[error("give an output file or in-place")]
     NoDestination,
+    /// A run over many files given both an output folder and in-place.
+    #[error("give either an output folder or in-place, not both")]
+    FolderAndInPlace,
+    /// A run over many files given neither an output folder nor in-place.
+    #[error("give an output folder or in-place")]
+    NoFolderOrInPlace,
     /// An axis rotation for an export format that has no frame to turn.
     #[error("axes apply to the trc, mot and opensim formats only")]
     AxesFormat,

@@ -9,7 +9,7 @@
 //! deterministic, disjoint part of it: the shards of a Slurm array or an indexed Kubernetes
 //! job together cover every file exactly once.
 
-use crate::error::{Error, Result};
+use crate::error::{Conflict, Error, Result};
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
@@ -56,6 +56,23 @@ pub enum Destination<'a> {
     InPlace,
     /// Below this folder, mirroring the structure below each given folder.
     OutDir(&'a Path),
+}
+
+impl<'a> Destination<'a> {
+    /// Where a run over many files writes, from what was asked: an output folder or in place
+    /// (exactly one), and a backup of each original only in place.
+    pub fn choose(out_dir: Option<&'a Path>, in_place: bool, backup: bool) -> Result<Self> {
+        let d = match (out_dir, in_place) {
+            (Some(_), true) => return Err(Error::Conflict(Conflict::FolderAndInPlace)),
+            (None, false) => return Err(Error::Conflict(Conflict::NoFolderOrInPlace)),
+            (Some(d), false) => Destination::OutDir(d),
+            (None, true) => Destination::InPlace,
+        };
+        if backup && !in_place {
+            return Err(Error::Conflict(Conflict::BackupWithoutInPlace));
+        }
+        Ok(d)
+    }
 }
 
 /// One file to process.

@@ -38,6 +38,10 @@ pub fn phrase(e: &Error) -> String {
             "give either -o OUT or --in-place, not both".into()
         }
         Error::Conflict(Conflict::NoDestination) => "give -o OUT or --in-place".into(),
+        Error::Conflict(Conflict::FolderAndInPlace) => {
+            "give either --out-dir DIR or --in-place, not both".into()
+        }
+        Error::Conflict(Conflict::NoFolderOrInPlace) => "give --out-dir DIR or --in-place".into(),
         Error::Conflict(Conflict::AxesFormat) => {
             "--axes applies to --format trc, mot and opensim only".into()
         }

@@ -2,7 +2,7 @@
 //! of `--files-from`; the plan they make (which files, where each goes, `--shard`) is the
 //! library's ([`c3dfix::targets`]).
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use c3dfix::targets::{Destination, Shard};
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -44,16 +44,11 @@ pub struct TargetArgs {
 impl TargetArgs {
     /// Check the combination of options (before any file is looked at).
     pub fn destination(&self) -> Result<Destination<'_>> {
-        let d = match (&self.out_dir, self.in_place) {
-            (Some(_), true) => bail!("give either --out-dir DIR or --in-place, not both"),
-            (None, false) => bail!("give --out-dir DIR or --in-place"),
-            (Some(d), false) => Destination::OutDir(d),
-            (None, true) => Destination::InPlace,
-        };
-        if self.backup && !self.in_place {
-            bail!("--backup goes with --in-place");
-        }
-        Ok(d)
+        Ok(Destination::choose(
+            self.out_dir.as_deref(),
+            self.in_place,
+            self.backup,
+        )?)
     }
 
     /// Every path named on the command line, then those of `--files-from`.
