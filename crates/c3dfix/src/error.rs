@@ -76,6 +76,10 @@ pub enum Error {
         #[source]
         source: bvh::keyframes::KeyframeError,
     },
+    /// An output turned to another frame (OpenSim's, Y up) needs the lab's up, and neither
+    /// the plates nor the markers tell it: the axes must be given (each front says how).
+    #[error("{}: neither force plates nor markers tell which way is up: give the axes (e.g. x,z,-y)", path.display())]
+    NoUp { path: PathBuf },
     /// The repair library refused the data or configuration.
     #[error("{}: {source}", path.display())]
     Repair {

@@ -49,6 +49,10 @@ pub fn phrase(e: &Error) -> String {
         Error::Conflict(Conflict::FolderForPair) => {
             "--out-dir applies to --format opensim only (use -o)".into()
         }
+        Error::NoUp { path } => format!(
+            "{}: neither force plates nor markers tell which way is up: give the axes (e.g. --axes x,z,-y)",
+            path.display()
+        ),
         Error::OutOfRange {
             setting,
             value,

@@ -46,6 +46,10 @@ fn lib_err(e: c3dfix::Error) -> PyErr {
             output.display(),
             input.display()
         )),
+        Error::NoUp { path } => err(format!(
+            "{}: neither force plates nor markers tell which way is up: pass the axes (e.g. axes=\"x,z,-y\")",
+            path.display()
+        )),
         other => err(other),
     }
 }

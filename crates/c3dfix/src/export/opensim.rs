@@ -70,9 +70,8 @@ pub fn opensim(
             (Axes::opensim(u.up, forward), forward)
         }
         (None, None) => {
-            return Err(Error::Trial {
+            return Err(Error::NoUp {
                 path: input.to_path_buf(),
-                what: "neither force plates nor markers tell which way is up: give the axes (e.g. --axes x,z,-y)".into(),
             })
         }
     };
