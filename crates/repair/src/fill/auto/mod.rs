@@ -24,19 +24,18 @@
 mod holes;
 mod kind;
 mod model;
+mod real;
 pub(super) mod steps;
 
-use super::skeleton::Skeleton;
 use super::{
-    dist, fill_raw, fill_with, linear, step_ratio, FillMethod, FillOptions, FillOutcome, Plan,
-    SkipReason, Span, Target, STEP_FACTOR,
+    dist, step_ratio, FillMethod, FillOptions, FillOutcome, Plan, SkipReason, Span, Target,
 };
-use crate::profile::{self, Count, Method, Work};
-use holes::{other_markers, same_marker, score, Scoring, RESID_NODES};
+use crate::profile::{self, Count, Work};
+use holes::{other_markers, same_marker, score, Scoring};
 use kind::Kind;
 pub use model::{calibrated, features, gap_donors, log_ratio, Diag, GapDonors, FEATURES};
-use model::{deviation, donor_index, drift, prior};
-use steps::slowed;
+use model::{deviation, prior};
+use real::{apart, Candidates, Fills};
 
 /// Candidates for gaps with valid data on both sides.
 ///
@@ -68,12 +67,6 @@ const EDGE: [FillMethod; 5] = [
 /// walking cells at 5 and 10 frames up to 4.7 % better, full-body ones up to 3 % worse,
 /// expected errors within 2× 0.5 points more often; the pipeline bench took 1.08× as long.
 const LONG: usize = 5;
-/// Donor fills are also tied to the samples by a spline through their residuals (see
-/// `anchor`) on gaps up to this many frames; across longer gaps the spline wanders. Up to 20
-/// or up to 80 frames instead were each chosen in 0 of 26 folds of `fill_eval --nested`
-/// (up to 20: held-apart cells at 40 frames 0.7 % better to 2.8 % worse, tuned ones 2–5 %
-/// worse; up to 80: held-apart cells at 80 frames 0.4–3.5 % worse).
-const SMOOTH_MAX: usize = 40;
 /// Gap length from which PCA also enters with a wide model: the `WIDE_NEIGHBOURS` nearest
 /// markers over ±`WIDE_WINDOW` frames (towards Gløersen & Federolf's whole-trial model),
 /// which carries long gaps where the nearest markers alone do not. From 80 frames instead
@@ -89,48 +82,6 @@ const WIDE_NEIGHBOURS: usize = 24;
 /// of 26 folds (±1 000 in 1), all cells within 0.5 % (only trials of more than 4 000
 /// frames differ); the pipeline bench took 1.04× as long.
 const WIDE_WINDOW: usize = 4000;
-/// Gap length from which the Kalman smoother is a candidate: it trains a model of its own
-/// per group of artificial gaps and runs its covariance recursion over each, which long
-/// gaps are worth and short ones are not. Weighed from 20 frames, it took 2–4 % off
-/// `auto`'s errors at 20 frames on the corpus evaluation, and the 100-marker pipeline bench
-/// (gaps of 2–30 frames) took 2.5× as long (user time of one run, 4.6 s against 1.9 s),
-/// beyond what the bench may take; from 80 frames instead of 40 was chosen in 0 of 26
-/// folds of `fill_eval --nested` (held-apart cells at 40 frames 2.5 % better to 1.4 %
-/// worse, tuned ones up to 3.5 % worse).
-const KALMAN_FROM: usize = 40;
-/// Gap length from which Gløersen & Federolf's published PCA is a candidate: the shortest
-/// the evaluation measures. It entered at 40 frames before; each step down was chosen in 26
-/// of 26 folds of `fill_eval --nested`, the held-apart cells of the length it opened 5–10 %
-/// better at 20 frames, 0.4–5 % at 10, and 1.6 % better to 1.7 % worse at 5 (from 80
-/// instead of 40: 0 of 26 folds, held-apart cells at 40 frames 8–15 % worse). The pipeline
-/// bench is above [`GLOERSEN_BUDGET`], so its time is unchanged; on trials below the cap
-/// each gap costs two eigen-decompositions of every marker's coordinates per artificial gap
-/// (the evaluation's gaps of 20 frames took 189 s instead of 6 s on 2 cores, about 60 ms a
-/// gap). From 10 again, for its price (issue 35: the 671 corpus fills of 5–9 frames), was
-/// measured on the held-apart labs (`fill_eval --held-apart --gaps 10`): 5-frame cells
-/// 0.6 % better to 3.1 % worse (full body, one marker), beyond the 2 % allowed; not kept.
-const GLOERSEN_FROM: usize = 5;
-/// Largest frames × (3 × markers)² of a trial on which `auto` weighs the published PCA: its
-/// covariance of every coordinate over the whole trial and two eigen-decompositions, per
-/// artificial gap, grow with it. A cost cap, not an accuracy choice: every trial of the
-/// evaluation's corpora is below it (the largest, 4 921 frames × 64 markers, is 1.8 × 10⁸),
-/// and the pipeline bench's 10 000 frames × 100 markers (9 × 10⁸), whose few gaps that
-/// merge to 40 frames or more took it from 0.6 s to 7.7 s, is above it. So no figure of the
-/// evaluation depends on it and no lab chose it.
-const GLOERSEN_BUDGET: f64 = 2.5e8;
-
-/// The size of the published PCA's model on the target's trial (see [`GLOERSEN_BUDGET`]).
-fn gloersen_cost(t: &Target) -> f64 {
-    let cols = 3.0 * t.data.xyz.len() as f64;
-    t.data.frames as f64 * cols * cols
-}
-
-/// Gap length from which each fill is also held to the skeleton. From 20 frames instead,
-/// on the corpus evaluation, walking gaps of 20 frames were 2–4 % better and full-body ones
-/// 3 % worse (at 175 and 240 Hz the skeleton's distance ranges nearby miss the poses in the
-/// gap and pull good fills off), and the 100-marker pipeline bench, whose gaps are up to
-/// 30 frames, took 1.3× as long.
-const SKELETON_FROM: usize = 40;
 
 /// `auto`'s candidates for a gap: donor methods only at the trial's edges.
 pub(super) fn candidates(span: Span) -> &'static [FillMethod] {
@@ -194,9 +145,72 @@ pub(super) fn fill(
     opts: &FillOptions,
     cands: &[FillMethod],
 ) -> Result<(Vec<[f64; 3]>, Choice), SkipReason> {
-    let edge = span.before.is_none() || span.after.is_none();
     let len = span.len();
-    // Short gaps: polynomials and donors differ clearly, half the trials tell them apart.
+    let (trials, plans, shortened) = artificial_holes(t, span, plan, opts);
+    // PCA may train one scoring model without several of the target's holes (and fills
+    // the real gap with the model of the nearest ones: see `pca`), so this comes before
+    // the candidates fill the real gap.
+    let _ = plan.exclude.set(
+        trials
+            .iter()
+            .filter(|tr| tr.plan.is_none())
+            .map(|tr| tr.hole)
+            .collect(),
+    );
+    // The wide PCA model's plan (long gaps), scored on the same artificial holes.
+    let wide_opts = FillOptions {
+        pca_neighbours: WIDE_NEIGHBOURS.max(opts.pca_neighbours),
+        pca_window: WIDE_WINDOW.max(opts.pca_window),
+        ..opts.clone()
+    };
+    let wide_plan = (len >= WIDE_FROM && cands.contains(&FillMethod::Pca))
+        .then(|| {
+            profile::count(Count::WidePlan);
+            Plan::build(t, span, &wide_opts)
+        })
+        .filter(|w| w.pca.len() > plan.pca.len());
+    if let Some(w) = &wide_plan {
+        let _ = w
+            .exclude
+            .set(plan.exclude.get().cloned().unwrap_or_default());
+    }
+    let wide = wide_plan.as_ref().map(|w| (w, &wide_opts));
+    let mut c =
+        Candidates::gather(t, span, plan, opts, cands, wide).settle(t, span, cands.len() > 1)?;
+    if shortened {
+        c.drop_polynomials();
+    }
+    let real_sk = c.held_to_skeleton(t, span, plan, opts);
+    let ctx = Scoring {
+        t,
+        plan,
+        plans: &plans,
+        opts,
+        wide_plan: wide_plan.as_ref(),
+        wide_opts: &wide_opts,
+        real_sk: real_sk.as_ref(),
+    };
+    let drift_real = c.drift_real;
+    let (mut fills, mut kinds) = (c.fills, c.kinds);
+    let holes = score(&ctx, &trials, &mut fills, &mut kinds);
+    if holes.truth.is_empty() {
+        let (v, mut choice) = fallback(fills, len);
+        choice.expected_error = Some(prior(t, len));
+        return Ok((v, choice));
+    }
+    Ok(chosen(t, span, &fills, &kinds, &holes, &drift_real))
+}
+
+/// The artificial gaps a gap's candidates are scored on, with the plans of those cut in
+/// other markers, and whether they had to be shorter than the gap. Short gaps: polynomials
+/// and donors differ clearly, half the trials tell them apart.
+fn artificial_holes(
+    t: &Target,
+    span: Span,
+    plan: &Plan,
+    opts: &FillOptions,
+) -> (Vec<holes::Trial>, Vec<Plan>, bool) {
+    let len = span.len();
     let want = if len >= LONG {
         opts.auto_trials
     } else {
@@ -225,185 +239,22 @@ pub(super) fn fill(
     }
     drop(cut);
     profile::count_n(Count::Holes, trials.len());
-    // PCA may train one scoring model without several of the target's holes (and fills
-    // the real gap with the model of the nearest ones: see `pca`), so this comes before
-    // the candidates fill the real gap.
-    let _ = plan.exclude.set(
-        trials
-            .iter()
-            .filter(|tr| tr.plan.is_none())
-            .map(|tr| tr.hole)
-            .collect(),
-    );
-    // The wide PCA model's plan (long gaps), scored on the same artificial holes.
-    let wide_opts = FillOptions {
-        pca_neighbours: WIDE_NEIGHBOURS.max(opts.pca_neighbours),
-        pca_window: WIDE_WINDOW.max(opts.pca_window),
-        ..opts.clone()
-    };
-    let wide_plan = (len >= WIDE_FROM && cands.contains(&FillMethod::Pca))
-        .then(|| {
-            profile::count(Count::WidePlan);
-            Plan::build(t, span, &wide_opts)
-        })
-        .filter(|w| w.pca.len() > plan.pca.len());
-    if let Some(w) = &wide_plan {
-        let _ = w
-            .exclude
-            .set(plan.exclude.get().cloned().unwrap_or_default());
-    }
-    let apart = |a: &[[f64; 3]], b: &[[f64; 3]]| {
-        a.iter().zip(b).map(|(p, q)| dist(*p, *q)).sum::<f64>() / a.len().max(1) as f64
-    };
-    let mut fills: Vec<(FillMethod, Vec<[f64; 3]>)> = Vec::new();
-    // kinds[c]: what kind of fill candidate c is, beside its method.
-    let mut kinds: Vec<Kind> = Vec::new();
-    let mut reason = None;
-    let mut implausible = f64::INFINITY;
-    // Per donor method (see `donor_index`), its residuals' drift across the real gap.
-    let mut drift_real = [None; 3];
-    let mut keep = |m: FillMethod, v: Vec<[f64; 3]>, kind: Kind, fills: &mut Vec<_>| {
-        let r = step_ratio(t, span, &v);
-        if r <= STEP_FACTOR {
-            fills.push((m, v));
-            kinds.push(kind);
-        } else if let Some(d) = slowed(t, span, &v) {
-            kinds.push(Kind {
-                moved: apart(&v, &d),
-                ..kind
-            });
-            fills.push((m, d));
-        } else {
-            implausible = implausible.min(r);
-        }
-    };
-    for &m in cands {
-        // `auto` weighs the smoother on long gaps only; asked for alone, it fills any.
-        if m == FillMethod::Kalman && len < KALMAN_FROM && cands.len() > 1 {
-            continue;
-        }
-        // Gløersen & Federolf's whole-trial model, from `GLOERSEN_FROM` frames: two
-        // eigen-decompositions of every marker's coordinates per artificial gap.
-        if m == FillMethod::Gloersen
-            && cands.len() > 1
-            && (len < GLOERSEN_FROM || gloersen_cost(t) > GLOERSEN_BUDGET)
-        {
-            continue;
-        }
-        let time = profile::time(Work::Real(Method::of(m)));
-        if m.is_donor() {
-            let raw = fill_raw(m, t, span, plan, opts, RESID_NODES);
-            drop(time);
-            match raw {
-                Ok(raw) => {
-                    if let Some(i) = donor_index(m) {
-                        drift_real[i] = drift(&raw);
-                    }
-                    keep(m, raw.anchored(span), Kind::default(), &mut fills);
-                    if let Some(v) = raw.smoothed(span).filter(|_| span.len() <= SMOOTH_MAX) {
-                        let kind = Kind {
-                            smooth: true,
-                            ..Kind::default()
-                        };
-                        keep(m, v, kind, &mut fills);
-                    }
-                }
-                Err(r) => {
-                    reason.get_or_insert(r);
-                }
-            }
-            continue;
-        }
-        let v = fill_with(m, t, span, plan, opts);
-        drop(time);
-        match v {
-            Ok(v) => keep(m, v, Kind::default(), &mut fills),
-            Err(r) => {
-                reason.get_or_insert(r);
-            }
-        }
-    }
-    if let Some(w) = &wide_plan {
-        let time = profile::time(Work::Real(Method::PcaWide));
-        let raw = fill_raw(FillMethod::Pca, t, span, w, &wide_opts, 1);
-        drop(time);
-        if let Ok(raw) = raw {
-            let kind = Kind {
-                wide: true,
-                ..Kind::default()
-            };
-            keep(FillMethod::Pca, raw.anchored(span), kind, &mut fills);
-        }
-    }
-    if fills.is_empty() && implausible.is_finite() && edge && cands.len() > 1 {
-        // Every donor fill at the edge is implausible: hold the last valid sample.
-        if let Ok(v) = linear::hold(t, span) {
-            fills.push((FillMethod::Hold, v));
-            kinds.push(Kind::default());
-        }
-    }
-    if fills.is_empty() {
-        return Err(if implausible.is_finite() {
-            SkipReason::Implausible {
-                step_ratio: implausible,
-            }
-        } else {
-            reason.unwrap_or(SkipReason::NoContext)
-        });
-    }
+    (trials, plans, shortened)
+}
 
-    // Shorter holes flatter polynomials, which are far off on long gaps anyway.
-    if shortened && fills.iter().any(|(m, _)| !m.is_polynomial()) {
-        let poly: Vec<bool> = fills.iter().map(|(m, _)| m.is_polynomial()).collect();
-        let mut k = poly.iter();
-        kinds.retain(|_| !*k.next().unwrap_or(&false));
-        fills.retain(|(m, _)| !m.is_polynomial());
-    }
-    // Long gaps: each fill also held to the skeleton (Tits et al. 2018), as a candidate of
-    // its own, so the artificial gaps say whether the constraint helps here. Short gaps
-    // drift too little for it to matter.
-    let real_sk = if len >= SKELETON_FROM {
-        Skeleton::new(t, span, plan, opts)
-    } else {
-        None
-    };
-    {
-        if let Some(sk) = &real_sk {
-            for c in 0..fills.len() {
-                if fills[c].0 == FillMethod::Hold || kinds[c].smooth || kinds[c].wide {
-                    continue;
-                }
-                let mut v = fills[c].1.clone();
-                if sk.apply(t, span, &mut v) && step_ratio(t, span, &v) <= STEP_FACTOR {
-                    fills.push((fills[c].0, v));
-                    // A slowed fill held to the skeleton is still not its method's own.
-                    kinds.push(Kind {
-                        skel: true,
-                        moved: kinds[c].moved,
-                        ..Kind::default()
-                    });
-                }
-            }
-        }
-    }
-
-    let ctx = Scoring {
-        t,
-        plan,
-        plans: &plans,
-        opts,
-        wide_plan: wide_plan.as_ref(),
-        wide_opts: &wide_opts,
-        real_sk: real_sk.as_ref(),
-    };
-    let holes = score(&ctx, &trials, &mut fills, &mut kinds);
+/// The fill `auto` chooses from the scored candidates ([`choose`]), and its expected error
+/// from the evidence the choice leaves ([`Diag`]).
+fn chosen(
+    t: &Target,
+    span: Span,
+    fills: &Fills,
+    kinds: &[Kind],
+    holes: &holes::Scores,
+    drift_real: &[Option<f64>; 3],
+) -> (Vec<[f64; 3]>, Choice) {
+    let len = span.len();
     let (preds, truth, scored) = (&holes.preds, &holes.truth, holes.scored);
     let (bend_holes, drift_holes) = (holes.bend_holes, holes.drift_holes);
-    if truth.is_empty() {
-        let (v, mut choice) = fallback(fills, len);
-        choice.expected_error = Some(prior(t, len));
-        return Ok((v, choice));
-    }
     let choosing = profile::time(Work::Choose);
     let Chosen {
         err: e,
@@ -459,7 +310,7 @@ pub(super) fn fill(
         expected_error: Some(calibrated(&diag)),
         diag: Some(diag),
     };
-    Ok((out, choice))
+    (out, choice)
 }
 
 /// The choice on the artificial gaps (`preds[c]`: candidate c's predictions of `truth`): the

@@ -16,7 +16,7 @@ pub(super) fn slowed(t: &Target, span: Span, v: &[[f64; 3]]) -> Option<Vec<[f64;
 /// [`slowed`] to `factor` times the marker's largest recorded step.
 fn slowed_to(t: &Target, span: Span, v: &[[f64; 3]], factor: f64) -> Option<Vec<[f64; 3]>> {
     let base = match (span.before, span.after) {
-        (Some(_), Some(_)) => super::linear::fill(t, span).ok()?,
+        (Some(_), Some(_)) => crate::fill::linear::fill(t, span).ok()?,
         _ => linear::hold(t, span).ok()?,
     };
     let mix = |a: f64| -> Vec<[f64; 3]> {
