@@ -12,8 +12,8 @@
 //! nothing and are reported apart ("held apart").
 //!
 //! ```sh
-//! cargo run --release -p repair --example swap_eval                        # a few minutes
-//! cargo run --release -p repair --example swap_eval -- --per 2 --seed 35   # docs/swaps.md
+//! cargo run --release -p evals --bin swap_eval                        # a few minutes
+//! cargo run --release -p evals --bin swap_eval -- --per 2 --seed 35   # docs/swaps.md
 //! ```
 //! Options: `--per N` (episodes per kind, length and trial, jumps 4 × N; default 1), `--seed S`,
 //! `--only TEXT` (files whose path contains TEXT), `--list` (every injected episode missed),
@@ -22,9 +22,9 @@
 //! `--list`, the samples it rests on), `--residual res|cam|both FLOOR` (the residual-witness
 //! experiment of docs/swaps.md, not the detector's rule).
 
-mod corpus;
-
-use corpus::{load, load_recorded, FILES};
+use clap::Parser;
+use evals::corpus::{self, load, load_recorded, FILES};
+use evals::stats::{median, rank, sorted};
 use repair::swaps::{find_swaps, undo, Find, FindKind, SwapOptions};
 use repair::{repair_trial, FillOptions, RepairConfig, Trial};
 use std::collections::BTreeMap;
@@ -55,44 +55,61 @@ enum Witness {
     Both,
 }
 
+/// Swap and jump finding on the corpora's trials (see the module's documentation).
+#[derive(Parser)]
+#[command(name = "swap_eval")]
+struct Cli {
+    /// Episodes per kind, length and trial (jumps 4 × N).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    per: usize,
+    /// The episodes' random seed.
+    #[arg(long, default_value_t = 34)]
+    seed: u64,
+    /// Only files whose path contains TEXT.
+    #[arg(long, value_name = "TEXT")]
+    only: Option<String>,
+    /// Every injected episode missed.
+    #[arg(long)]
+    list: bool,
+    /// The finds on the untouched trials alone, no episode injected.
+    #[arg(long)]
+    untouched: bool,
+    /// With each untouched find (and each missed jump onto a recorded point under --list),
+    /// the samples it rests on.
+    #[arg(long)]
+    explain: bool,
+    /// The residual-witness experiment: the word read (res, cam or both) and its floor.
+    #[arg(long, num_args = 2, value_names = ["WORD", "FLOOR"])]
+    residual: Option<Vec<String>>,
+}
+
 fn args() -> Result<Args, String> {
-    let mut a = Args {
-        per: 1,
-        seed: 34,
-        only: None,
-        list: false,
-        untouched: false,
-        explain: false,
-        residual: None,
-    };
-    let mut it = std::env::args().skip(1);
-    while let Some(k) = it.next() {
-        let mut val = || it.next().ok_or(format!("{k} needs a value"));
-        match k.as_str() {
-            "--per" => a.per = val()?.parse().map_err(|e| format!("--per: {e}"))?,
-            "--seed" => a.seed = val()?.parse().map_err(|e| format!("--seed: {e}"))?,
-            "--only" => a.only = Some(val()?),
-            "--list" => a.list = true,
-            "--untouched" => a.untouched = true,
-            "--explain" => a.explain = true,
-            "--residual" => {
-                let w = match val()?.as_str() {
-                    "res" => Witness::Residual,
-                    "cam" => Witness::Cameras,
-                    "both" => Witness::Both,
-                    o => return Err(format!("--residual: res, cam or both, not {o}")),
-                };
-                let floor = it
-                    .next()
-                    .ok_or("--residual needs a floor")?
-                    .parse()
-                    .map_err(|e| format!("--residual floor: {e}"))?;
-                a.residual = Some((w, floor));
-            }
-            _ => return Err(format!("unknown option {k}")),
+    let c = Cli::parse();
+    let residual = match c.residual.as_deref() {
+        None => None,
+        Some([word, floor]) => {
+            let w = match word.as_str() {
+                "res" => Witness::Residual,
+                "cam" => Witness::Cameras,
+                "both" => Witness::Both,
+                o => return Err(format!("--residual: res, cam or both, not {o}")),
+            };
+            let floor = floor
+                .parse()
+                .map_err(|e| format!("--residual floor: {e}"))?;
+            Some((w, floor))
         }
-    }
-    Ok(a)
+        Some(_) => return Err("--residual needs a word and a floor".into()),
+    };
+    Ok(Args {
+        per: c.per,
+        seed: c.seed,
+        only: c.only,
+        list: c.list,
+        untouched: c.untouched,
+        explain: c.explain,
+        residual,
+    })
 }
 
 /// SplitMix64, as the crate's own generator (private there).
@@ -364,7 +381,7 @@ fn near_points(t: &Trial) -> Vec<Vec<usize>> {
     let (nm, nf) = (t.markers(), t.frames());
     let step = nf.div_ceil(400).max(1);
     let median = |a: usize, b: usize| {
-        let mut ds: Vec<f64> = (0..nf)
+        let ds: Vec<f64> = (0..nf)
             .step_by(step)
             .filter(|&f| a != b && t.valid[a][f] && t.valid[b][f])
             .map(|f| dist(&t.xyz[a][f], &t.xyz[b][f]))
@@ -372,8 +389,7 @@ fn near_points(t: &Trial) -> Vec<Vec<usize>> {
         if ds.len() < 20 {
             return f64::INFINITY;
         }
-        ds.sort_by(f64::total_cmp);
-        ds[ds.len() / 2]
+        median(ds).unwrap_or(f64::INFINITY)
     };
     let med: Vec<Vec<f64>> = (0..nm)
         .map(|a| (0..nm).map(|b| median(a, b)).collect())
@@ -786,13 +802,7 @@ fn explain(t: &Trial, w: &Side, x: &Find, opts: &SwapOptions) {
     println!("    {:?}", x.evidence);
     let nf = t.frames();
     let name = |m: usize| w.labels.get(m).cloned().unwrap_or_else(|| format!("#{m}"));
-    let med = |mut v: Vec<f64>| -> String {
-        if v.is_empty() {
-            return "–".into();
-        }
-        v.sort_by(f64::total_cmp);
-        format!("{:.1}", v[v.len() / 2])
-    };
+    let med = |v: Vec<f64>| -> String { median(v).map_or("–".into(), |m| format!("{m:.1}")) };
     let spans = [
         (x.first.saturating_sub(20), x.first),
         (x.first, x.last + 1),
@@ -1150,24 +1160,20 @@ fn report(group: &str, t: &Tally) {
             p.true_settled,
             p.false_settled
         );
-        let mut e = p.refill_err.clone();
-        e.sort_by(f64::total_cmp);
-        if !e.is_empty() {
+        let e = sorted(p.refill_err.iter().copied());
+        if let (Some(m), Some(p90)) = (rank(&e, 1, 2), rank(&e, 9, 10)) {
             println!(
-                "jumped samples refilled (auto fill): median {:.2} mm, 90th percentile {:.2} mm, {} samples",
-                e[e.len() / 2],
-                e[e.len() * 9 / 10],
+                "jumped samples refilled (auto fill): median {m:.2} mm, 90th percentile {p90:.2} mm, {} samples",
                 e.len()
             );
         }
-        let mut e = p.leaps_refill_err.clone();
-        e.sort_by(f64::total_cmp);
+        let e = sorted(p.leaps_refill_err.iter().copied());
         println!(
             "of the hits, jumps of markers with 2-3 links by their leaps alone: {} found, {} settled; refilled: median {:.2} mm, 90th percentile {:.2} mm, {} samples",
             p.leaps_found,
             p.leaps_settled,
-            e.get(e.len() / 2).copied().unwrap_or(f64::NAN),
-            e.get(e.len() * 9 / 10).copied().unwrap_or(f64::NAN),
+            rank(&e, 1, 2).unwrap_or(f64::NAN),
+            rank(&e, 9, 10).unwrap_or(f64::NAN),
             e.len()
         );
     }

@@ -2,6 +2,7 @@
 //! out; the worst cells; the nested leave-one-lab-out choice among variants.
 
 use super::*;
+use evals::stats::rank;
 
 /// The shipped expected-error model (the one `repair` applies) on the held-apart labs'
 /// `auto` gaps of this run, inside the trial or at its ends: how often the truth is within
@@ -559,19 +560,19 @@ pub(crate) fn held_apart(recs: &[Rec]) {
             let name = if group == 1 { "one" } else { "2–3" };
             let mut row = format!("| {set} | {name} |");
             for len in LENGTHS {
-                let mut r = spread.get(&(set, group, len)).cloned().unwrap_or_default();
-                if r.is_empty() {
+                let r = evals::stats::sorted(
+                    spread
+                        .get(&(set, group, len))
+                        .into_iter()
+                        .flatten()
+                        .copied(),
+                );
+                let (Some(lo), Some(mid), Some(hi)) = (r.first(), rank(&r, 1, 2), r.last()) else {
                     row += " – |";
                     continue;
-                }
-                r.sort_by(f64::total_cmp);
+                };
                 let above = r.iter().filter(|&&x| x > 1.0).count();
-                row += &format!(
-                    " {:.2} / {:.2} / {:.2} ({above}) |",
-                    r[0],
-                    r[r.len() / 2],
-                    r[r.len() - 1]
-                );
+                row += &format!(" {lo:.2} / {mid:.2} / {hi:.2} ({above}) |");
             }
             println!("{row}");
         }
