@@ -594,10 +594,9 @@ fn main() {
         .collect();
     let opts = SwapOptions::default();
     let mut tallies: BTreeMap<&str, Tally> = BTreeMap::new();
-    let mut rng = Rng(a.seed);
     // The jumps onto recorded points draw from their own generator: the other episodes
     // are the ones drawn before they were added.
-    let mut rng_onto = Rng(a.seed ^ 0x6f6e_746f);
+    let mut rngs = (Rng(a.seed), Rng(a.seed ^ 0x6f6e_746f));
     let t0 = std::time::Instant::now();
     println!("## finds on the untouched trials\n");
     for &(_set, lab, corpus, rel) in FILES {
@@ -630,13 +629,6 @@ fn main() {
             }
         };
         let words = side(&path, recorded);
-        let name = |m: usize| {
-            words
-                .labels
-                .get(m)
-                .cloned()
-                .unwrap_or_else(|| format!("#{m}"))
-        };
         eprintln!(
             "{rel}: residuals {}, camera masks {}",
             if words.measured { "measured" } else { "all 0" },
@@ -647,74 +639,99 @@ fn main() {
             }
         );
         let tally = tallies.entry(group).or_default();
-        let base = match finds_of(&clean, &words, &opts, &a) {
-            Ok(b) => b,
-            Err(e) => {
-                eprintln!("{rel}: {e}");
-                continue;
-            }
-        };
-        tally.frames_untouched += clean.frames();
-        tally.untouched_finds += base.len();
-        tally.untouched_settled += base.iter().filter(|x| x.settled).count();
-        for x in &base {
-            let ms: Vec<String> = x.markers.iter().map(|&m| name(m)).collect();
-            println!(
-                "- [{group}] {rel}: {:?} {} frames {}–{} (0-based), confidence {:.2}{}",
-                x.kind,
-                ms.join("/"),
-                x.first,
-                x.last,
-                x.confidence,
-                if x.settled { ", settled" } else { "" }
-            );
-            if a.explain {
-                explain(&clean, &words, x, &opts);
-            }
-        }
-        if a.untouched {
+        if let Err(e) = trial(&a, &opts, &clean, &words, (group, rel), tally, &mut rngs) {
+            eprintln!("{rel}: {e}");
             continue;
         }
-        for e in episodes(&clean, a.per, &mut rng) {
-            let mut t = clean.clone();
-            let off = {
-                let (u, v) = (
-                    rng.uniform() * 2.0 - 1.0,
-                    rng.uniform() * std::f64::consts::TAU,
-                );
-                let r = 20.0 + 30.0 * rng.uniform();
-                let s = (1.0 - u * u).sqrt();
-                [r * s * v.cos(), r * s * v.sin(), r * u]
-            };
-            if !e.counted {
-                tally.uncounted += 1;
-                continue;
-            }
-            inject(&mut t, &e, off);
-            let mut w = words.clone();
-            if let [m, n] = e.markers[..] {
-                if w.residual.len() > m.max(n) {
-                    for f in e.first..=e.last {
-                        let (r, k) = (w.residual[m][f], w.mask[m][f]);
-                        w.residual[m][f] = w.residual[n][f];
-                        w.mask[m][f] = w.mask[n][f];
-                        w.residual[n][f] = r;
-                        w.mask[n][f] = k;
-                    }
-                }
-            }
-            judge(&t, &w, &clean, &base, &e, &opts, tally, &a, group, rel);
-        }
-        for e in episodes_onto(&clean, a.per, &mut rng_onto) {
-            let (mut t, mut w) = (clean.clone(), words.clone());
-            inject_onto(&mut t, &mut w, &e);
-            judge(&t, &w, &clean, &base, &e, &opts, tally, &a, group, rel);
+        // Untouched alone, a trial is quick: no progress line.
+        if a.untouched {
+            continue;
         }
         eprintln!("{rel}: done at {:.0} s", t0.elapsed().as_secs_f64());
     }
     for (group, t) in &tallies {
         report(group, t);
     }
+}
+
+/// Trial `clean` (of `group` and file `rel`): its finds untouched (printed, and explained
+/// with `--explain`), then each injected episode judged, into `tally`. `rngs` draw the
+/// episodes and the jumps onto recorded points, each from its own generator.
+fn trial(
+    a: &Args,
+    opts: &SwapOptions,
+    clean: &Trial,
+    words: &Side,
+    (group, rel): (&str, &str),
+    tally: &mut Tally,
+    rngs: &mut (Rng, Rng),
+) -> Result<(), repair::RepairError> {
+    let (rng, rng_onto) = (&mut rngs.0, &mut rngs.1);
+    let name = |m: usize| {
+        words
+            .labels
+            .get(m)
+            .cloned()
+            .unwrap_or_else(|| format!("#{m}"))
+    };
+    let base = finds_of(clean, words, opts, a)?;
+    tally.frames_untouched += clean.frames();
+    tally.untouched_finds += base.len();
+    tally.untouched_settled += base.iter().filter(|x| x.settled).count();
+    for x in &base {
+        let ms: Vec<String> = x.markers.iter().map(|&m| name(m)).collect();
+        println!(
+            "- [{group}] {rel}: {:?} {} frames {}–{} (0-based), confidence {:.2}{}",
+            x.kind,
+            ms.join("/"),
+            x.first,
+            x.last,
+            x.confidence,
+            if x.settled { ", settled" } else { "" }
+        );
+        if a.explain {
+            explain(clean, words, x, opts);
+        }
+    }
+    if a.untouched {
+        return Ok(());
+    }
+    for e in episodes(clean, a.per, rng) {
+        let mut t = clean.clone();
+        let off = {
+            let (u, v) = (
+                rng.uniform() * 2.0 - 1.0,
+                rng.uniform() * std::f64::consts::TAU,
+            );
+            let r = 20.0 + 30.0 * rng.uniform();
+            let s = (1.0 - u * u).sqrt();
+            [r * s * v.cos(), r * s * v.sin(), r * u]
+        };
+        if !e.counted {
+            tally.uncounted += 1;
+            continue;
+        }
+        inject(&mut t, &e, off);
+        let mut w = words.clone();
+        if let [m, n] = e.markers[..] {
+            if w.residual.len() > m.max(n) {
+                for f in e.first..=e.last {
+                    let (r, k) = (w.residual[m][f], w.mask[m][f]);
+                    w.residual[m][f] = w.residual[n][f];
+                    w.mask[m][f] = w.mask[n][f];
+                    w.residual[n][f] = r;
+                    w.mask[n][f] = k;
+                }
+            }
+        }
+        judge(&t, &w, clean, &base, &e, opts, tally, a, group, rel);
+    }
+    for e in episodes_onto(clean, a.per, rng_onto) {
+        let (mut t, mut w) = (clean.clone(), words.clone());
+        inject_onto(&mut t, &mut w, &e);
+        judge(&t, &w, clean, &base, &e, opts, tally, a, group, rel);
+    }
+    Ok(())
 }
 
 /// The detector's finds; under `--residual W FLOOR`, a jump found with a confidence from
@@ -1034,69 +1051,80 @@ fn judge(
                 }
             }
         }
-        None => {
-            if a.list {
-                let links = repair::swaps::learn_links(
-                    t,
-                    opts.max_link_spread_mm,
-                    opts.min_link_support,
-                    opts.max_links,
-                );
-                let weak = SwapOptions {
-                    min_report: 0.0,
-                    ..opts.clone()
-                };
-                let all = find_swaps(t, &weak).unwrap_or_default();
-                let near: Vec<String> = all
-                    .iter()
-                    .filter(|x| overlaps(x, e) && x.markers.iter().any(|m| e.markers.contains(m)))
-                    .map(|x| {
-                        format!(
-                            "{:?}{:?} {}–{} {:.2} {:?}",
-                            x.kind, x.markers, x.first, x.last, x.confidence, x.evidence
-                        )
-                    })
-                    .collect();
-                println!(
-                    "  missed [{group}] {rel}: {:?} {:?}{} {}–{} links {:?} weak finds {near:?}",
-                    e.kind,
-                    e.markers,
-                    e.onto
-                        .map(|b| {
-                            let n = |m: usize| w.labels.get(m).cloned().unwrap_or_default();
-                            format!(" ({}) onto {b} ({})", n(e.markers[0]), n(b))
-                        })
-                        .unwrap_or_default(),
-                    e.first,
-                    e.last,
-                    e.markers
-                        .iter()
-                        .map(|&m| links[m].len())
-                        .collect::<Vec<_>>()
-                );
-                if a.explain && e.onto.is_some() {
-                    let as_found = Find {
-                        kind: FindKind::Jump,
-                        markers: e.markers.clone(),
-                        first: e.first,
-                        last: e.last,
-                        confidence: 0.0,
-                        settled: false,
-                        evidence: repair::swaps::Evidence {
-                            links: 0,
-                            frames_decided: 0,
-                            link_error: 0.0,
-                            link_error_undone: 0.0,
-                            edges_smoother: 0,
-                            offset_share: None,
-                            edges_checked: 0,
-                            edge_step_mm: 0.0,
-                        },
-                    };
-                    explain(t, w, &as_found, opts);
-                }
-            }
-        }
+        None if a.list => missed(t, w, e, opts, a, (group, rel)),
+        None => {}
+    }
+}
+
+/// `--list`: an episode no find answered, with its markers' links and the finds below the
+/// report's confidence around it (with `--explain`, a jump onto a recorded point's
+/// samples, as a find would have shown them).
+fn missed(
+    t: &Trial,
+    w: &Side,
+    e: &Episode,
+    opts: &SwapOptions,
+    a: &Args,
+    (group, rel): (&str, &str),
+) {
+    let links = repair::swaps::learn_links(
+        t,
+        opts.max_link_spread_mm,
+        opts.min_link_support,
+        opts.max_links,
+    );
+    let weak = SwapOptions {
+        min_report: 0.0,
+        ..opts.clone()
+    };
+    let all = find_swaps(t, &weak).unwrap_or_default();
+    let near: Vec<String> = all
+        .iter()
+        .filter(|x| overlaps(x, e) && x.markers.iter().any(|m| e.markers.contains(m)))
+        .map(|x| {
+            format!(
+                "{:?}{:?} {}–{} {:.2} {:?}",
+                x.kind, x.markers, x.first, x.last, x.confidence, x.evidence
+            )
+        })
+        .collect();
+    println!(
+        "  missed [{group}] {rel}: {:?} {:?}{} {}–{} links {:?} weak finds {near:?}",
+        e.kind,
+        e.markers,
+        e.onto
+            .map(|b| {
+                let n = |m: usize| w.labels.get(m).cloned().unwrap_or_default();
+                format!(" ({}) onto {b} ({})", n(e.markers[0]), n(b))
+            })
+            .unwrap_or_default(),
+        e.first,
+        e.last,
+        e.markers
+            .iter()
+            .map(|&m| links[m].len())
+            .collect::<Vec<_>>()
+    );
+    if a.explain && e.onto.is_some() {
+        let as_found = Find {
+            kind: FindKind::Jump,
+            markers: e.markers.clone(),
+            first: e.first,
+            last: e.last,
+            confidence: 0.0,
+            settled: false,
+            evidence: repair::swaps::Evidence {
+                links: 0,
+                frames_decided: 0,
+                link_error: 0.0,
+                link_error_undone: 0.0,
+                edges_smoother: 0,
+                offset_share: None,
+                edges_checked: 0,
+                edge_step_mm: 0.0,
+            },
+        };
+        explain(t, w, &as_found, opts);
     }
 }
 

@@ -257,40 +257,63 @@ fn main() {
         return;
     }
     if let Some(path) = &a.replay {
-        match replay(path) {
-            Ok(recs) => {
-                // Replayed records written again carry the expected errors the model now
-                // in the code makes.
-                if let Some(p) = &a.records {
-                    write_records(p, &recs);
-                }
-                let tuned: Vec<Rec> = recs.iter().filter(|r| r.tuned).map(Rec::clone).collect();
-                report(&tuned);
-                held_apart(&recs);
-                if a.ablate {
-                    ablation(&recs);
-                }
-                if a.activities {
-                    per_activity(&recs, a.activity_gaps.as_deref());
-                }
-                if a.donors {
-                    donors::donor_study(&recs);
-                }
-                if a.write_coefficients {
-                    let name = path.file_name().unwrap_or_default().to_string_lossy();
-                    if let Err(e) = write_coefficients(&recs, &format!("`{name}`")) {
-                        eprintln!("fill_eval: --write-coefficients: {e}");
-                        std::process::exit(2);
-                    }
-                }
-            }
-            Err(e) => {
-                eprintln!("fill_eval: {}: {e}", path.display());
-                std::process::exit(2);
-            }
-        }
+        replayed(&a, path);
         return;
     }
+    let recs = run(&a);
+    if let Some(p) = &a.records {
+        write_records(p, &recs);
+    }
+    // The corpora everything was chosen on, as before; then the labs nothing was chosen on
+    // (the CMU trials of `c3d-more` are in neither: their lab was tuned on).
+    let tuned: Vec<Rec> = recs.iter().filter(|r| r.tuned).map(Rec::clone).collect();
+    report(&tuned);
+    held_apart(&recs);
+    if a.trial_ends || a.held_apart {
+        shipped_on_held_apart(&recs, a.trial_ends);
+    }
+}
+
+/// `--replay`: the tables again from records, with what `--ablate`, `--activities`,
+/// `--donors` and `--write-coefficients` add.
+fn replayed(a: &Args, path: &std::path::Path) {
+    match replay(path) {
+        Ok(recs) => {
+            // Replayed records written again carry the expected errors the model now
+            // in the code makes.
+            if let Some(p) = &a.records {
+                write_records(p, &recs);
+            }
+            let tuned: Vec<Rec> = recs.iter().filter(|r| r.tuned).map(Rec::clone).collect();
+            report(&tuned);
+            held_apart(&recs);
+            if a.ablate {
+                ablation(&recs);
+            }
+            if a.activities {
+                per_activity(&recs, a.activity_gaps.as_deref());
+            }
+            if a.donors {
+                donors::donor_study(&recs);
+            }
+            if a.write_coefficients {
+                let name = path.file_name().unwrap_or_default().to_string_lossy();
+                if let Err(e) = write_coefficients(&recs, &format!("`{name}`")) {
+                    eprintln!("fill_eval: --write-coefficients: {e}");
+                    std::process::exit(2);
+                }
+            }
+        }
+        Err(e) => {
+            eprintln!("fill_eval: {}: {e}", path.display());
+            std::process::exit(2);
+        }
+    }
+}
+
+/// The evaluation over the corpora's trials (as `a` selects them): every gap's record, each
+/// trial's progress on stderr.
+fn run(a: &Args) -> Vec<Rec> {
     let roots = corpus::roots();
     let methods = a.methods.clone().unwrap_or_else(|| {
         let mut m = SINGLES.to_vec();
@@ -366,15 +389,5 @@ fn main() {
         }
         eprintln!("{rel}: done at {:.0} s", t0.elapsed().as_secs_f64());
     }
-    if let Some(p) = &a.records {
-        write_records(p, &recs);
-    }
-    // The corpora everything was chosen on, as before; then the labs nothing was chosen on
-    // (the CMU trials of `c3d-more` are in neither: their lab was tuned on).
-    let tuned: Vec<Rec> = recs.iter().filter(|r| r.tuned).map(Rec::clone).collect();
-    report(&tuned);
-    held_apart(&recs);
-    if a.trial_ends || a.held_apart {
-        shipped_on_held_apart(&recs, a.trial_ends);
-    }
+    recs
 }
