@@ -5,7 +5,14 @@
 //! `cargo run --release -p evals --bin plates_eval` (corpora in `../shared`).
 
 use c3dfix::{force_platforms, ForceOptions};
+use clap::Parser;
 use std::collections::BTreeMap;
+
+/// Every corpus plate's contacts against the file's own events, per lab (no options: the
+/// corpora are found as the tests find them).
+#[derive(Parser)]
+#[command(name = "plates_eval")]
+struct Cli {}
 
 #[derive(Default)]
 struct Tally {
@@ -18,6 +25,7 @@ struct Tally {
 }
 
 fn main() {
+    Cli::parse();
     let mut files = testkit::all_c3d_files();
     if let Some(d) = testkit::c3d_more() {
         files.extend(testkit::files_with_ext(&d, "c3d"));
