@@ -870,27 +870,7 @@ fn explain(t: &Trial, w: &Side, x: &Find, opts: &SwapOptions) {
                 series(x.last.saturating_sub(4), x.last + 1, x.last + 6)
             );
         }
-        // The nearest other marker: a label on another labelled point sits on it.
-        let nearest = |f: usize| {
-            (0..t.markers())
-                .filter(|&o| o != m && t.valid[o][f] && t.valid[m][f])
-                .map(|o| (dist(&t.xyz[m][f], &t.xyz[o][f]), o))
-                .min_by(|p, q| p.0.total_cmp(&q.0))
-        };
-        let near: Vec<String> = spans
-            .iter()
-            .map(|&(lo, hi)| {
-                let mut v: Vec<(f64, usize)> = (lo..hi).filter_map(nearest).collect();
-                v.sort_by(|p, q| p.0.total_cmp(&q.0));
-                v.get(v.len() / 2)
-                    .map(|&(d, o)| format!("{d:.1} mm ({})", name(o)))
-                    .unwrap_or_else(|| "–".into())
-            })
-            .collect();
-        println!(
-            "      nearest marker (median) before {}, inside {}, after {}",
-            near[0], near[1], near[2]
-        );
+        nearest_line(t, m, &spans, &name);
         let step = |f: usize| {
             (f > 0 && t.valid[m][f] && t.valid[m][f - 1])
                 .then(|| dist(&t.xyz[m][f], &t.xyz[m][f - 1]))
@@ -933,6 +913,31 @@ fn explain(t: &Trial, w: &Side, x: &Find, opts: &SwapOptions) {
             );
         }
     }
+}
+
+/// `--explain`: the nearest other marker to marker `m` (median over each of `spans`, before,
+/// inside and after a find): a label on another labelled point sits on it.
+fn nearest_line(t: &Trial, m: usize, spans: &[(usize, usize); 3], name: &dyn Fn(usize) -> String) {
+    let nearest = |f: usize| {
+        (0..t.markers())
+            .filter(|&o| o != m && t.valid[o][f] && t.valid[m][f])
+            .map(|o| (dist(&t.xyz[m][f], &t.xyz[o][f]), o))
+            .min_by(|p, q| p.0.total_cmp(&q.0))
+    };
+    let near: Vec<String> = spans
+        .iter()
+        .map(|&(lo, hi)| {
+            let mut v: Vec<(f64, usize)> = (lo..hi).filter_map(nearest).collect();
+            v.sort_by(|p, q| p.0.total_cmp(&q.0));
+            v.get(v.len() / 2)
+                .map(|&(d, o)| format!("{d:.1} mm ({})", name(o)))
+                .unwrap_or_else(|| "–".into())
+        })
+        .collect();
+    println!(
+        "      nearest marker (median) before {}, inside {}, after {}",
+        near[0], near[1], near[2]
+    );
 }
 
 /// Find swaps in the injected trial `t` and score the finds against episode `e`.
