@@ -12,7 +12,7 @@ pub const MAX_GAP_FRAMES: usize = u32::MAX as usize;
 
 /// The default of `--max-expected-error`. On the 8 923 artificial gaps of the 9 labs no
 /// constant was chosen on, each lab's estimates from the model fitted to the other labs
-/// (`cargo run --release -p repair --example fill_eval`, its "a limit of" lines), it leaves
+/// (`cargo run --release -p evals --bin fill_eval`, its "a limit of" lines), it leaves
 /// 0.4 % of the gaps unfilled: 5 of the 7 fills worse than 50 mm, 21 of the 55 worse than
 /// 20 mm, and none of the 8 135 within 5 mm. A limit of 15 mm leaves 0.9 % (6 of 7, 34 of
 /// 55, 1 of 8 135), 30 mm leaves 0.1 % (3 of 7, 7 of 55, none).

@@ -2,7 +2,7 @@
 mean, scored from an `events_eval --dump` CSV (docs/events.md, "How the offsets are chosen"
 and "A physically defined strike").
 
-    cargo run --release -p c3dfix --example events_eval -- --dump e.csv
+    cargo run --release -p evals --bin events_eval -- --dump e.csv
     python3 crates/gait/studies/offsets.py choice e.csv      # pooled events vs per-lab medians, truths in doubt, per marker class
     python3 crates/gait/studies/offsets.py touchdown e.csv   # the strike mean with the touchdown estimate (heel trials)
     python3 crates/gait/studies/offsets.py grid              # the touchdown thresholds (runs events_eval per setting)
@@ -178,7 +178,7 @@ def grid():
     each), scored as the strike mean with the touchdown joined, ordered by the sum of the
     tuning labs' four leave-one-lab-out figures (median and p95 against lab events and
     plates)."""
-    ex = os.path.join(os.path.dirname(os.path.abspath(__file__)), '../../../target/release/examples/events_eval')
+    ex = os.path.join(os.path.dirname(os.path.abspath(__file__)), '../../../target/release/events_eval')
     results = []
     for mm in (2, 3, 5, 8, 12):
         for speed in (20, 30, 50, 100, 200):

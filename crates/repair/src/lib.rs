@@ -35,7 +35,6 @@ pub mod error;
 pub mod evaluate;
 pub mod fill;
 pub mod filter;
-pub mod fit;
 pub mod gaps;
 mod linalg;
 pub mod names;
@@ -44,6 +43,10 @@ pub mod profile;
 mod rng;
 pub mod spikes;
 pub mod swaps;
+/// Synthetic gait-like trials for this crate's tests, benches and `repair_synthetic` example
+/// (feature `synth`, which the crate's own dev-dependency on itself turns on): no part of
+/// the runtime API.
+#[cfg(any(test, feature = "synth"))]
 pub mod synth;
 
 pub use error::{RepairError, Result};

@@ -30,7 +30,8 @@ impl SplitMix64 {
         lo + (self.next_u64() % (hi - lo) as u64) as usize
     }
 
-    /// Standard normal (Box–Muller).
+    /// Standard normal (Box–Muller): the synthetic trials' noise and the tests' matrices.
+    #[cfg(any(test, feature = "synth"))]
     pub fn normal(&mut self) -> f64 {
         let u = self.uniform().max(f64::MIN_POSITIVE);
         let v = self.uniform();

@@ -1,4 +1,4 @@
-//! Synthetic gait-like trials with known truth, for tests, evaluations and benchmarks:
+//! Synthetic gait-like trials with known truth, for this crate's tests, benchmarks and example:
 //! markers on rigid segments (pelvis, legs, trunk) driven by sinusoidal joint angles while
 //! walking forward, plus Gaussian noise.
 

@@ -1,11 +1,6 @@
 //! Fill accuracy on a synthetic gait-like trial (20 markers on 4 rigid segments moving with
-//! sinusoidal joint angles, 0.3 mm noise, 600 frames at 100 Hz), and where the evaluation
-//! puts its gaps on a real trial.
-
-// The fill evaluation's corpus loader, for the test on a real trial.
-#[allow(dead_code)]
-#[path = "../examples/corpus/mod.rs"]
-mod corpus;
+//! sinusoidal joint angles, 0.3 mm noise, 600 frames at 100 Hz). Where the evaluation puts
+//! its gaps on a real trial is `evals`' `trial_ends` test.
 
 use repair::synth::gait_like;
 use repair::{evaluate, EvalConfig, Evaluation, FillMethod};
@@ -60,7 +55,7 @@ fn auto_is_as_good_as_the_best_single_method() {
         // times every other candidate's, which short gaps are not worth). On this clean
         // synthetic trial it smooths the 0.3 mm noise below `auto` at 5 frames (0.59 mm
         // against 0.68); on the real trials of the corpus evaluation `auto` is 19–29 % below
-        // it at 10 and 20 frames (`cargo run --release -p repair --example fill_eval`).
+        // it at 10 and 20 frames (`cargo run --release -p evals --bin fill_eval`).
         let best = FillMethod::ALL
             .iter()
             .filter(|&&m| m != FillMethod::Auto && (m != FillMethod::Kalman || l >= 40))
@@ -221,44 +216,4 @@ fn computed_points_get_no_artificial_gaps() {
         "a gap in a computed point"
     );
     assert!(e.gaps.iter().any(|g| g.marker == a));
-}
-
-/// Gaps at a trial's start or end (`at_trial_ends`), on a real walking trial: each touches
-/// the first or last frame of the trial as cut for it, so the polynomial methods, which
-/// need samples on both sides, refuse every one and `auto` fills every one from donors; the
-/// same gaps inside the trial are filled by both.
-#[test]
-fn trial_end_gaps_touch_the_trials_ends() {
-    let Some(root) = testkit::c3d_samples() else {
-        eprintln!("skipping: c3d-samples not found (set C3D_SAMPLES)");
-        testkit::skipped("c3d-samples not found");
-        return;
-    };
-    let trial = corpus::load(&root.join("sample_06/newwalk.c3d")).expect("newwalk reads");
-    let n = trial.frames();
-    for ends in [true, false] {
-        let cfg = EvalConfig {
-            gap_lengths: vec![10],
-            gaps_per_length: 8,
-            methods: vec![FillMethod::Spline, FillMethod::Auto],
-            seed: 5,
-            at_trial_ends: ends,
-            ..EvalConfig::default()
-        };
-        let e = evaluate(&trial, &cfg).expect("evaluation runs");
-        let spline = e.score(FillMethod::Spline, 10).unwrap();
-        let auto = e.score(FillMethod::Auto, 10).unwrap();
-        assert_eq!(spline.gaps, 8, "ends {ends}: every gap placed");
-        if ends {
-            assert_eq!(spline.failed, 8, "a polynomial filled a gap at an end");
-        } else {
-            assert_eq!(spline.failed, 0);
-        }
-        assert_eq!(auto.failed, 0, "ends {ends}");
-        assert!(auto.mean > 0.0 && auto.mean < 50.0, "ends {ends}: {auto:?}");
-        // Records give the gaps' frames in the whole trial.
-        for g in e.gaps.iter().filter(|g| g.method == FillMethod::Auto) {
-            assert!(g.first + 10 <= n, "{g:?}");
-        }
-    }
 }

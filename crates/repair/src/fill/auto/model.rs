@@ -1,5 +1,5 @@
 //! `auto`'s expected error: the evidence a choice leaves ([`Diag`]), the features made of it
-//! and the model that turns them into an expected error (fitted by `repair::fit` on
+//! and the model that turns them into an expected error (fitted by `evals::fit` on
 //! `fill_eval`'s gaps; its coefficients are generated into `model/coefficients.rs`).
 
 use serde::{Deserialize, Serialize};
@@ -75,7 +75,7 @@ pub struct Diag {
 /// is than the holes that scored it (see [`Diag`]). So ln(expected / scored) =
 /// β · x + c₁ · exp(γ · x) + c₀ over the features x of `features`: β by median regression
 /// of ln(real / scored) on the real trials of the evaluation (`cargo run --release -p
-/// repair --example fill_eval`, which also checks the model fitted leave-one-lab-out); γ by
+/// evals --bin fill_eval`, which also checks the model fitted leave-one-lab-out); γ by
 /// least squares of the log of the fitted residuals' size, so exp(γ · x) says how far a gap
 /// like this one strays from its median; c₁ widens the margin of such gaps (the value that
 /// puts most gaps within 2×) and c₀ leaves 5 % of the gaps above twice their estimate: the
@@ -89,15 +89,15 @@ pub struct Diag {
 /// were over-confident on 10–16 % of gaps; a second pass that scores far better than the
 /// first is believed only down to a ratio of about e⁻¹ (the hinge).
 ///
-/// The weights are fitted (`repair::fit`) on every lab of `fill_eval`'s corpora (tuned and
+/// The weights are fitted (`evals::fit`) on every lab of `fill_eval`'s corpora (tuned and
 /// held apart alike), every lab weighing the same, and the margin (c₁, c₀) on gaps of labs
 /// the β and γ judging them never saw, set so that a new set of six labs' over-confidence
 /// rates average at most 5 % by a one-sided 90 % prediction bound over labs: a new lab is
 /// one more draw from labs, and a margin set on the pooled gaps left the held-apart labs of
 /// `c3d-more` at 6.0 % instead of 5 % (a bound on the 26 labs' mean alone, 5.1 % on the
 /// last run). They live in the generated `model/coefficients.rs`, the fit of the committed
-/// `data/expected_error_gaps.txt` (25 355 gaps of 26 labs, 30 per length, group and trial,
-/// at 8010cd6), which the `coefficients` test fits again. Each lab judged by the model
+/// `crates/evals/data/expected_error_gaps.txt` (25 355 gaps of 26 labs, 30 per length, group and trial,
+/// at 8010cd6), which `evals`' `coefficients` test fits again. Each lab judged by the model
 /// fitted to the other 25 (nested: margin included): Spearman 0.955, 81.8 % of gaps within
 /// 2× of their estimate, 3.9 % above twice it; the 9 labs of `c3d-more` nothing else was
 /// chosen on, Spearman 0.954, 81.6 % and 4.4 % (walking 80.5 % and 4.5 %, full body 83.7 %

@@ -2,6 +2,7 @@
 //! out; the worst cells; the nested leave-one-lab-out choice among variants.
 
 use super::*;
+use evals::stats::rank;
 
 /// The shipped expected-error model (the one `repair` applies) on the held-apart labs'
 /// `auto` gaps of this run, inside the trial or at its ends: how often the truth is within
@@ -36,18 +37,16 @@ pub(crate) fn shipped_on_held_apart(recs: &[Rec], ends: bool) {
     }
 }
 
-/// A choice of `auto`'s made leave-one-lab-out: `variants` are the records of full runs
-/// that differ in that choice only (the shipped variant first). For each lab, the variant
-/// is chosen on every other lab (the lowest mean over cells, set × markers × length, of
-/// the log of its mean error over the shipped variant's) and that lab's gaps are reported
-/// under it: the figures the choice earns on a lab it was not made on. Prints how many
-/// labs' folds chose each variant, and the nested pooled errors of the held-apart and
-/// the tuned labs against the shipped variant's.
-pub(crate) fn nested(paths: &[PathBuf], variants: &[Vec<Rec>]) {
-    // A cell (set, markers, length), and per lab and cell the sum and count of auto's
-    // mean errors.
-    type Cell = (&'static str, usize, usize);
-    type Sums<'a> = BTreeMap<(&'a str, Cell), (f64, usize)>;
+/// A cell of the nested tables: set, markers (1; 2 for 2–3) and gap length.
+type Cell = (&'static str, usize, usize);
+/// Per lab and cell, the sum and count of `auto`'s mean errors.
+type Sums<'a> = BTreeMap<(&'a str, Cell), (f64, usize)>;
+
+/// Each variant's [`Sums`] over the gaps every variant ran. A variant run on some lengths
+/// only (`--lengths`: a choice that cannot touch gaps of other lengths, such as the length a
+/// candidate enters from) stands for the shipped variant at the lengths it did not run: the
+/// gaps are the same, so are the fills.
+fn variant_sums(variants: &[Vec<Rec>]) -> Vec<Sums<'_>> {
     let common = common_gaps(variants);
     let mut sums: Vec<Sums> = variants
         .iter()
@@ -66,9 +65,6 @@ pub(crate) fn nested(paths: &[PathBuf], variants: &[Vec<Rec>]) {
             m
         })
         .collect();
-    // A variant run on some lengths only (`--lengths`: a choice that cannot touch gaps of
-    // other lengths, such as the length a candidate enters from) stands for the shipped
-    // variant at the lengths it did not run: the gaps are the same, so are the fills.
     let shipped = sums[0].clone();
     for s in sums.iter_mut().skip(1) {
         let ran: Vec<usize> = s.keys().map(|k| k.1 .2).collect();
@@ -78,6 +74,35 @@ pub(crate) fn nested(paths: &[PathBuf], variants: &[Vec<Rec>]) {
             }
         }
     }
+    sums
+}
+
+/// One row per set and markers: `ratio` of each cell, over the lengths.
+fn cell_rows(labels: &str, ratio: &dyn Fn(Cell) -> Option<f64>) {
+    for set in ["walking", "fullbody"] {
+        for group in [1, 2] {
+            let row: Vec<String> = LENGTHS
+                .iter()
+                .map(|&len| ratio((set, group, len)).map_or("–".into(), |r| format!("{r:.3}")))
+                .collect();
+            println!(
+                "| {labels} | {set} | {} | {} |",
+                if group == 1 { "one" } else { "2–3" },
+                row.join(" / ")
+            );
+        }
+    }
+}
+
+/// A choice of `auto`'s made leave-one-lab-out: `variants` are the records of full runs
+/// that differ in that choice only (the shipped variant first). For each lab, the variant
+/// is chosen on every other lab (the lowest mean over cells, set × markers × length, of
+/// the log of its mean error over the shipped variant's) and that lab's gaps are reported
+/// under it: the figures the choice earns on a lab it was not made on. Prints how many
+/// labs' folds chose each variant, and the nested pooled errors of the held-apart and
+/// the tuned labs against the shipped variant's.
+pub(crate) fn nested(paths: &[PathBuf], variants: &[Vec<Rec>]) {
+    let sums = variant_sums(variants);
     let held_lab: BTreeMap<&str, bool> = variants[0]
         .iter()
         .filter(|r| r.held || r.tuned)
@@ -139,27 +164,9 @@ Compared on {} of the shipped run's {} gaps (those every variant ran).
         "
 | labs | set | markers | nested ÷ shipped at 5 / 10 / 20 / 40 / 80 frames |"
     );
-    // One row per set and markers: `ratio` of each cell, over the lengths.
-    let rows = |labels: &str, ratio: &dyn Fn(Cell) -> Option<f64>| {
-        for set in ["walking", "fullbody"] {
-            for group in [1, 2] {
-                let row: Vec<String> = LENGTHS
-                    .iter()
-                    .map(|&len| {
-                        ratio((set, group, len)).map_or("–".into(), |r| format!("{r:.3}"))
-                    })
-                    .collect();
-                println!(
-                    "| {labels} | {set} | {} | {} |",
-                    if group == 1 { "one" } else { "2–3" },
-                    row.join(" / ")
-                );
-            }
-        }
-    };
     println!("|---|---|---|---|");
     for (part, held) in [("held apart", true), ("tuned", false)] {
-        rows(part, &|cell| {
+        cell_rows(part, &|cell| {
             let (mut nest, mut ship, mut n) = (0.0, 0.0, 0usize);
             for (&lab, &v) in &chosen {
                 if held_lab[lab] != held {
@@ -187,7 +194,7 @@ Compared on {} of the shipped run's {} gaps (those every variant ran).
             .map_or(String::new(), |s| s.to_string_lossy().into());
         for (part, held) in [("held apart", true), ("tuned", false)] {
             let keep = |l: &str| held_lab.get(l) == Some(&held);
-            rows(&format!("{name} | {part}"), &|cell| {
+            cell_rows(&format!("{name} | {part}"), &|cell| {
                 Some(pooled(v, &keep, cell)? / pooled(0, &keep, cell)?)
             });
         }
@@ -551,6 +558,24 @@ pub(crate) fn held_apart(recs: &[Rec]) {
             format!(" ({})", losses.join("; "))
         }
     );
+    spread_table(&spread);
+    worst_per_cell(&held);
+    held_apart_estimates(recs, &held);
+    every_lab_left_out(recs);
+    let auto: Vec<&GapScore> = held
+        .iter()
+        .filter(|r| r.g.method == FillMethod::Auto)
+        .map(|r| &r.g)
+        .collect();
+    let wild = auto.iter().filter(|g| g.step_ratio > 1.5).count();
+    let worst = auto.iter().map(|g| g.step_ratio).fold(0.0, f64::max);
+    println!("\n### held apart: plausibility\n\nauto fills with a step above 1.5x the marker's largest recorded step: {wild} of {} (largest ratio {worst:.2})", auto.len());
+}
+
+/// The spread over the held-apart labs of `auto` / the lab's best single method, per set,
+/// markers and length (`spread`: the ratios of each cell over labs): min / median / max and
+/// how many labs lie above 1.
+fn spread_table(spread: &BTreeMap<(&str, usize, usize), Vec<f64>>) {
     println!("\n### held apart, spread over labs of auto / the lab's best single method: min / median / max (labs above 1)\n");
     println!("| set | markers | 5 | 10 | 20 | 40 | 80 |");
     println!("|---|---|---|---|---|---|---|");
@@ -559,24 +584,28 @@ pub(crate) fn held_apart(recs: &[Rec]) {
             let name = if group == 1 { "one" } else { "2–3" };
             let mut row = format!("| {set} | {name} |");
             for len in LENGTHS {
-                let mut r = spread.get(&(set, group, len)).cloned().unwrap_or_default();
-                if r.is_empty() {
+                let r = evals::stats::sorted(
+                    spread
+                        .get(&(set, group, len))
+                        .into_iter()
+                        .flatten()
+                        .copied(),
+                );
+                let (Some(lo), Some(mid), Some(hi)) = (r.first(), rank(&r, 1, 2), r.last()) else {
                     row += " – |";
                     continue;
-                }
-                r.sort_by(f64::total_cmp);
+                };
                 let above = r.iter().filter(|&&x| x > 1.0).count();
-                row += &format!(
-                    " {:.2} / {:.2} / {:.2} ({above}) |",
-                    r[0],
-                    r[r.len() / 2],
-                    r[r.len() - 1]
-                );
+                row += &format!(" {lo:.2} / {mid:.2} / {hi:.2} ({above}) |");
             }
             println!("{row}");
         }
     }
-    worst_per_cell(&held);
+}
+
+/// `auto`'s expected errors on the held-apart labs' gaps: the shipped model's (fitted on
+/// every lab, these included) and the model this run fits on the tuned labs alone.
+fn held_apart_estimates(recs: &[Rec], held: &[&Rec]) {
     // The shipped expected-error model was fitted on every lab, these included: its figures
     // here are not held apart (the leave-one-lab-out lines below are), but its lines on
     // the fills off by more than 20 mm are what `repair` now does with them.
@@ -617,15 +646,6 @@ pub(crate) fn held_apart(recs: &[Rec]) {
             );
         }
     }
-    every_lab_left_out(recs);
-    let auto: Vec<&GapScore> = held
-        .iter()
-        .filter(|r| r.g.method == FillMethod::Auto)
-        .map(|r| &r.g)
-        .collect();
-    let wild = auto.iter().filter(|g| g.step_ratio > 1.5).count();
-    let worst = auto.iter().map(|g| g.step_ratio).fold(0.0, f64::max);
-    println!("\n### held apart: plausibility\n\nauto fills with a step above 1.5x the marker's largest recorded step: {wild} of {} (largest ratio {worst:.2})", auto.len());
 }
 
 /// The expected-error model fitted leave-one-lab-out over every lab, tuned and held apart

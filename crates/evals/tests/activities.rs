@@ -2,11 +2,7 @@
 //! `corpus::activity`, which `fill_eval --activities` reports the expected errors by): the
 //! rule must name what the README says, on the real READMEs.
 
-#[allow(dead_code)]
-#[path = "../examples/corpus/mod.rs"]
-mod corpus;
-
-use corpus::{activity, FILES};
+use evals::corpus::{activity, FILES};
 
 /// Every listed trial of `corpus` with its activity (README from `root`).
 fn activities(root: &std::path::Path, corpus: &str) -> Vec<(&'static str, &'static str)> {

@@ -2,9 +2,7 @@
 //! the evaluation (`fill_eval --donors` measures what they do around a gap), on a real
 //! trial: a marker of a rigid cluster leans on its own cluster.
 
-#[allow(dead_code)]
-#[path = "../examples/corpus/mod.rs"]
-mod corpus;
+use evals::corpus;
 
 use repair::fill::gap_donors;
 use repair::FillOptions;

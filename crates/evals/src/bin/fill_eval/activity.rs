@@ -26,7 +26,7 @@ pub(crate) fn activities_of(recs: &[Rec]) -> HashMap<String, &'static str> {
 }
 
 /// Per activity, `auto`'s gaps each estimated by the model fitted (see
-/// [`repair::fit::fit`]) to every other lab's gaps, then to every other lab's gaps of
+/// [`evals::fit::fit`]) to every other lab's gaps, then to every other lab's gaps of
 /// other activities: how many are within 2× of their estimate and above twice it, and the
 /// largest step of a fill over the marker's largest recorded step. The fit reads the
 /// tuned and held-apart labs' gaps, as the shipped model's does; the gaps judged are every
@@ -61,7 +61,7 @@ pub(crate) fn per_activity(recs: &[Rec], gaps_out: Option<&std::path::Path>) {
             auto.iter()
                 .filter(|r| r.lab == lab && a(r) == activity)
                 .map(|r| {
-                    let est = |m: &Option<repair::fit::Model>| GapScore {
+                    let est = |m: &Option<evals::fit::Model>| GapScore {
                         expected: m.as_ref().and_then(|m| predict(&r.g, m)).or(r.g.expected),
                         ..r.g
                     };

@@ -3,12 +3,12 @@
 
 use super::*;
 
-use repair::fit::{Model, Sample, FEATURE_NAMES};
+use evals::fit::{Model, Sample, FEATURE_NAMES};
 
 /// Number of features.
 pub(crate) const K: usize = repair::fill::FEATURES;
 
-/// `auto`'s gaps with evidence as the fit takes them (see [`repair::fit::fit`]).
+/// `auto`'s gaps with evidence as the fit takes them (see [`evals::fit::fit`]).
 pub(crate) fn samples<'a>(gs: &[(&'a str, &GapScore)]) -> Vec<Sample<'a>> {
     gs.iter()
         .filter_map(|(lab, g)| {
@@ -21,14 +21,14 @@ pub(crate) fn samples<'a>(gs: &[(&'a str, &GapScore)]) -> Vec<Sample<'a>> {
         .collect()
 }
 
-/// The expected-error model fitted on `gs` (see [`repair::fit::fit`]).
+/// The expected-error model fitted on `gs` (see [`evals::fit::fit`]).
 pub(crate) fn fit(gs: &[(&str, &GapScore)]) -> Option<Model> {
-    repair::fit::fit(&samples(gs))
+    evals::fit::fit(&samples(gs))
 }
 
-/// [`fit`] with only the features of `mask` (the others' weights stay 0).
+/// [`fit()`] with only the features of `mask` (the others' weights stay 0).
 pub(crate) fn fit_masked(gs: &[(&str, &GapScore)], mask: &[bool; K]) -> Option<Model> {
-    repair::fit::fit_masked(&samples(gs), mask)
+    evals::fit::fit_masked(&samples(gs), mask)
 }
 
 /// The shipped model's fit written where `repair` reads it (`--write-coefficients`): every
@@ -44,12 +44,12 @@ pub(crate) fn write_coefficients(recs: &[Rec], source: &str) -> Result<(), Strin
     let header = format!(
         "The artificial gaps `auto` filled in `fill_eval`'s run over every lab (tuned and held\n\
          apart), which `repair`'s expected-error model is fitted on: one line per gap, grouped\n\
-         by lab (see `repair::fit::read`). Written by `fill_eval -- --replay RECORDS\n\
+         by lab (see `evals::fit::read`). Written by `fill_eval -- --replay RECORDS\n\
          --write-coefficients` from {source}."
     );
-    let text = repair::fit::write(&samples(&all), &header);
+    let text = evals::fit::write(&samples(&all), &header);
     let crate_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let path = crate_dir.join(repair::fit::GAPS_FILE);
+    let path = crate_dir.join(evals::fit::GAPS_FILE);
     std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
     eprintln!("wrote {}", path.display());
     refit()
@@ -59,15 +59,15 @@ pub(crate) fn write_coefficients(recs: &[Rec], source: &str) -> Result<(), Strin
 /// (`--refit`, and the last step of `--write-coefficients`).
 pub(crate) fn refit() -> Result<(), String> {
     let crate_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let input = crate_dir.join(repair::fit::GAPS_FILE);
+    let input = crate_dir.join(evals::fit::GAPS_FILE);
     let text = std::fs::read_to_string(&input).map_err(|e| format!("{}: {e}", input.display()))?;
-    let gaps = repair::fit::read(&text).map_err(|e| format!("{}: {e}", input.display()))?;
-    let m = repair::fit::fit(&gaps.samples())
+    let gaps = evals::fit::read(&text).map_err(|e| format!("{}: {e}", input.display()))?;
+    let m = evals::fit::fit(&gaps.samples())
         .ok_or(format!("{}: too few gaps to fit", input.display()))?;
-    let out = crate_dir.join(repair::fit::SOURCE_FILE);
+    let out = crate_dir.join(evals::fit::SOURCE_FILE);
     std::fs::write(
         &out,
-        repair::fit::render(&m, gaps.gaps.len(), gaps.labs.len()),
+        evals::fit::render(&m, gaps.gaps.len(), gaps.labs.len()),
     )
     .map_err(|e| format!("{}: {e}", out.display()))?;
     eprintln!(

@@ -17,7 +17,7 @@
 use std::fmt::Write as _;
 
 use super::Sample;
-use crate::fill::Diag;
+use repair::fill::Diag;
 
 /// Fields of a gap's line, in order.
 pub const COLUMNS: [&str; 14] = [

@@ -5,8 +5,7 @@
 //! 154 bone points, virtual points and muscle lengths are model outputs, not filled; puppeteer's
 //! has 227 in its markers, its 76 bone points, stored among them, being a segment's axes.)
 
-#[path = "../examples/step_check.rs"]
-mod step_check;
+use evals::step;
 
 #[test]
 fn stored_fills_keep_to_the_step_rule() {
@@ -21,7 +20,7 @@ fn stored_fills_keep_to_the_step_rule() {
     // Every trial is read back before any count is compared, so a change shows them all.
     let mut got = Vec::new();
     for (name, _) in want {
-        let (n, over, worst) = step_check::check(&dir.join(name)).expect(name);
+        let (n, over, worst) = step::check(&dir.join(name)).expect(name);
         assert!(worst <= 1.5, "{name}: {worst}");
         got.push((name, n));
         assert_eq!(over, 0, "{name}: {n} fills, largest {worst}");

@@ -14,9 +14,9 @@
 
 use super::activity::activities_of;
 use super::*;
+use evals::fit::{fit_rows, ln_real_over_scored, Model};
 use rayon::prelude::*;
 use repair::fill::{features, gap_donors, FEATURES};
-use repair::fit::{fit_rows, ln_real_over_scored, Model};
 use repair::Trial;
 
 /// The measures tried, each one feature (ln of the measure; see [`measure`]).
@@ -137,10 +137,8 @@ fn table_head(counted: &str) {
 }
 
 /// The upper median of `v` with `digits` decimals, "–" for none.
-fn median_cell(mut v: Vec<f64>, digits: usize) -> String {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2)
-        .map_or("–".to_string(), |x| format!("{x:.digits$}"))
+fn median_cell(v: Vec<f64>, digits: usize) -> String {
+    evals::stats::median(v).map_or("–".to_string(), |x| format!("{x:.digits$}"))
 }
 
 /// Whether the measures set apart the gaps the shipped features misjudge: per activity of
@@ -204,13 +202,13 @@ type Judged = (String, Vec<(usize, GapScore)>);
 /// Measure `k` of every record as a feature: ln of the measure, less its median over the
 /// records that have it (so a record without it reads as a typical one).
 fn column(measured: &[Measured], k: usize) -> Vec<f64> {
-    let mut ln: Vec<f64> = measured
-        .iter()
-        .filter_map(|m| m.1[k])
-        .map(|v| v.clamp(1e-4, 1e2).ln())
-        .collect();
-    ln.sort_by(f64::total_cmp);
-    let med = ln.get(ln.len() / 2).copied().unwrap_or(0.0);
+    let med = evals::stats::median(
+        measured
+            .iter()
+            .filter_map(|m| m.1[k])
+            .map(|v| v.clamp(1e-4, 1e2).ln()),
+    )
+    .unwrap_or(0.0);
     measured
         .iter()
         .map(|m| m.1[k].map_or(0.0, |v| v.clamp(1e-4, 1e2).ln() - med))
@@ -526,7 +524,7 @@ fn load_as_recorded(path: &std::path::Path, recorded: bool) -> Result<Trial, Str
     let points: Vec<usize> = (0..labels.len())
         .filter(|&i| !listed.contains(&labels[i]))
         .collect();
-    crate::corpus::trial_of(&c, &points, recorded)
+    evals::corpus::trial_of(&c, &points, recorded)
 }
 
 fn mean(v: impl Iterator<Item = f64>) -> Option<f64> {

@@ -1,11 +1,10 @@
-//! A corpus trial's markers as a repair `Trial` in mm, shared by the `fill_eval` example,
-//! the `fill_eval` bench and the evaluation tests.
+//! The trials the fill and swap evaluations run on (one list, so both speak of the same
+//! labs), a corpus trial's markers read as a repair `Trial` in mm, and a trial's activity.
 
 use repair::Trial;
 
 /// Each corpus's folder on this machine, by the short name the file lists use ("samples",
 /// "extra", "fullbody", "more"); None for a corpus not found.
-#[allow(dead_code)]
 pub fn roots() -> std::collections::BTreeMap<&'static str, Option<std::path::PathBuf>> {
     [
         ("samples", testkit::c3d_samples()),
@@ -32,7 +31,6 @@ pub fn load(path: &std::path::Path) -> Result<Trial, String> {
 
 /// [`load`], with samples of residual 0 (the C3D manual's mark for processed points: the
 /// capture software's fills) counted as missing when the file has any residual above 0.
-#[allow(dead_code)]
 pub fn load_recorded(path: &std::path::Path) -> Result<Trial, String> {
     load_with(path, true)
 }
@@ -83,8 +81,6 @@ pub fn trial_of(c: &c3d::C3d, points: &[usize], recorded: bool) -> Result<Trial,
 /// of the same labs: (set, lab, corpus, path). Copies of one trial in other formats are listed once; files
 /// too short for gaps, without markers, with every sample flagged invalid or static (NexGen
 /// test1.c3d holds one pose) are left out.
-// The bench reads two trials of its own and not this list.
-#[allow(dead_code)]
 pub const FILES: &[(&str, &str, &str, &str)] = &[
     (
         "walking",
@@ -313,7 +309,6 @@ const ACTIVITY_WORDS: &[(&str, &str)] = &[
 /// its row in the corpus's README (`readme`: the activity column where the table has one,
 /// else the whole row), else of its file name; a trial neither names is what the corpus
 /// list's `set` says (`walking`) or `other full body`.
-#[allow(dead_code)]
 pub fn activity(readme: Option<&str>, rel: &str, set: &str) -> &'static str {
     let name = rel.rsplit('/').next().unwrap_or(rel);
     let stem = name.rsplit_once('.').map_or(name, |s| s.0);

@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
-use repair::fit::{self, Gaps, Model, GAPS_FILE, REFIT, SOURCE_FILE};
+use evals::fit::{self, Gaps, Model, GAPS_FILE, REFIT, SOURCE_FILE};
 
 /// The committed gaps and the model fitted on them, once for every test (the fit takes a
 /// second or two).

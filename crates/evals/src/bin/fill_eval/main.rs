@@ -5,8 +5,8 @@
 //! ever moves. Coordinates are converted to mm before anything is pooled.
 //!
 //! ```sh
-//! cargo run --release -p repair --example fill_eval              # the full evaluation
-//! cargo run --release -p repair --example fill_eval -- --quick   # 10 gaps per cell, for iterating
+//! cargo run --release -p evals --bin fill_eval              # the full evaluation
+//! cargo run --release -p evals --bin fill_eval -- --quick   # 10 gaps per cell, for iterating
 //! ```
 //! Options: `--gaps N` (per length, group and file; default 30), `--seed S`, `--only TEXT`
 //! (files whose path contains TEXT), `--set walking|fullbody`, `--records FILE` (every
@@ -29,21 +29,20 @@
 //! activities held apart; `--activity-gaps FILE` writes each judged gap with its two
 //! estimates as tab-separated lines), `--donors` (the gap's donors, chosen again from each
 //! record's trial, measured and tried as expected-error features) and `--write-coefficients` (every lab's `auto` gaps written into
-//! `repair`'s committed gaps file, `crates/repair/data/expected_error_gaps.txt`, and the
+//! the committed gaps file, `crates/evals/data/expected_error_gaps.txt`, and the
 //! model fitted on that file into the generated
 //! `crates/repair/src/fill/auto/model/coefficients.rs`). `--refit` fits the committed gaps
 //! file again into the generated file, without records (after a change to the fit).
 
 mod activity;
-#[path = "../corpus/mod.rs"]
-mod corpus;
 mod donors;
 mod fit;
 mod records;
 mod report;
 
 use activity::per_activity;
-use corpus::{load, load_recorded, FILES};
+use clap::Parser;
+use evals::corpus::{self, load, load_recorded, FILES};
 use fit::*;
 use records::*;
 use repair::{calibration, evaluate, EvalConfig, FillMethod, GapScore};
@@ -103,110 +102,144 @@ struct Args {
     refit: bool,
 }
 
-fn args() -> Result<Args, String> {
-    let mut a = Args {
-        gaps: 30,
-        seed: 1,
-        only: None,
-        set: None,
-        records: None,
-        replay: None,
-        ablate: false,
-        nested: Vec::new(),
-        methods: None,
-        lengths: LENGTHS.to_vec(),
-        fill: repair::FillOptions::default(),
-        trial_ends: false,
-        held_apart: false,
-        skip_held_apart: false,
-        activities: false,
-        activity_gaps: None,
-        donors: false,
-        write_coefficients: false,
-        refit: false,
-    };
-    let mut it = std::env::args().skip(1);
-    while let Some(x) = it.next() {
-        let mut val = || it.next().ok_or(format!("{x} needs a value"));
-        match x.as_str() {
-            "--quick" => a.gaps = 10,
-            "--gaps" => a.gaps = val()?.parse().map_err(|_| "--gaps: a number")?,
-            "--seed" => a.seed = val()?.parse().map_err(|_| "--seed: a number")?,
-            "--only" => a.only = Some(val()?),
-            "--set" => a.set = Some(val()?),
-            "--records" => a.records = Some(PathBuf::from(val()?)),
-            "--replay" => a.replay = Some(PathBuf::from(val()?)),
-            "--ablate" => a.ablate = true,
-            "--trial-ends" => a.trial_ends = true,
-            "--held-apart" => a.held_apart = true,
-            "--skip-held-apart" => a.skip_held_apart = true,
-            "--activities" => a.activities = true,
-            "--activity-gaps" => a.activity_gaps = Some(PathBuf::from(val()?)),
-            "--donors" => a.donors = true,
-            "--write-coefficients" => a.write_coefficients = true,
-            "--refit" => a.refit = true,
-            "--nested" => a.nested = val()?.split(',').map(PathBuf::from).collect(),
-            "--lengths" => {
-                a.lengths = val()?
-                    .split(',')
-                    .map(|l| {
-                        l.parse()
-                            .ok()
-                            .filter(|l| LENGTHS.contains(l))
-                            .ok_or(format!("--lengths: {l} is not one of {LENGTHS:?}"))
-                    })
-                    .collect::<Result<_, _>>()?
-            }
-            "--methods" => {
-                a.methods = Some(
-                    val()?
-                        .split(',')
-                        .map(|m| FillMethod::from_name(m).ok_or(format!("no method {m}")))
-                        .collect::<Result<_, _>>()?,
-                )
-            }
-            "--pca-neighbours" => {
-                a.fill.pca_neighbours = val()?.parse().map_err(|_| "--pca-neighbours: a number")?
-            }
-            "--pca-window" => {
-                a.fill.pca_window = val()?.parse().map_err(|_| "--pca-window: a number")?
-            }
-            "--pca-variance" => {
-                a.fill.pca_variance = val()?.parse().map_err(|_| "--pca-variance: a number")?
-            }
-            "--auto-trials" => {
-                a.fill.auto_trials = val()?.parse().map_err(|_| "--auto-trials: a number")?
-            }
-            "--rigid-donors" => {
-                a.fill.rigid_donors = val()?.parse().map_err(|_| "--rigid-donors: a number")?
-            }
-            "--spline-context" => {
-                a.fill.spline_context = val()?.parse().map_err(|_| "--spline-context: a number")?
-            }
-            _ => return Err(format!("unknown option {x}")),
-        }
+/// Fill accuracy on the corpora's trials, and the fit of `auto`'s expected errors (see the
+/// module's documentation for what each option runs).
+#[derive(Parser)]
+#[command(name = "fill_eval")]
+struct Cli {
+    /// 10 gaps per length, group and file, for iterating.
+    #[arg(long, conflicts_with = "gaps")]
+    quick: bool,
+    /// Gaps per length, group and file [default: 30].
+    #[arg(long)]
+    gaps: Option<usize>,
+    /// The gaps' random seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Only files whose path contains TEXT.
+    #[arg(long, value_name = "TEXT")]
+    only: Option<String>,
+    /// Only the trials of this set (walking, fullbody).
+    #[arg(long)]
+    set: Option<String>,
+    /// Every gap's errors as JSON lines (with --replay: the replayed records with the
+    /// expected errors the model now makes).
+    #[arg(long, value_name = "FILE")]
+    records: Option<PathBuf>,
+    /// Report again from records.
+    #[arg(long, value_name = "FILE")]
+    replay: Option<PathBuf>,
+    /// With --replay: each expected-error feature left out in turn.
+    #[arg(long)]
+    ablate: bool,
+    /// Records of full runs that differ in one choice of `auto`'s, the shipped one first.
+    #[arg(long, value_name = "A,B,...", value_delimiter = ',')]
+    nested: Vec<PathBuf>,
+    /// Only these fill methods (comma-separated names).
+    #[arg(long, value_delimiter = ',', value_parser = method)]
+    methods: Option<Vec<FillMethod>>,
+    /// Only these gap lengths (of 5, 10, 20, 40, 80).
+    #[arg(long, value_delimiter = ',', value_parser = length)]
+    lengths: Option<Vec<usize>>,
+    /// `auto`'s trial candidates.
+    #[arg(long, value_name = "N")]
+    auto_trials: Option<usize>,
+    /// The rigid fill's donors.
+    #[arg(long, value_name = "N")]
+    rigid_donors: Option<usize>,
+    /// The spline's context frames.
+    #[arg(long, value_name = "N")]
+    spline_context: Option<usize>,
+    /// The PCA fill's neighbours.
+    #[arg(long, value_name = "N")]
+    pca_neighbours: Option<usize>,
+    /// The PCA fill's kept variance.
+    #[arg(long, value_name = "F")]
+    pca_variance: Option<f64>,
+    /// The PCA fill's window.
+    #[arg(long, value_name = "N")]
+    pca_window: Option<usize>,
+    /// Gaps at a trial's start or end instead of inside it.
+    #[arg(long)]
+    trial_ends: bool,
+    /// The held-apart labs only.
+    #[arg(long)]
+    held_apart: bool,
+    /// Every lab but the held-apart ones.
+    #[arg(long)]
+    skip_held_apart: bool,
+    /// With --replay: the expected errors per activity.
+    #[arg(long)]
+    activities: bool,
+    /// With --activities: every judged gap with its two estimates, tab-separated.
+    #[arg(long, value_name = "FILE")]
+    activity_gaps: Option<PathBuf>,
+    /// With --replay: the gaps' donors measured and tried as expected-error features.
+    #[arg(long)]
+    donors: bool,
+    /// With --replay: the committed gaps file and the generated coefficients written anew.
+    #[arg(long, requires = "replay")]
+    write_coefficients: bool,
+    /// The committed gaps file fitted again into the generated coefficients.
+    #[arg(long)]
+    refit: bool,
+}
+
+/// A fill method by its name, as `c3dfix repair --method` takes it.
+fn method(name: &str) -> Result<FillMethod, String> {
+    FillMethod::from_name(name).ok_or(format!("no method {name}"))
+}
+
+/// A gap length the evaluation runs (one of [`LENGTHS`]).
+fn length(l: &str) -> Result<usize, String> {
+    l.parse()
+        .ok()
+        .filter(|l| LENGTHS.contains(l))
+        .ok_or(format!("{l} is not one of {LENGTHS:?}"))
+}
+
+fn args() -> Args {
+    let c = Cli::parse();
+    let d = repair::FillOptions::default();
+    Args {
+        gaps: c.gaps.unwrap_or(if c.quick { 10 } else { 30 }),
+        seed: c.seed,
+        only: c.only,
+        set: c.set,
+        records: c.records,
+        replay: c.replay,
+        ablate: c.ablate,
+        nested: c.nested,
+        methods: c.methods,
+        lengths: c.lengths.unwrap_or_else(|| LENGTHS.to_vec()),
+        fill: repair::FillOptions {
+            pca_neighbours: c.pca_neighbours.unwrap_or(d.pca_neighbours),
+            pca_window: c.pca_window.unwrap_or(d.pca_window),
+            pca_variance: c.pca_variance.unwrap_or(d.pca_variance),
+            auto_trials: c.auto_trials.unwrap_or(d.auto_trials),
+            rigid_donors: c.rigid_donors.unwrap_or(d.rigid_donors),
+            spline_context: c.spline_context.unwrap_or(d.spline_context),
+            ..d
+        },
+        trial_ends: c.trial_ends,
+        held_apart: c.held_apart,
+        skip_held_apart: c.skip_held_apart,
+        activities: c.activities,
+        activity_gaps: c.activity_gaps,
+        donors: c.donors,
+        write_coefficients: c.write_coefficients,
+        refit: c.refit,
     }
-    Ok(a)
 }
 
 fn main() {
-    let a = match args() {
-        Ok(a) => a,
-        Err(e) => {
-            eprintln!("fill_eval: {e}");
-            std::process::exit(2);
-        }
-    };
+    let a = args();
     if a.refit {
         if let Err(e) = refit() {
             eprintln!("fill_eval: --refit: {e}");
             std::process::exit(2);
         }
         return;
-    }
-    if a.write_coefficients && a.replay.is_none() {
-        eprintln!("fill_eval: --write-coefficients needs --replay RECORDS");
-        std::process::exit(2);
     }
     if !a.nested.is_empty() {
         match a
@@ -224,40 +257,63 @@ fn main() {
         return;
     }
     if let Some(path) = &a.replay {
-        match replay(path) {
-            Ok(recs) => {
-                // Replayed records written again carry the expected errors the model now
-                // in the code makes.
-                if let Some(p) = &a.records {
-                    write_records(p, &recs);
-                }
-                let tuned: Vec<Rec> = recs.iter().filter(|r| r.tuned).map(Rec::clone).collect();
-                report(&tuned);
-                held_apart(&recs);
-                if a.ablate {
-                    ablation(&recs);
-                }
-                if a.activities {
-                    per_activity(&recs, a.activity_gaps.as_deref());
-                }
-                if a.donors {
-                    donors::donor_study(&recs);
-                }
-                if a.write_coefficients {
-                    let name = path.file_name().unwrap_or_default().to_string_lossy();
-                    if let Err(e) = write_coefficients(&recs, &format!("`{name}`")) {
-                        eprintln!("fill_eval: --write-coefficients: {e}");
-                        std::process::exit(2);
-                    }
-                }
-            }
-            Err(e) => {
-                eprintln!("fill_eval: {}: {e}", path.display());
-                std::process::exit(2);
-            }
-        }
+        replayed(&a, path);
         return;
     }
+    let recs = run(&a);
+    if let Some(p) = &a.records {
+        write_records(p, &recs);
+    }
+    // The corpora everything was chosen on, as before; then the labs nothing was chosen on
+    // (the CMU trials of `c3d-more` are in neither: their lab was tuned on).
+    let tuned: Vec<Rec> = recs.iter().filter(|r| r.tuned).map(Rec::clone).collect();
+    report(&tuned);
+    held_apart(&recs);
+    if a.trial_ends || a.held_apart {
+        shipped_on_held_apart(&recs, a.trial_ends);
+    }
+}
+
+/// `--replay`: the tables again from records, with what `--ablate`, `--activities`,
+/// `--donors` and `--write-coefficients` add.
+fn replayed(a: &Args, path: &std::path::Path) {
+    match replay(path) {
+        Ok(recs) => {
+            // Replayed records written again carry the expected errors the model now
+            // in the code makes.
+            if let Some(p) = &a.records {
+                write_records(p, &recs);
+            }
+            let tuned: Vec<Rec> = recs.iter().filter(|r| r.tuned).map(Rec::clone).collect();
+            report(&tuned);
+            held_apart(&recs);
+            if a.ablate {
+                ablation(&recs);
+            }
+            if a.activities {
+                per_activity(&recs, a.activity_gaps.as_deref());
+            }
+            if a.donors {
+                donors::donor_study(&recs);
+            }
+            if a.write_coefficients {
+                let name = path.file_name().unwrap_or_default().to_string_lossy();
+                if let Err(e) = write_coefficients(&recs, &format!("`{name}`")) {
+                    eprintln!("fill_eval: --write-coefficients: {e}");
+                    std::process::exit(2);
+                }
+            }
+        }
+        Err(e) => {
+            eprintln!("fill_eval: {}: {e}", path.display());
+            std::process::exit(2);
+        }
+    }
+}
+
+/// The evaluation over the corpora's trials (as `a` selects them): every gap's record, each
+/// trial's progress on stderr.
+fn run(a: &Args) -> Vec<Rec> {
     let roots = corpus::roots();
     let methods = a.methods.clone().unwrap_or_else(|| {
         let mut m = SINGLES.to_vec();
@@ -333,15 +389,5 @@ fn main() {
         }
         eprintln!("{rel}: done at {:.0} s", t0.elapsed().as_secs_f64());
     }
-    if let Some(p) = &a.records {
-        write_records(p, &recs);
-    }
-    // The corpora everything was chosen on, as before; then the labs nothing was chosen on
-    // (the CMU trials of `c3d-more` are in neither: their lab was tuned on).
-    let tuned: Vec<Rec> = recs.iter().filter(|r| r.tuned).map(Rec::clone).collect();
-    report(&tuned);
-    held_apart(&recs);
-    if a.trial_ends || a.held_apart {
-        shipped_on_held_apart(&recs, a.trial_ends);
-    }
+    recs
 }

@@ -1,11 +1,12 @@
-//! The fit of `auto`'s expected-error model (see [`crate::fill::calibrated`]): the
+//! The fit of `auto`'s expected-error model (see [`repair::fill::calibrated`]): the
 //! regression, the margin chosen on labs the regression never saw, the compact file of
 //! gaps the shipped coefficients are fitted on, and the generated source file that holds
 //! them.
 //!
-//! The maths live in the library, not in `fill_eval` alone, so that a test can fit the
-//! committed gaps again and check that the coefficients `calibrated` uses are what the fit
-//! makes of them: coefficients pasted by hand drift from the fit that is said to make them.
+//! The maths live in the evaluations' library, not in `fill_eval` alone, so that a test can
+//! fit the committed gaps again and check that the coefficients `calibrated` uses are what
+//! the fit makes of them: coefficients pasted by hand drift from the fit that is said to
+//! make them. `repair` keeps only what it runs: the features and the generated coefficients.
 
 mod gaps;
 mod source;
@@ -17,7 +18,7 @@ use rayon::prelude::*;
 pub use gaps::{read, write, Gaps, GapsError, COLUMNS};
 pub use source::{render, GAPS_FILE, REFIT, SOURCE_FILE};
 
-use crate::fill::{features, log_ratio, Diag, FEATURES};
+use repair::fill::{features, log_ratio, Diag, FEATURES};
 
 /// Number of features.
 const K: usize = FEATURES;
@@ -33,7 +34,7 @@ pub const LAB_BOUND_Z: f64 = 1.2816;
 pub const NEW_LABS: f64 = 6.0;
 
 /// Names of the expected-error model's features, in the order of `features` (see
-/// [`crate::fill::calibrated`]).
+/// [`repair::fill::calibrated`]).
 pub const FEATURE_NAMES: [&str; K] = [
     "1",
     "ln q",

@@ -2,24 +2,17 @@
 //! events, per lab: how many contacts, how many start near a Foot Strike and end near a
 //! Foot Off, and the timing error in ms. The figures of `docs/plates.md`.
 //!
-//! `cargo run --release -p c3dfix --example plates_eval` (corpora in `../shared`).
+//! `cargo run --release -p evals --bin plates_eval` (corpora in `../shared`).
 
 use c3dfix::{force_platforms, ForceOptions};
+use clap::Parser;
 use std::collections::BTreeMap;
 
-/// The lab a corpus file comes from: its folder in `c3d-samples`, its source in `c3d-more`
-/// (the part before `__`), `btk` for `c3d-extra`.
-fn lab(short: &str) -> String {
-    let mut parts = short.split('/');
-    match (parts.next(), parts.next()) {
-        (Some("c3d-samples"), Some(dir)) => dir.to_string(),
-        (Some(_), Some(file)) if file.contains("__") => {
-            file.split("__").next().unwrap_or(file).to_string()
-        }
-        (Some(corpus), _) => corpus.to_string(),
-        _ => short.to_string(),
-    }
-}
+/// Every corpus plate's contacts against the file's own events, per lab (no options: the
+/// corpora are found as the tests find them).
+#[derive(Parser)]
+#[command(name = "plates_eval")]
+struct Cli {}
 
 #[derive(Default)]
 struct Tally {
@@ -32,6 +25,7 @@ struct Tally {
 }
 
 fn main() {
+    Cli::parse();
     let mut files = testkit::all_c3d_files();
     if let Some(d) = testkit::c3d_more() {
         files.extend(testkit::files_with_ext(&d, "c3d"));
@@ -57,7 +51,7 @@ fn main() {
                 .collect()
         };
         let (strikes, offs) = (times("strike"), times("off"));
-        let t = labs.entry(lab(short)).or_default();
+        let t = labs.entry(evals::labs::of_short(short)).or_default();
         t.trials += 1;
         println!("{short}");
         for p in &fp.platforms {

@@ -7,15 +7,10 @@
 //! repair, by the C3D manual's rule for a missing sample (`c3d::is_missing`), as any reader
 //! would.
 //!
-//! (`tests/step_rule.rs` runs it on the files where a fill once ended above the limit.)
-//!
-//! ```sh
-//! cargo run --release -p c3dfix --example step_check              # ../shared/c3d-more
-//! cargo run --release -p c3dfix --example step_check -- FILE...   # these files
-//! ```
+//! The `step_check` binary runs it on a corpus; `tests/step_rule.rs` on the files where a
+//! fill once ended above the limit.
 
 use c3dfix::c3d;
-use std::path::PathBuf;
 
 const LENGTHS: [usize; 5] = [5, 10, 20, 40, 80];
 /// Recorded frames kept on each side of a knocked gap.
@@ -140,35 +135,4 @@ pub fn check(path: &std::path::Path) -> Result<(usize, usize, f64), String> {
         }
     }
     Ok((n, over, worst))
-}
-
-#[allow(dead_code)]
-fn main() {
-    let mut files: Vec<PathBuf> = std::env::args().skip(1).map(PathBuf::from).collect();
-    if files.is_empty() {
-        let Some(dir) = testkit::c3d_more() else {
-            return;
-        };
-        files = testkit::files_with_ext(&dir, "c3d");
-    }
-    let (mut n, mut over, mut worst) = (0, 0, 0.0f64);
-    for f in &files {
-        match check(f) {
-            Ok((a, b, w)) => {
-                let c = c3d::read_file(f).ok();
-                let format = c.as_ref().map_or(String::new(), |c| {
-                    format!("{:?}, scale {}", c.format(), c.layout().point_scale)
-                });
-                println!(
-                    "{}: {a} fills, {b} above 1.5x, largest {w:.2}x ({format})",
-                    f.display()
-                );
-                n += a;
-                over += b;
-                worst = worst.max(w);
-            }
-            Err(e) => println!("{}: {e}", f.display()),
-        }
-    }
-    println!("all: {n} fills, {over} step above 1.5x the marker's largest recorded step (largest {worst:.2}x)");
 }

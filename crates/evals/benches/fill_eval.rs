@@ -2,11 +2,10 @@
 //! gaps of 10 and 40 frames (6 of each, one marker at a time) in a walking and a full-body
 //! trial of the shared corpus. Each method's mean error is printed once before it is
 //! timed, so one run shows what `auto`'s extra time buys. Under a minute in all.
-//! Run: `cargo bench -p repair --bench fill_eval`. Without the corpus it says so and
+//! Run: `cargo bench -p evals --bench fill_eval`. Without the corpus it says so and
 //! measures nothing.
 
-#[path = "../examples/corpus/mod.rs"]
-mod corpus;
+use evals::corpus;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use repair::{evaluate, EvalConfig, FillMethod};

@@ -12,8 +12,8 @@
 //! nothing and are reported apart ("held apart").
 //!
 //! ```sh
-//! cargo run --release -p repair --example swap_eval                        # a few minutes
-//! cargo run --release -p repair --example swap_eval -- --per 2 --seed 35   # docs/swaps.md
+//! cargo run --release -p evals --bin swap_eval                        # a few minutes
+//! cargo run --release -p evals --bin swap_eval -- --per 2 --seed 35   # docs/swaps.md
 //! ```
 //! Options: `--per N` (episodes per kind, length and trial, jumps 4 × N; default 1), `--seed S`,
 //! `--only TEXT` (files whose path contains TEXT), `--list` (every injected episode missed),
@@ -22,9 +22,9 @@
 //! `--list`, the samples it rests on), `--residual res|cam|both FLOOR` (the residual-witness
 //! experiment of docs/swaps.md, not the detector's rule).
 
-mod corpus;
-
-use corpus::{load, load_recorded, FILES};
+use clap::Parser;
+use evals::corpus::{self, load, load_recorded, FILES};
+use evals::stats::{median, rank, sorted};
 use repair::swaps::{find_swaps, undo, Find, FindKind, SwapOptions};
 use repair::{repair_trial, FillOptions, RepairConfig, Trial};
 use std::collections::BTreeMap;
@@ -55,44 +55,61 @@ enum Witness {
     Both,
 }
 
+/// Swap and jump finding on the corpora's trials (see the module's documentation).
+#[derive(Parser)]
+#[command(name = "swap_eval")]
+struct Cli {
+    /// Episodes per kind, length and trial (jumps 4 × N).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    per: usize,
+    /// The episodes' random seed.
+    #[arg(long, default_value_t = 34)]
+    seed: u64,
+    /// Only files whose path contains TEXT.
+    #[arg(long, value_name = "TEXT")]
+    only: Option<String>,
+    /// Every injected episode missed.
+    #[arg(long)]
+    list: bool,
+    /// The finds on the untouched trials alone, no episode injected.
+    #[arg(long)]
+    untouched: bool,
+    /// With each untouched find (and each missed jump onto a recorded point under --list),
+    /// the samples it rests on.
+    #[arg(long)]
+    explain: bool,
+    /// The residual-witness experiment: the word read (res, cam or both) and its floor.
+    #[arg(long, num_args = 2, value_names = ["WORD", "FLOOR"])]
+    residual: Option<Vec<String>>,
+}
+
 fn args() -> Result<Args, String> {
-    let mut a = Args {
-        per: 1,
-        seed: 34,
-        only: None,
-        list: false,
-        untouched: false,
-        explain: false,
-        residual: None,
-    };
-    let mut it = std::env::args().skip(1);
-    while let Some(k) = it.next() {
-        let mut val = || it.next().ok_or(format!("{k} needs a value"));
-        match k.as_str() {
-            "--per" => a.per = val()?.parse().map_err(|e| format!("--per: {e}"))?,
-            "--seed" => a.seed = val()?.parse().map_err(|e| format!("--seed: {e}"))?,
-            "--only" => a.only = Some(val()?),
-            "--list" => a.list = true,
-            "--untouched" => a.untouched = true,
-            "--explain" => a.explain = true,
-            "--residual" => {
-                let w = match val()?.as_str() {
-                    "res" => Witness::Residual,
-                    "cam" => Witness::Cameras,
-                    "both" => Witness::Both,
-                    o => return Err(format!("--residual: res, cam or both, not {o}")),
-                };
-                let floor = it
-                    .next()
-                    .ok_or("--residual needs a floor")?
-                    .parse()
-                    .map_err(|e| format!("--residual floor: {e}"))?;
-                a.residual = Some((w, floor));
-            }
-            _ => return Err(format!("unknown option {k}")),
+    let c = Cli::parse();
+    let residual = match c.residual.as_deref() {
+        None => None,
+        Some([word, floor]) => {
+            let w = match word.as_str() {
+                "res" => Witness::Residual,
+                "cam" => Witness::Cameras,
+                "both" => Witness::Both,
+                o => return Err(format!("--residual: res, cam or both, not {o}")),
+            };
+            let floor = floor
+                .parse()
+                .map_err(|e| format!("--residual floor: {e}"))?;
+            Some((w, floor))
         }
-    }
-    Ok(a)
+        Some(_) => return Err("--residual needs a word and a floor".into()),
+    };
+    Ok(Args {
+        per: c.per,
+        seed: c.seed,
+        only: c.only,
+        list: c.list,
+        untouched: c.untouched,
+        explain: c.explain,
+        residual,
+    })
 }
 
 /// SplitMix64, as the crate's own generator (private there).
@@ -364,7 +381,7 @@ fn near_points(t: &Trial) -> Vec<Vec<usize>> {
     let (nm, nf) = (t.markers(), t.frames());
     let step = nf.div_ceil(400).max(1);
     let median = |a: usize, b: usize| {
-        let mut ds: Vec<f64> = (0..nf)
+        let ds: Vec<f64> = (0..nf)
             .step_by(step)
             .filter(|&f| a != b && t.valid[a][f] && t.valid[b][f])
             .map(|f| dist(&t.xyz[a][f], &t.xyz[b][f]))
@@ -372,8 +389,7 @@ fn near_points(t: &Trial) -> Vec<Vec<usize>> {
         if ds.len() < 20 {
             return f64::INFINITY;
         }
-        ds.sort_by(f64::total_cmp);
-        ds[ds.len() / 2]
+        median(ds).unwrap_or(f64::INFINITY)
     };
     let med: Vec<Vec<f64>> = (0..nm)
         .map(|a| (0..nm).map(|b| median(a, b)).collect())
@@ -578,10 +594,9 @@ fn main() {
         .collect();
     let opts = SwapOptions::default();
     let mut tallies: BTreeMap<&str, Tally> = BTreeMap::new();
-    let mut rng = Rng(a.seed);
     // The jumps onto recorded points draw from their own generator: the other episodes
     // are the ones drawn before they were added.
-    let mut rng_onto = Rng(a.seed ^ 0x6f6e_746f);
+    let mut rngs = (Rng(a.seed), Rng(a.seed ^ 0x6f6e_746f));
     let t0 = std::time::Instant::now();
     println!("## finds on the untouched trials\n");
     for &(_set, lab, corpus, rel) in FILES {
@@ -614,13 +629,6 @@ fn main() {
             }
         };
         let words = side(&path, recorded);
-        let name = |m: usize| {
-            words
-                .labels
-                .get(m)
-                .cloned()
-                .unwrap_or_else(|| format!("#{m}"))
-        };
         eprintln!(
             "{rel}: residuals {}, camera masks {}",
             if words.measured { "measured" } else { "all 0" },
@@ -631,74 +639,99 @@ fn main() {
             }
         );
         let tally = tallies.entry(group).or_default();
-        let base = match finds_of(&clean, &words, &opts, &a) {
-            Ok(b) => b,
-            Err(e) => {
-                eprintln!("{rel}: {e}");
-                continue;
-            }
-        };
-        tally.frames_untouched += clean.frames();
-        tally.untouched_finds += base.len();
-        tally.untouched_settled += base.iter().filter(|x| x.settled).count();
-        for x in &base {
-            let ms: Vec<String> = x.markers.iter().map(|&m| name(m)).collect();
-            println!(
-                "- [{group}] {rel}: {:?} {} frames {}–{} (0-based), confidence {:.2}{}",
-                x.kind,
-                ms.join("/"),
-                x.first,
-                x.last,
-                x.confidence,
-                if x.settled { ", settled" } else { "" }
-            );
-            if a.explain {
-                explain(&clean, &words, x, &opts);
-            }
-        }
-        if a.untouched {
+        if let Err(e) = trial(&a, &opts, &clean, &words, (group, rel), tally, &mut rngs) {
+            eprintln!("{rel}: {e}");
             continue;
         }
-        for e in episodes(&clean, a.per, &mut rng) {
-            let mut t = clean.clone();
-            let off = {
-                let (u, v) = (
-                    rng.uniform() * 2.0 - 1.0,
-                    rng.uniform() * std::f64::consts::TAU,
-                );
-                let r = 20.0 + 30.0 * rng.uniform();
-                let s = (1.0 - u * u).sqrt();
-                [r * s * v.cos(), r * s * v.sin(), r * u]
-            };
-            if !e.counted {
-                tally.uncounted += 1;
-                continue;
-            }
-            inject(&mut t, &e, off);
-            let mut w = words.clone();
-            if let [m, n] = e.markers[..] {
-                if w.residual.len() > m.max(n) {
-                    for f in e.first..=e.last {
-                        let (r, k) = (w.residual[m][f], w.mask[m][f]);
-                        w.residual[m][f] = w.residual[n][f];
-                        w.mask[m][f] = w.mask[n][f];
-                        w.residual[n][f] = r;
-                        w.mask[n][f] = k;
-                    }
-                }
-            }
-            judge(&t, &w, &clean, &base, &e, &opts, tally, &a, group, rel);
-        }
-        for e in episodes_onto(&clean, a.per, &mut rng_onto) {
-            let (mut t, mut w) = (clean.clone(), words.clone());
-            inject_onto(&mut t, &mut w, &e);
-            judge(&t, &w, &clean, &base, &e, &opts, tally, &a, group, rel);
+        // Untouched alone, a trial is quick: no progress line.
+        if a.untouched {
+            continue;
         }
         eprintln!("{rel}: done at {:.0} s", t0.elapsed().as_secs_f64());
     }
     for (group, t) in &tallies {
         report(group, t);
     }
+}
+
+/// Trial `clean` (of `group` and file `rel`): its finds untouched (printed, and explained
+/// with `--explain`), then each injected episode judged, into `tally`. `rngs` draw the
+/// episodes and the jumps onto recorded points, each from its own generator.
+fn trial(
+    a: &Args,
+    opts: &SwapOptions,
+    clean: &Trial,
+    words: &Side,
+    (group, rel): (&str, &str),
+    tally: &mut Tally,
+    rngs: &mut (Rng, Rng),
+) -> Result<(), repair::RepairError> {
+    let (rng, rng_onto) = (&mut rngs.0, &mut rngs.1);
+    let name = |m: usize| {
+        words
+            .labels
+            .get(m)
+            .cloned()
+            .unwrap_or_else(|| format!("#{m}"))
+    };
+    let base = finds_of(clean, words, opts, a)?;
+    tally.frames_untouched += clean.frames();
+    tally.untouched_finds += base.len();
+    tally.untouched_settled += base.iter().filter(|x| x.settled).count();
+    for x in &base {
+        let ms: Vec<String> = x.markers.iter().map(|&m| name(m)).collect();
+        println!(
+            "- [{group}] {rel}: {:?} {} frames {}–{} (0-based), confidence {:.2}{}",
+            x.kind,
+            ms.join("/"),
+            x.first,
+            x.last,
+            x.confidence,
+            if x.settled { ", settled" } else { "" }
+        );
+        if a.explain {
+            explain(clean, words, x, opts);
+        }
+    }
+    if a.untouched {
+        return Ok(());
+    }
+    for e in episodes(clean, a.per, rng) {
+        let mut t = clean.clone();
+        let off = {
+            let (u, v) = (
+                rng.uniform() * 2.0 - 1.0,
+                rng.uniform() * std::f64::consts::TAU,
+            );
+            let r = 20.0 + 30.0 * rng.uniform();
+            let s = (1.0 - u * u).sqrt();
+            [r * s * v.cos(), r * s * v.sin(), r * u]
+        };
+        if !e.counted {
+            tally.uncounted += 1;
+            continue;
+        }
+        inject(&mut t, &e, off);
+        let mut w = words.clone();
+        if let [m, n] = e.markers[..] {
+            if w.residual.len() > m.max(n) {
+                for f in e.first..=e.last {
+                    let (r, k) = (w.residual[m][f], w.mask[m][f]);
+                    w.residual[m][f] = w.residual[n][f];
+                    w.mask[m][f] = w.mask[n][f];
+                    w.residual[n][f] = r;
+                    w.mask[n][f] = k;
+                }
+            }
+        }
+        judge(&t, &w, clean, &base, &e, opts, tally, a, group, rel);
+    }
+    for e in episodes_onto(clean, a.per, rng_onto) {
+        let (mut t, mut w) = (clean.clone(), words.clone());
+        inject_onto(&mut t, &mut w, &e);
+        judge(&t, &w, clean, &base, &e, opts, tally, a, group, rel);
+    }
+    Ok(())
 }
 
 /// The detector's finds; under `--residual W FLOOR`, a jump found with a confidence from
@@ -786,13 +819,7 @@ fn explain(t: &Trial, w: &Side, x: &Find, opts: &SwapOptions) {
     println!("    {:?}", x.evidence);
     let nf = t.frames();
     let name = |m: usize| w.labels.get(m).cloned().unwrap_or_else(|| format!("#{m}"));
-    let med = |mut v: Vec<f64>| -> String {
-        if v.is_empty() {
-            return "–".into();
-        }
-        v.sort_by(f64::total_cmp);
-        format!("{:.1}", v[v.len() / 2])
-    };
+    let med = |v: Vec<f64>| -> String { median(v).map_or("–".into(), |m| format!("{m:.1}")) };
     let spans = [
         (x.first.saturating_sub(20), x.first),
         (x.first, x.last + 1),
@@ -843,27 +870,7 @@ fn explain(t: &Trial, w: &Side, x: &Find, opts: &SwapOptions) {
                 series(x.last.saturating_sub(4), x.last + 1, x.last + 6)
             );
         }
-        // The nearest other marker: a label on another labelled point sits on it.
-        let nearest = |f: usize| {
-            (0..t.markers())
-                .filter(|&o| o != m && t.valid[o][f] && t.valid[m][f])
-                .map(|o| (dist(&t.xyz[m][f], &t.xyz[o][f]), o))
-                .min_by(|p, q| p.0.total_cmp(&q.0))
-        };
-        let near: Vec<String> = spans
-            .iter()
-            .map(|&(lo, hi)| {
-                let mut v: Vec<(f64, usize)> = (lo..hi).filter_map(nearest).collect();
-                v.sort_by(|p, q| p.0.total_cmp(&q.0));
-                v.get(v.len() / 2)
-                    .map(|&(d, o)| format!("{d:.1} mm ({})", name(o)))
-                    .unwrap_or_else(|| "–".into())
-            })
-            .collect();
-        println!(
-            "      nearest marker (median) before {}, inside {}, after {}",
-            near[0], near[1], near[2]
-        );
+        nearest_line(t, m, &spans, &name);
         let step = |f: usize| {
             (f > 0 && t.valid[m][f] && t.valid[m][f - 1])
                 .then(|| dist(&t.xyz[m][f], &t.xyz[m][f - 1]))
@@ -906,6 +913,31 @@ fn explain(t: &Trial, w: &Side, x: &Find, opts: &SwapOptions) {
             );
         }
     }
+}
+
+/// `--explain`: the nearest other marker to marker `m` (median over each of `spans`, before,
+/// inside and after a find): a label on another labelled point sits on it.
+fn nearest_line(t: &Trial, m: usize, spans: &[(usize, usize); 3], name: &dyn Fn(usize) -> String) {
+    let nearest = |f: usize| {
+        (0..t.markers())
+            .filter(|&o| o != m && t.valid[o][f] && t.valid[m][f])
+            .map(|o| (dist(&t.xyz[m][f], &t.xyz[o][f]), o))
+            .min_by(|p, q| p.0.total_cmp(&q.0))
+    };
+    let near: Vec<String> = spans
+        .iter()
+        .map(|&(lo, hi)| {
+            let mut v: Vec<(f64, usize)> = (lo..hi).filter_map(nearest).collect();
+            v.sort_by(|p, q| p.0.total_cmp(&q.0));
+            v.get(v.len() / 2)
+                .map(|&(d, o)| format!("{d:.1} mm ({})", name(o)))
+                .unwrap_or_else(|| "–".into())
+        })
+        .collect();
+    println!(
+        "      nearest marker (median) before {}, inside {}, after {}",
+        near[0], near[1], near[2]
+    );
 }
 
 /// Find swaps in the injected trial `t` and score the finds against episode `e`.
@@ -1024,69 +1056,80 @@ fn judge(
                 }
             }
         }
-        None => {
-            if a.list {
-                let links = repair::swaps::learn_links(
-                    t,
-                    opts.max_link_spread_mm,
-                    opts.min_link_support,
-                    opts.max_links,
-                );
-                let weak = SwapOptions {
-                    min_report: 0.0,
-                    ..opts.clone()
-                };
-                let all = find_swaps(t, &weak).unwrap_or_default();
-                let near: Vec<String> = all
-                    .iter()
-                    .filter(|x| overlaps(x, e) && x.markers.iter().any(|m| e.markers.contains(m)))
-                    .map(|x| {
-                        format!(
-                            "{:?}{:?} {}–{} {:.2} {:?}",
-                            x.kind, x.markers, x.first, x.last, x.confidence, x.evidence
-                        )
-                    })
-                    .collect();
-                println!(
-                    "  missed [{group}] {rel}: {:?} {:?}{} {}–{} links {:?} weak finds {near:?}",
-                    e.kind,
-                    e.markers,
-                    e.onto
-                        .map(|b| {
-                            let n = |m: usize| w.labels.get(m).cloned().unwrap_or_default();
-                            format!(" ({}) onto {b} ({})", n(e.markers[0]), n(b))
-                        })
-                        .unwrap_or_default(),
-                    e.first,
-                    e.last,
-                    e.markers
-                        .iter()
-                        .map(|&m| links[m].len())
-                        .collect::<Vec<_>>()
-                );
-                if a.explain && e.onto.is_some() {
-                    let as_found = Find {
-                        kind: FindKind::Jump,
-                        markers: e.markers.clone(),
-                        first: e.first,
-                        last: e.last,
-                        confidence: 0.0,
-                        settled: false,
-                        evidence: repair::swaps::Evidence {
-                            links: 0,
-                            frames_decided: 0,
-                            link_error: 0.0,
-                            link_error_undone: 0.0,
-                            edges_smoother: 0,
-                            offset_share: None,
-                            edges_checked: 0,
-                            edge_step_mm: 0.0,
-                        },
-                    };
-                    explain(t, w, &as_found, opts);
-                }
-            }
-        }
+        None if a.list => missed(t, w, e, opts, a, (group, rel)),
+        None => {}
+    }
+}
+
+/// `--list`: an episode no find answered, with its markers' links and the finds below the
+/// report's confidence around it (with `--explain`, a jump onto a recorded point's
+/// samples, as a find would have shown them).
+fn missed(
+    t: &Trial,
+    w: &Side,
+    e: &Episode,
+    opts: &SwapOptions,
+    a: &Args,
+    (group, rel): (&str, &str),
+) {
+    let links = repair::swaps::learn_links(
+        t,
+        opts.max_link_spread_mm,
+        opts.min_link_support,
+        opts.max_links,
+    );
+    let weak = SwapOptions {
+        min_report: 0.0,
+        ..opts.clone()
+    };
+    let all = find_swaps(t, &weak).unwrap_or_default();
+    let near: Vec<String> = all
+        .iter()
+        .filter(|x| overlaps(x, e) && x.markers.iter().any(|m| e.markers.contains(m)))
+        .map(|x| {
+            format!(
+                "{:?}{:?} {}–{} {:.2} {:?}",
+                x.kind, x.markers, x.first, x.last, x.confidence, x.evidence
+            )
+        })
+        .collect();
+    println!(
+        "  missed [{group}] {rel}: {:?} {:?}{} {}–{} links {:?} weak finds {near:?}",
+        e.kind,
+        e.markers,
+        e.onto
+            .map(|b| {
+                let n = |m: usize| w.labels.get(m).cloned().unwrap_or_default();
+                format!(" ({}) onto {b} ({})", n(e.markers[0]), n(b))
+            })
+            .unwrap_or_default(),
+        e.first,
+        e.last,
+        e.markers
+            .iter()
+            .map(|&m| links[m].len())
+            .collect::<Vec<_>>()
+    );
+    if a.explain && e.onto.is_some() {
+        let as_found = Find {
+            kind: FindKind::Jump,
+            markers: e.markers.clone(),
+            first: e.first,
+            last: e.last,
+            confidence: 0.0,
+            settled: false,
+            evidence: repair::swaps::Evidence {
+                links: 0,
+                frames_decided: 0,
+                link_error: 0.0,
+                link_error_undone: 0.0,
+                edges_smoother: 0,
+                offset_share: None,
+                edges_checked: 0,
+                edge_step_mm: 0.0,
+            },
+        };
+        explain(t, w, &as_found, opts);
     }
 }
 
@@ -1150,24 +1193,20 @@ fn report(group: &str, t: &Tally) {
             p.true_settled,
             p.false_settled
         );
-        let mut e = p.refill_err.clone();
-        e.sort_by(f64::total_cmp);
-        if !e.is_empty() {
+        let e = sorted(p.refill_err.iter().copied());
+        if let (Some(m), Some(p90)) = (rank(&e, 1, 2), rank(&e, 9, 10)) {
             println!(
-                "jumped samples refilled (auto fill): median {:.2} mm, 90th percentile {:.2} mm, {} samples",
-                e[e.len() / 2],
-                e[e.len() * 9 / 10],
+                "jumped samples refilled (auto fill): median {m:.2} mm, 90th percentile {p90:.2} mm, {} samples",
                 e.len()
             );
         }
-        let mut e = p.leaps_refill_err.clone();
-        e.sort_by(f64::total_cmp);
+        let e = sorted(p.leaps_refill_err.iter().copied());
         println!(
             "of the hits, jumps of markers with 2-3 links by their leaps alone: {} found, {} settled; refilled: median {:.2} mm, 90th percentile {:.2} mm, {} samples",
             p.leaps_found,
             p.leaps_settled,
-            e.get(e.len() / 2).copied().unwrap_or(f64::NAN),
-            e.get(e.len() * 9 / 10).copied().unwrap_or(f64::NAN),
+            rank(&e, 1, 2).unwrap_or(f64::NAN),
+            rank(&e, 9, 10).unwrap_or(f64::NAN),
             e.len()
         );
     }
