@@ -53,6 +53,14 @@ pub enum Error {
     /// file does not have, a value out of range).
     #[error("{0}")]
     Options(String),
+    /// The markers a job needs (heels, toes, pelvis) are not in the trial under any name
+    /// known or given; each front end says how to name them.
+    #[error("{}: {source}", path.display())]
+    Markers {
+        path: PathBuf,
+        #[source]
+        source: gait::Error,
+    },
     /// The trial cannot be processed as asked (no points, too few markers).
     #[error("{}: {what}", path.display())]
     Trial { path: PathBuf, what: String },

@@ -62,15 +62,17 @@ fn kind_of(label: &str) -> Option<Kind> {
     }
 }
 
-/// The file's Foot Strike and Foot Off events of the Left and Right contexts (others,
-/// e.g. General events, are not gait events).
+/// The file's gait events: Foot Strike and Foot Off of the Left and Right contexts, and the
+/// labs' own codes ([`crate::event_labels::gait_event`]: `LHS` in General, …); other
+/// events (a generic `Event`, General milestones) are not gait events.
 pub fn file_events(c: &c3d::C3d) -> Vec<TimedEvent> {
     c.events()
         .iter()
         .filter_map(|e| {
+            let (side, kind) = crate::event_labels::gait_event(&e.context, &e.label)?;
             Some(TimedEvent {
-                side: side_of(&e.context)?,
-                kind: kind_of(&e.label)?,
+                side,
+                kind,
                 time: e.time,
             })
         })
@@ -125,6 +127,7 @@ fn toes(
     // The file is named once, by the report: only what is wrong here.
     let what = |e: Error| match e {
         Error::Trial { what, .. } => what,
+        Error::Markers { source, .. } => source.to_string(),
         e => e.to_string(),
     };
     let mut choice = crate::events::choose_markers(c, names, path).map_err(what)?;

@@ -27,6 +27,7 @@ pub mod cycles;
 mod error;
 pub mod evaluate;
 pub mod event_group;
+pub mod event_labels;
 pub mod events;
 pub mod events_session;
 pub mod export;
