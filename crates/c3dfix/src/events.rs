@@ -141,6 +141,7 @@ pub fn choose_markers(c: &c3d::C3d, names: &MarkerNames, path: &Path) -> Result<
     gait::find_markers(&labels, names).map_err(|source| Error::Markers {
         path: path.to_path_buf(),
         source,
+        for_plates: false,
     })
 }
 
@@ -412,7 +413,14 @@ pub fn calibrated(
 
 /// Detect the gait events of `c` (`path` names it in messages).
 pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<Detected> {
-    let mut choice = choose_markers(c, &opts.markers, path)?;
+    let mut choice = choose_markers(c, &opts.markers, path).map_err(|e| match e {
+        Error::Markers { path, source, .. } if opts.from == EventSource::Plates => Error::Markers {
+            path,
+            source,
+            for_plates: true,
+        },
+        e => e,
+    })?;
     let feet = feet(c, &mut choice, path)?;
     let labels = c.point_labels();
     let names = |r: &[usize]| {
@@ -472,13 +480,17 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
                     "no force plates (FORCE_PLATFORM:USED is 0 or absent)",
                 ));
             }
-            plate_events(c, &feet, &opts.plate)?
+            let p = plate_events(c, &feet, &opts.plate)?;
+            warnings.extend(crate::plate_silence::silent_plates(c, &p, &opts.plate)?);
+            p
         }
         EventSource::Auto => {
             let plates = if c.platform_params().plates.is_empty() {
                 Vec::new()
             } else {
-                plate_events(c, &feet, &opts.plate)?
+                let p = plate_events(c, &feet, &opts.plate)?;
+                warnings.extend(crate::plate_silence::silent_plates(c, &p, &opts.plate)?);
+                p
             };
             match gait::kinematic_events(&feet, rate, &opts.kinematic) {
                 Ok(k) if opts.no_calibrate => merge_auto(&plates, &k, rate),

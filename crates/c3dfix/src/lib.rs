@@ -37,6 +37,7 @@ mod gaps;
 pub mod info;
 pub mod markers;
 mod options;
+pub mod plate_silence;
 pub mod platforms;
 mod repair;
 pub mod rerun;

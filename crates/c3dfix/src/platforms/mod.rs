@@ -572,6 +572,13 @@ fn unloaded_stretch(
         }
     }
     match kinetics::baseline::quiet_stretch(&raw.push, &raw.force, rate) {
+        Some(q) if !kinetics::baseline::steady_pull(q.level, q.spread) => {
+            let m = format!(
+                "its quietest low stretch reads a pull of {:.1} N that moves by {:.1} N, pulls coming and going rather than an offset: nothing subtracted (a pull is never a load)",
+                -q.level, q.spread
+            );
+            (None, Some(note.map_or(m.clone(), |n| format!("{n}; {m}"))))
+        }
         Some(q) if kinetics::baseline::unloaded(q.level) => {
             let found = (BaselineSource::Quiet, q.range, q.level);
             let note = note.map(|n| format!("{n}; its quietest low stretch is used"));
