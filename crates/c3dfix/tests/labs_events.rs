@@ -124,6 +124,11 @@ fn treadmill_walking_gets_every_step_from_the_feet_relative_to_the_pelvis() {
         return;
     };
     assert!(!is_treadmill(&c3dfix::open(&walk).unwrap(), &walk));
+    // Nor is a walkway run whose pelvis is seen for less than a stride (85 % missing).
+    let Some(run) = labs("RehabEngGroup__MOtoNMS__Running_1") else {
+        return;
+    };
+    assert!(!is_treadmill(&c3dfix::open(&run).unwrap(), &run));
 }
 
 #[test]

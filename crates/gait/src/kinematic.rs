@@ -288,7 +288,8 @@ pub fn walking_direction(
 
 /// The walking direction per frame as [`walking_direction`] finds it from the pelvis'
 /// travel or, where the pelvis never travels at walking speed and the feet cycle under it
-/// (a treadmill: [`crate::treadmill::direction`] from `feet`), the treadmill's direction
+/// (a treadmill: [`crate::treadmill::pelvis_stays`], and [`crate::treadmill::direction`]
+/// from `feet`), the treadmill's direction
 /// at every frame with the pelvis; the flag says which.
 pub fn travel_direction(
     pelvis: &[[f64; 3]],
@@ -298,7 +299,15 @@ pub fn travel_direction(
     opts: &KinematicOptions,
 ) -> (Vec<[f64; 3]>, bool) {
     let dir = walking_direction(pelvis, vertical, rate, opts);
-    if dir.iter().any(|d| d[0].is_finite()) {
+    if dir.iter().any(|d| d[0].is_finite())
+        || !crate::treadmill::pelvis_stays(
+            pelvis,
+            vertical,
+            rate,
+            2.0 * opts.direction_window_s,
+            opts.min_speed_mm_s,
+        )
+    {
         return (dir, false);
     }
     match crate::treadmill::direction(pelvis, feet, vertical, rate) {

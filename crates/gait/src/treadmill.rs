@@ -19,10 +19,36 @@ pub const MIN_SWING_MM: f64 = 250.0;
 /// the floor in swing (a standing or stooping person's feet stay within a few millimetres).
 pub const MIN_LIFT_MM: f64 = 30.0;
 
+/// Whether the pelvis stays in place: it is seen at both ends of `window_s` (about a
+/// stride, over which its sway and bounce cancel) and its median horizontal speed over such
+/// spans is under `min_speed_mm_s`. A walkway trial whose pelvis is seen for less than that
+/// (MOtoNMS' walks and runs, 52 to 85 % missing) has no walking direction from the pelvis,
+/// but no sign that it stays either: no treadmill.
+pub fn pelvis_stays(
+    pelvis: &[[f64; 3]],
+    vertical: Vertical,
+    rate: f64,
+    window_s: f64,
+    min_speed_mm_s: f64,
+) -> bool {
+    let lag = ((window_s * rate).round() as usize).max(1);
+    let speeds: Vec<f64> = pelvis
+        .iter()
+        .zip(pelvis.iter().skip(lag))
+        .filter_map(|(a, b)| {
+            let d = vertical.horizontal([b[0] - a[0], b[1] - a[1], b[2] - a[2]]);
+            let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            len.is_finite().then_some(len * rate / lag as f64)
+        })
+        .collect();
+    signal::quantile(&speeds, 0.5).is_some_and(|s| s < min_speed_mm_s)
+}
+
 /// The treadmill's walking direction (unit, horizontal) from the pelvis and the foot
 /// markers (each NaN where missing), or `None` when the feet do not cycle relative to the
 /// pelvis: no foot swings [`MIN_SWING_MM`] along the feet's main horizontal axis while
-/// lifting [`MIN_LIFT_MM`], or fewer than two frames have a foot with the pelvis.
+/// lifting [`MIN_LIFT_MM`], or fewer than two frames have a foot with the pelvis. The
+/// caller checks first that the pelvis stays ([`pelvis_stays`]).
 ///
 /// The axis is the principal axis of the feet's horizontal positions relative to the
 /// pelvis (each foot about its own mean); its sign is that of the feet's velocity along it
@@ -163,5 +189,17 @@ mod tests {
         // Standing: feet still under the pelvis.
         let still = vec![[100.0, 50.0, 60.0]; frames];
         assert_eq!(direction(&pelvis, &[&still, &still], v, rate), None);
+        assert!(pelvis_stays(&pelvis, v, rate, 1.0, 200.0));
+        // A walkway's pelvis seen for 0.5 s at 1.5 m/s: no sign that it stays.
+        let glimpse: Vec<[f64; 3]> = (0..frames)
+            .map(|f| {
+                if (100..150).contains(&f) {
+                    [0.0, 15.0 * f as f64, 950.0]
+                } else {
+                    [f64::NAN; 3]
+                }
+            })
+            .collect();
+        assert!(!pelvis_stays(&glimpse, v, rate, 1.0, 200.0));
     }
 }
