@@ -67,7 +67,7 @@ pub fn silent_plates(
 /// Whether `cop` (point units) lies more than [`EDGE_MM`] outside the box of the plate's
 /// `corners` in the plane they span (the axis along which they spread least is the
 /// plate's normal).
-fn off_plate(corners: &[[f64; 3]; 4], cop: &[f64; 3], mm: f64) -> bool {
+pub(crate) fn off_plate(corners: &[[f64; 3]; 4], cop: &[f64; 3], mm: f64) -> bool {
     if !cop.iter().all(|v| v.is_finite()) {
         return false;
     }
