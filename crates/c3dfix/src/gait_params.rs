@@ -79,6 +79,12 @@ pub fn file_events(c: &c3d::C3d) -> Vec<TimedEvent> {
         .collect()
 }
 
+/// What a treadmill trial's markers cannot give without the belt's speed.
+const TREADMILL_LENGTHS: [&str; 3] = ["Walking Speed", "Stride Length", "Step Length"];
+
+/// Said when [`TREADMILL_LENGTHS`] are left out.
+pub const TREADMILL_WARNING: &str = "treadmill (the pelvis stays while the feet cycle): Walking Speed, Stride Length and Step Length need the belt's speed, which the file does not give, so they are left out";
+
 /// The trial's time span (first and last frame's times).
 fn span(c: &c3d::C3d) -> (f64, f64) {
     let n = c.frames();
@@ -207,8 +213,15 @@ pub fn gait_parameters(c: &c3d::C3d, opts: &GaitOptions, path: &Path) -> Result<
     let detail =
         gait::gait_parameters(&events, toes_in.as_ref()).map_err(|e| trial_error(path, e))?;
     warnings.extend(detail.warnings.iter().cloned());
+    let mut parameters = detail.parameters();
+    if toe_data.is_some() && crate::events::is_treadmill(c, path) {
+        // The feet travel with the belt, not over the floor: the lengths and the speed the
+        // markers give are the pelvis' drift, not the walk's.
+        parameters.retain(|p| !TREADMILL_LENGTHS.contains(&p.name));
+        warnings.push(TREADMILL_WARNING.to_string());
+    }
     Ok(GaitReport {
-        parameters: detail.parameters(),
+        parameters,
         detail,
         events: source,
         toes: toe_data.map(|t| t.names),

@@ -200,3 +200,28 @@ fn a_labs_own_codes_in_the_general_context_are_read_as_gait_events() {
     // The session calibration reads them as truth too.
     assert_eq!(c3dfix::events_session::lab_events(&c).len(), 7);
 }
+
+#[test]
+fn treadmill_gait_parameters_leave_out_what_needs_the_belt_speed() {
+    // rtosim: the markers' speed is the pelvis' drift (0.02 m/s), not the walk's.
+    let Some(path) = labs("RealTimeBiomechanics__rtosim__walking_1") else {
+        return;
+    };
+    let c = c3dfix::open(&path).unwrap();
+    let opts = c3dfix::GaitOptions {
+        detect: Some(EventOptions::default()),
+        ..c3dfix::GaitOptions::default()
+    };
+    let r = c3dfix::gait_parameters(&c, &opts, &path).unwrap();
+    let names: Vec<&str> = r
+        .parameters
+        .iter()
+        .filter(|p| p.context == "Left")
+        .map(|p| p.name)
+        .collect();
+    assert!(names.contains(&"Cadence") && names.contains(&"Step Width"));
+    assert!(!names.contains(&"Walking Speed") && !names.contains(&"Stride Length"));
+    assert!(r
+        .warnings
+        .contains(&c3dfix::gait_params::TREADMILL_WARNING.to_string()));
+}
