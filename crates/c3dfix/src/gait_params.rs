@@ -82,7 +82,7 @@ pub fn file_events(c: &c3d::C3d) -> Vec<TimedEvent> {
 /// What a treadmill trial's markers cannot give without the belt's speed.
 const TREADMILL_LENGTHS: [&str; 3] = ["Walking Speed", "Stride Length", "Step Length"];
 
-/// Said when [`TREADMILL_LENGTHS`] are left out.
+/// Said when the speed and lengths are left out of a treadmill trial's parameters.
 pub const TREADMILL_WARNING: &str = "treadmill (the pelvis stays while the feet cycle): Walking Speed, Stride Length and Step Length need the belt's speed, which the file does not give, so they are left out";
 
 /// The trial's time span (first and last frame's times).
