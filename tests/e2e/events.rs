@@ -250,7 +250,8 @@ fn trials_without_walking_get_a_clear_error_and_exit_2() {
     let out = c3dfix(&["events", s(&cube), s(&sample("walk_truth.c3d"))]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
-        stderr(&out).contains("btkdata_MyCube.c3d: no lheel marker"),
+        stderr(&out)
+            .contains("btkdata_MyCube.c3d: no foot markers: none of the trial's 14 markers"),
         "{}",
         stderr(&out)
     );

@@ -289,7 +289,7 @@ fn bad_input_gets_a_clear_message_and_exit_2() {
     assert!(!names.contains(&"Stride Length") && names.contains(&"Stride Time"));
     let w = v["warnings"][0].as_str().unwrap();
     assert!(
-        w.starts_with("no lengths (and no walking speed): no lheel marker"),
+        w.starts_with("no lengths (and no walking speed): no foot markers"),
         "{w}"
     );
 }

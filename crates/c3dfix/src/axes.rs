@@ -195,7 +195,129 @@ pub fn markers_up(c: &c3d::C3d) -> Option<Direction> {
         out
     });
     let mm = c3d::mm_per_unit(&c.point_units()) as f32;
-    frames_up(per_chunk.into_iter().flatten(), mm)
+    let frames: Vec<[Vec<f32>; 3]> = per_chunk.into_iter().flatten().collect();
+    let mut lowest = lowest_per_direction(&frames, mm);
+    if let Some(d) = floor(&mut lowest) {
+        return Some(d);
+    }
+    trunk_up(c, step, mm).or_else(|| frames_up(frames.into_iter(), mm))
+}
+
+/// The least length (mm) of the pelvis-to-upper-trunk vector for it to say where up is: a
+/// seated or stooping adult's trunk is longer than this, a pelvis and a shoulder marker of
+/// a lying subject come no nearer to vertical.
+const TRUNK_MM: f64 = 250.0;
+
+/// The up of a trunk that stands: where the markers name the pelvis (ASIS, PSIS, sacrum) and
+/// the upper trunk (C7, T1, clavicle, sternum, acromion, shoulder, head), the median over
+/// the sampled frames of the vector from the pelvis markers' mean to the upper ones'. Taken
+/// when it is at least [`TRUNK_MM`] long and lies within ~37° of one lab axis: a person
+/// standing, walking, lifting or seated holds the trunk up, while the markers' spread may
+/// lie across (an upper-body set whose box is held at arm's length spreads farther
+/// forward than the pelvis-to-shoulder height: `c3d-labs`' pyomeca lifting read +x).
+/// A subject lying down is stood up by the floor first ([`floor`]).
+fn trunk_up(c: &c3d::C3d, step: usize, mm: f32) -> Option<Direction> {
+    let labels = c.point_labels();
+    let markers = crate::markers::marker_indices(c);
+    let named = |is: fn(&str) -> bool| -> Vec<usize> {
+        markers
+            .iter()
+            .copied()
+            .filter(|&i| {
+                labels
+                    .get(i)
+                    .is_some_and(|l| is(&gait::markers::canonical(l)))
+            })
+            .collect()
+    };
+    let pelvis = named(is_pelvis);
+    let upper = named(is_upper_trunk);
+    if pelvis.is_empty() || upper.is_empty() {
+        return None;
+    }
+    // The sampled frames only, chunk by chunk, as [`markers_up`] reads them.
+    let chunk = c.point_chunk_frames().max(1);
+    let states: Vec<usize> = (0..c.point_chunks()).collect();
+    let per_chunk: Vec<Vec<[f64; 3]>> = c.map_point_chunks(states, |i, view| {
+        let first = i * chunk;
+        let start = first.div_ceil(step) * step;
+        let mean = |f: usize, set: &[usize]| -> Option<[f64; 3]> {
+            let mut s = [0.0; 3];
+            let mut n = 0.0;
+            for &m in set {
+                let (v, r, _) = view.sample(f - first, m);
+                if !c3d::is_missing(v, r) {
+                    for k in 0..3 {
+                        s[k] += f64::from(v[k]);
+                    }
+                    n += 1.0;
+                }
+            }
+            (n > 0.0).then(|| s.map(|x| x / n))
+        };
+        (start..first + view.frames)
+            .step_by(step)
+            .filter_map(|f| {
+                let (a, b) = (mean(f, &pelvis)?, mean(f, &upper)?);
+                Some([0, 1, 2].map(|k| (b[k] - a[k]) * f64::from(mm)))
+            })
+            .collect()
+    });
+    let mut comp: [Vec<f64>; 3] = Default::default();
+    for v in per_chunk.into_iter().flatten() {
+        for k in 0..3 {
+            comp[k].push(v[k]);
+        }
+    }
+    let v: Vec<f64> = comp
+        .iter_mut()
+        .map(|x| {
+            x.sort_by(f64::total_cmp);
+            x.get(x.len() / 2).copied()
+        })
+        .collect::<Option<Vec<f64>>>()?;
+    let len = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let axis = (0..3).max_by(|&a, &b| v[a].abs().total_cmp(&v[b].abs()))?;
+    (len >= TRUNK_MM && v[axis].abs() >= 0.8 * len).then_some(Direction {
+        axis,
+        positive: v[axis] > 0.0,
+    })
+}
+
+/// A pelvis landmark's label (as [`gait::markers::canonical`] gives it).
+fn is_pelvis(n: &str) -> bool {
+    let part = n.strip_prefix(['l', 'r']).unwrap_or(n);
+    ["asi", "psi", "ias", "ips"].contains(&part)
+        || ["asis", "psis", "sacr", "sacrum", "vsac"]
+            .iter()
+            .any(|s| n.starts_with(s) || part.starts_with(s))
+}
+
+/// An upper-trunk or head landmark's label (as [`gait::markers::canonical`] gives it).
+fn is_upper_trunk(n: &str) -> bool {
+    let part = n.strip_prefix(['l', 'r']).unwrap_or(n);
+    ["c7", "t1", "sho", "fhd", "bhd"].contains(&n)
+        || ["sho", "fhd", "bhd", "acr"].contains(&part)
+        || ["clav", "strn", "ster", "acro", "head"]
+            .iter()
+            .any(|s| n.starts_with(s) || part.starts_with(s))
+}
+
+/// Per direction (−x, +x, −y, …), the height (mm) of each sampled frame's lowest marker,
+/// for [`floor`].
+fn lowest_per_direction(frames: &[[Vec<f32>; 3]], mm: f32) -> [Vec<f32>; 6] {
+    let mut lowest: [Vec<f32>; 6] = Default::default();
+    for frame in frames {
+        if frame[0].len() >= 2 {
+            for a in 0..3 {
+                let lo = frame[a].iter().copied().fold(f32::INFINITY, f32::min);
+                let hi = frame[a].iter().copied().fold(f32::NEG_INFINITY, f32::max);
+                lowest[2 * a].push(-hi * mm);
+                lowest[2 * a + 1].push(lo * mm);
+            }
+        }
+    }
+    lowest
 }
 
 /// [`markers_up`]'s rule for positions held in memory (a BVH skeleton's joints, which have

@@ -113,8 +113,12 @@ fn strikes(
             let s = c
                 .events()
                 .iter()
-                .filter(|e| e.label.trim().eq_ignore_ascii_case(strike))
-                .filter_map(|e| side_of(&e.context).map(|s| (s, e.time)))
+                .filter_map(
+                    |e| match crate::event_labels::gait_event(&e.context, &e.label) {
+                        Some((s, gait::Kind::FootStrike)) => Some((s, e.time)),
+                        _ => None,
+                    },
+                )
                 .collect();
             Ok((s, "file"))
         }

@@ -53,6 +53,16 @@ pub enum Error {
     /// file does not have, a value out of range).
     #[error("{0}")]
     Options(String),
+    /// The markers a job needs (heels, toes, pelvis) are not in the trial under any name
+    /// known or given; each front end says how to name them.
+    #[error("{}: {source}{}", path.display(), if *for_plates { PLATES_NEED_FEET } else { "" })]
+    Markers {
+        path: PathBuf,
+        #[source]
+        source: gait::Error,
+        /// Events were asked of the plates alone, which need the feet's markers too.
+        for_plates: bool,
+    },
     /// The trial cannot be processed as asked (no points, too few markers).
     #[error("{}: {what}", path.display())]
     Trial { path: PathBuf, what: String },
@@ -88,6 +98,9 @@ pub enum Error {
         source: repair::RepairError,
     },
 }
+
+/// Why plate events need markers, said where the markers are missing.
+pub const PLATES_NEED_FEET: &str = " (events from the plates need the foot and pelvis markers as well, to tell which foot stands on a plate)";
 
 /// A setting the command line and the Python package both expose, as an error names it:
 /// each front end spells it its own way (`--gap-lengths`, `gap_lengths=`), from

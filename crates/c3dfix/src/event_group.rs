@@ -33,9 +33,13 @@ struct Row {
     flag: i16,
 }
 
-fn is_gait(label: &str) -> bool {
+/// A row `replace` removes: a Foot Strike or Foot Off in any context, or any gait event as
+/// labs label them ([`crate::event_labels::gait_event`]: `LHS` in General, …).
+fn is_gait(context: &str, label: &str) -> bool {
     let l = label.trim();
-    l.eq_ignore_ascii_case("Foot Strike") || l.eq_ignore_ascii_case("Foot Off")
+    l.eq_ignore_ascii_case("Foot Strike")
+        || l.eq_ignore_ascii_case("Foot Off")
+        || crate::event_labels::gait_event(context, label).is_some()
 }
 
 /// The rows the file has (as many as EVENT:USED says, or as TIMES holds).
@@ -138,7 +142,7 @@ pub fn write_events(c: &mut C3d, events: &[TrialEvent], replace: bool) -> Result
     let mut rows = existing(c);
     let before = rows.len();
     if replace {
-        rows.retain(|r| !is_gait(&r.label));
+        rows.retain(|r| !is_gait(&r.context, &r.label));
     }
     let removed = before - rows.len();
     let subject = c

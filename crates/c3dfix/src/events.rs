@@ -91,6 +91,10 @@ pub struct Detected {
     /// What could not be used, in words (e.g. the markers show no walking, so only the
     /// plates' events are given).
     pub warnings: Vec<String>,
+    /// How the markers and the direction were found where names alone did not say (a
+    /// foot's heel and toe told apart by position; a treadmill), in words.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
     /// The session calibration applied, when one was given.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub session_calibration: Option<crate::events_session::SessionReport>,
@@ -134,7 +138,11 @@ fn marker_labels(c: &c3d::C3d) -> Vec<String> {
 /// are never taken).
 pub fn choose_markers(c: &c3d::C3d, names: &MarkerNames, path: &Path) -> Result<MarkerChoice> {
     let labels = marker_labels(c);
-    gait::find_markers(&labels, names).map_err(|e| trial_error(path, e))
+    gait::find_markers(&labels, names).map_err(|source| Error::Markers {
+        path: path.to_path_buf(),
+        source,
+        for_plates: false,
+    })
 }
 
 /// The trajectories of the chosen markers in millimetres, NaN where missing (a role of
@@ -203,7 +211,7 @@ fn resolve_clusters(c: &c3d::C3d, choice: &mut MarkerChoice, f: &Feet, path: &Pa
             if !(rate.is_finite() && rate > 0.0) {
                 return None;
             }
-            let dir = gait::kinematic::walking_direction(&f.pelvis, v, rate, &opts);
+            let (dir, _) = gait::kinematic::travel_direction(&f.pelvis, &refs, v, rate, &opts);
             gait::markers::cluster_heel_toe(&refs, &dir)
         });
         let (heel, toe) = match picked {
@@ -216,6 +224,7 @@ fn resolve_clusters(c: &c3d::C3d, choice: &mut MarkerChoice, f: &Feet, path: &Pa
             (choice.right_heel, choice.right_toe) = (heel, toe);
         }
         choice.foot_cluster[k] = false;
+        choice.by_position[k] = cluster;
     }
     Ok(())
 }
@@ -404,7 +413,14 @@ pub fn calibrated(
 
 /// Detect the gait events of `c` (`path` names it in messages).
 pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<Detected> {
-    let mut choice = choose_markers(c, &opts.markers, path)?;
+    let mut choice = choose_markers(c, &opts.markers, path).map_err(|e| match e {
+        Error::Markers { path, source, .. } if opts.from == EventSource::Plates => Error::Markers {
+            path,
+            source,
+            for_plates: true,
+        },
+        e => e,
+    })?;
     let feet = feet(c, &mut choice, path)?;
     let labels = c.point_labels();
     let names = |r: &[usize]| {
@@ -419,6 +435,7 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
         ("rtoe".to_string(), names(&choice.right_toe)),
         ("pelvis".to_string(), names(&choice.pelvis)),
     ];
+    let mut notes = position_notes(&choice, &labels);
     let frames = c.frames();
     if frames < gait::kinematic::MIN_FRAMES {
         return Err(trial_error(
@@ -430,6 +447,9 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
         ));
     }
     let rate = c.point_rate() as f64;
+    if gait::kinematic::prepare(&feet, rate, &opts.kinematic).is_ok_and(|p| p.treadmill) {
+        notes.push(TREADMILL_NOTE.to_string());
+    }
     let mut warnings = Vec::new();
     for (side, heel) in [("left", &choice.left_heel), ("right", &choice.right_heel)] {
         if heel.is_empty() {
@@ -460,13 +480,17 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
                     "no force plates (FORCE_PLATFORM:USED is 0 or absent)",
                 ));
             }
-            plate_events(c, &feet, &opts.plate)?
+            let p = plate_events(c, &feet, &opts.plate)?;
+            warnings.extend(crate::plate_silence::silent_plates(c, &p, &opts.plate)?);
+            p
         }
         EventSource::Auto => {
             let plates = if c.platform_params().plates.is_empty() {
                 Vec::new()
             } else {
-                plate_events(c, &feet, &opts.plate)?
+                let p = plate_events(c, &feet, &opts.plate)?;
+                warnings.extend(crate::plate_silence::silent_plates(c, &p, &opts.plate)?);
+                p
             };
             match gait::kinematic_events(&feet, rate, &opts.kinematic) {
                 Ok(k) if opts.no_calibrate => merge_auto(&plates, &k, rate),
@@ -494,6 +518,53 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
         events: events.iter().map(|e| to_trial_event(c, e)).collect(),
         markers,
         warnings,
+        notes,
         session_calibration,
     })
+}
+
+/// Whether `c` is a treadmill trial: its markers (found by name) show the pelvis staying
+/// while the feet swing back and forth under it ([`gait::treadmill`]). False where the
+/// markers cannot tell (no foot or pelvis markers, walking overground, standing).
+pub fn is_treadmill(c: &c3d::C3d, path: &Path) -> bool {
+    let Ok(mut choice) = choose_markers(c, &MarkerNames::default(), path) else {
+        return false;
+    };
+    let Ok(feet) = feet(c, &mut choice, path) else {
+        return false;
+    };
+    let rate = c.point_rate() as f64;
+    gait::kinematic::prepare(&feet, rate, &KinematicOptions::default()).is_ok_and(|p| p.treadmill)
+}
+
+/// What a trial where the pelvis stays while the feet cycle is called, and what that means
+/// for its events.
+pub const TREADMILL_NOTE: &str = "treadmill: the pelvis stays while the feet swing back and forth under it; the walking direction is the feet's, and events come from the feet relative to the pelvis (as Zeni defined them)";
+
+/// One sentence per side whose heel and toe were told apart by position.
+fn position_notes(choice: &MarkerChoice, labels: &[String]) -> Vec<String> {
+    let name = |i: &usize| labels.get(*i).cloned().unwrap_or_default();
+    [
+        ("left", &choice.by_position[0], &choice.left_heel, &choice.left_toe),
+        ("right", &choice.by_position[1], &choice.right_heel, &choice.right_toe),
+    ]
+    .into_iter()
+    .filter(|(_, among, _, _)| !among.is_empty())
+    .map(|(side, among, heel, toe)| {
+        let among: Vec<String> = among.iter().map(name).collect();
+        if heel.is_empty() {
+            format!(
+                "{side} foot: {} are never seen together while walking, so its heel and toe could not be told apart",
+                among.join(", ")
+            )
+        } else {
+            format!(
+                "{side} foot: heel {} and toe {}, the rearmost and foremost along the walking direction of {}",
+                heel.iter().map(name).collect::<Vec<_>>().join("+"),
+                toe.iter().map(name).collect::<Vec<_>>().join("+"),
+                among.join(", ")
+            )
+        }
+    })
+    .collect()
 }

@@ -10,7 +10,7 @@
 use crate::error::{Error, Result, Setting};
 use crate::events::{self, EventOptions};
 use gait::session::{Lag, SessionOptions};
-use gait::{Event, Kind, SessionOffsets, Side, Source};
+use gait::{Event, SessionOffsets, Source};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -70,16 +70,7 @@ pub fn lab_events(c: &c3d::C3d) -> Vec<Event> {
     c.events()
         .iter()
         .filter_map(|e| {
-            let side = match e.context.trim().to_ascii_lowercase().as_str() {
-                "left" => Side::Left,
-                "right" => Side::Right,
-                _ => return None,
-            };
-            let kind = match e.label.trim().to_ascii_lowercase().as_str() {
-                "foot strike" => Kind::FootStrike,
-                "foot off" => Kind::FootOff,
-                _ => return None,
-            };
+            let (side, kind) = crate::event_labels::gait_event(&e.context, &e.label)?;
             let index = (e.time - t0) * rate;
             index.is_finite().then_some(Event {
                 side,

@@ -62,20 +62,28 @@ fn kind_of(label: &str) -> Option<Kind> {
     }
 }
 
-/// The file's Foot Strike and Foot Off events of the Left and Right contexts (others,
-/// e.g. General events, are not gait events).
+/// The file's gait events: Foot Strike and Foot Off of the Left and Right contexts, and the
+/// labs' own codes ([`crate::event_labels::gait_event`]: `LHS` in General, …); other
+/// events (a generic `Event`, General milestones) are not gait events.
 pub fn file_events(c: &c3d::C3d) -> Vec<TimedEvent> {
     c.events()
         .iter()
         .filter_map(|e| {
+            let (side, kind) = crate::event_labels::gait_event(&e.context, &e.label)?;
             Some(TimedEvent {
-                side: side_of(&e.context)?,
-                kind: kind_of(&e.label)?,
+                side,
+                kind,
                 time: e.time,
             })
         })
         .collect()
 }
+
+/// What a treadmill trial's markers cannot give without the belt's speed.
+const TREADMILL_LENGTHS: [&str; 3] = ["Walking Speed", "Stride Length", "Step Length"];
+
+/// Said when the speed and lengths are left out of a treadmill trial's parameters.
+pub const TREADMILL_WARNING: &str = "treadmill (the pelvis stays while the feet cycle): Walking Speed, Stride Length and Step Length need the belt's speed, which the file does not give, so they are left out";
 
 /// The trial's time span (first and last frame's times).
 fn span(c: &c3d::C3d) -> (f64, f64) {
@@ -125,6 +133,7 @@ fn toes(
     // The file is named once, by the report: only what is wrong here.
     let what = |e: Error| match e {
         Error::Trial { what, .. } => what,
+        Error::Markers { source, .. } => source.to_string(),
         e => e.to_string(),
     };
     let mut choice = crate::events::choose_markers(c, names, path).map_err(what)?;
@@ -204,8 +213,15 @@ pub fn gait_parameters(c: &c3d::C3d, opts: &GaitOptions, path: &Path) -> Result<
     let detail =
         gait::gait_parameters(&events, toes_in.as_ref()).map_err(|e| trial_error(path, e))?;
     warnings.extend(detail.warnings.iter().cloned());
+    let mut parameters = detail.parameters();
+    if toe_data.is_some() && crate::events::is_treadmill(c, path) {
+        // The feet travel with the belt, not over the floor: the lengths and the speed the
+        // markers give are the pelvis' drift, not the walk's.
+        parameters.retain(|p| !TREADMILL_LENGTHS.contains(&p.name));
+        warnings.push(TREADMILL_WARNING.to_string());
+    }
     Ok(GaitReport {
-        parameters: detail.parameters(),
+        parameters,
         detail,
         events: source,
         toes: toe_data.map(|t| t.names),

@@ -73,6 +73,10 @@ pub struct Report<'a> {
     pub up: Option<crate::Direction>,
     /// What `up` was read from: "plates" or "markers".
     pub up_source: Option<crate::UpSource>,
+    /// "treadmill" where the pelvis stays while the feet cycle under it
+    /// ([`crate::events::is_treadmill`]); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub travel: Option<&'static str>,
     pub analog_channels: usize,
     pub analog_rate: f32,
     pub analog_samples_per_frame: usize,
@@ -154,6 +158,7 @@ pub fn describe<'a>(c: &'a c3d::C3d, file: &Path) -> Report<'a> {
             .unwrap_or(c.header.scale),
         up: up.map(|u| u.up),
         up_source: up.map(|u| u.source),
+        travel: crate::events::is_treadmill(c, file).then_some("treadmill"),
         analog_channels: c.analog_channels(),
         analog_rate: if c.analog_channels() > 0 {
             c.analog_rate()

@@ -63,6 +63,14 @@ pub fn phrase(e: &Error) -> String {
             value,
             why,
         } => format!("{} {value}: {why}", flag(*setting)),
+        Error::Markers {
+            source: c3dfix::gait::Error::NoMarker { .. },
+            ..
+        } => format!("{e} (name it with --markers)"),
+        Error::Markers {
+            source: c3dfix::gait::Error::NoFootMarkers { markers },
+            ..
+        } if *markers > 0 => format!("{e}; feet marked under other names are named with --markers"),
         other => other.to_string(),
     }
 }

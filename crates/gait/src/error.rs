@@ -6,8 +6,12 @@
 #[non_exhaustive]
 pub enum Error {
     /// A marker needed by the method is not in the trial under any known name.
-    #[error("no {what} marker: looked for {looked_for} (name it with --markers)")]
+    #[error("no {what} marker: looked for {looked_for}")]
     NoMarker { what: String, looked_for: String },
+    /// No marker of either foot under any known name: a marker set that leaves the feet
+    /// out (an upper-body set), so the trial has no gait events to give.
+    #[error("no foot markers: {}", if *markers == 0 { "the trial has no markers".to_string() } else { format!("none of the trial's {markers} markers is a heel, ankle, toe or foot marker under any known name (the marker set leaves the feet out, or names them as no known set does)") })]
+    NoFootMarkers { markers: usize },
     /// A name given by a person is no marker of the trial.
     #[error("--markers {role}={name}: the trial has no marker of that name")]
     UnknownMarker { role: String, name: String },
@@ -21,7 +25,7 @@ pub enum Error {
     #[error("every sample of the {0} markers is missing")]
     AllMissing(String),
     /// The pelvis never moves at walking speed, so there is no walking direction.
-    #[error("no walking: the pelvis never moves faster than {min_speed_m_s} m/s over {window_s} s (treadmill trials are not handled)")]
+    #[error("no walking: the pelvis never moves faster than {min_speed_m_s} m/s over {window_s} s, and the feet do not swing back and forth under it as on a treadmill")]
     NoWalking { min_speed_m_s: f64, window_s: f64 },
     /// The arrays given do not fit together, or a rate is not a positive number.
     #[error("{0}")]

@@ -286,6 +286,48 @@ pub fn walking_direction(
     dir
 }
 
+/// The walking direction per frame as [`walking_direction`] finds it from the pelvis'
+/// travel or, where the pelvis never travels at walking speed and the feet cycle under it
+/// (a treadmill: [`crate::treadmill::pelvis_stays`], and [`crate::treadmill::direction`]
+/// from `feet`), the treadmill's direction
+/// at every frame with the pelvis; the flag says which.
+pub fn travel_direction(
+    pelvis: &[[f64; 3]],
+    feet: &[&[[f64; 3]]],
+    vertical: Vertical,
+    rate: f64,
+    opts: &KinematicOptions,
+) -> (Vec<[f64; 3]>, bool) {
+    let dir = walking_direction(pelvis, vertical, rate, opts);
+    if dir.iter().any(|d| d[0].is_finite())
+        || !crate::treadmill::pelvis_stays(
+            pelvis,
+            vertical,
+            rate,
+            2.0 * opts.direction_window_s,
+            opts.min_speed_mm_s,
+        )
+    {
+        return (dir, false);
+    }
+    match crate::treadmill::direction(pelvis, feet, vertical, rate) {
+        Some(d) => (
+            pelvis
+                .iter()
+                .map(|p| {
+                    if p.iter().all(|v| v.is_finite()) {
+                        d
+                    } else {
+                        [f64::NAN; 3]
+                    }
+                })
+                .collect(),
+            true,
+        ),
+        None => (dir, false),
+    }
+}
+
 /// Give frames without a direction, where the pelvis is known, the direction of the
 /// nearest frame that has one, when it lies within `hold` frames. The first steps of a
 /// trial that starts from standing (gait initiation) and the last ones of a trial that
@@ -341,6 +383,9 @@ pub struct Prepared {
     pub vertical: Vertical,
     pub pelvis: Vec<[f64; 3]>,
     pub dir: Vec<[f64; 3]>,
+    /// The pelvis stays while the feet cycle: `dir` is the treadmill's
+    /// ([`travel_direction`]).
+    pub treadmill: bool,
     pub rate: f64,
     /// Frames either side within which an extremum must be the largest
     /// ([`KinematicOptions::min_half_stride_s`]).
@@ -388,7 +433,18 @@ pub fn prepare(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Result<Prepar
         (opts.pelvis_extend_s * rate).round() as usize,
         ((0.1 * rate).round() as usize).max(1),
     );
-    let dir = walking_direction(&pelvis, vertical, rate, opts);
+    let (dir, treadmill) = travel_direction(
+        &pelvis,
+        &[
+            &feet.left_heel,
+            &feet.left_toe,
+            &feet.right_heel,
+            &feet.right_toe,
+        ],
+        vertical,
+        rate,
+        opts,
+    );
     if dir.iter().all(|d| d[0].is_nan()) {
         return Err(Error::NoWalking {
             min_speed_m_s: opts.min_speed_mm_s / 1000.0,
@@ -400,6 +456,7 @@ pub fn prepare(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Result<Prepar
         vertical,
         pelvis,
         dir,
+        treadmill,
         rate,
         half,
         reach: 2 * half,

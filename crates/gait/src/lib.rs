@@ -35,6 +35,7 @@ pub mod plates;
 pub mod session;
 mod signal;
 pub mod touchdown;
+pub mod treadmill;
 pub mod velocity;
 
 pub use calibrate::calibrate;

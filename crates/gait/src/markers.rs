@@ -35,6 +35,8 @@ const HEEL: &[&str] = &[
     "hl",
     "tln",
     "talon",
+    // IOR/CAST's calcaneus (`RCA`), last: a bare "ca" is no other set's heel.
+    "ca",
 ];
 const ANKLE: &[&str] = &["ank", "lmal", "fal", "ankle", "lma", "mal", "mall", "mm"];
 /// Toe names, best first: the second metatarsal head (Plug-in Gait's TOE) before the first
@@ -42,7 +44,16 @@ const ANKLE: &[&str] = &["ank", "lmal", "fal", "ankle", "lma", "mal", "mall", "m
 const TOE: &[&str] = &[
     "toe", "to", "mt2", "fm2", "toetip", "ttoe", "toefoot", "met", "mt1", "fm1", "p1mt", "met1",
     "mt5", "fm5", "p5mt", "met5", "mh1", "mh5", "latoe",
+    // IOR/CAST's metatarsal heads by Roman numeral: second (`RIIMH`), first (`RIMH`), fifth
+    // (`RVMH`), in the order above.
+    "iimh", "imh", "vmh", "fmh", "fm",
 ];
+/// Beginnings of labels that name a part of the foot with a qualifier after it
+/// (`L.Heel.Bottom`, `LHeelTop`, `LCalcExt`; `L.MT1.Dorsal`, `RToeTip2`): when a side has
+/// no heel or no toe by the names above, its markers named so (and those above) are the
+/// foot's landmarks, whose heel and toe are told by their positions ([`cluster_heel_toe`]).
+const HEEL_STEMS: &[&str] = &["heel", "calc"];
+const TOE_STEMS: &[&str] = &["toe", "mt", "met", "hallux", "forefoot"];
 /// Markers standing alone for the pelvis (sacrum, mid-PSIS).
 const SACRUM: &[&str] = &[
     "sacr", "sacrum", "sac", "vsac", "mpsi", "sacral", "s1", "ppsi", "pelv", "pelvis",
@@ -116,6 +127,9 @@ pub struct MarkerChoice {
     /// Left and right: the side's heel and toe lists both hold its foot cluster markers
     /// (no heel or toe label known), to be told apart by [`cluster_heel_toe`].
     pub foot_cluster: [bool; 2],
+    /// Left and right: the markers among which the heel and toe were told apart by their
+    /// positions (a cluster or the foot's landmarks), once they have been; empty otherwise.
+    pub by_position: [Vec<usize>; 2],
 }
 
 /// Names given by a person for some roles (each a list whose mean is used).
@@ -228,6 +242,42 @@ fn foot_cluster(norm: &[String], side: char) -> Vec<usize> {
         .collect()
 }
 
+/// The foot landmarks of `side` (file order): its markers whose label names a heel or a
+/// toe part ([`HEEL`], [`TOE`]) or begins with one ([`HEEL_STEMS`], [`TOE_STEMS`]), when
+/// they hold at least one of each kind and three markers or more, or one of each kind
+/// with a qualified name among them (`L.Heel.Bottom` and `L.MT1`). Their heel and toe are
+/// then the rearmost and the foremost along the walking direction, as for a cluster: where
+/// names are ambiguous (three heel markers, two metatarsal heads, `Heel.Top` and
+/// `Heel.Bottom`), the positions are not.
+fn foot_landmarks(norm: &[String], side: char) -> Option<Vec<usize>> {
+    let mut heels = 0;
+    let mut toes = 0;
+    let mut qualified = false;
+    let mut out = Vec::new();
+    for (i, n) in norm.iter().enumerate() {
+        let Some((s, rest)) = split_side(n) else {
+            continue;
+        };
+        if s != side {
+            continue;
+        }
+        let heel_stem = HEEL_STEMS.iter().any(|h| rest.starts_with(h));
+        let toe_stem = TOE_STEMS.iter().any(|t| rest.starts_with(t));
+        let exact_heel = HEEL.contains(&rest);
+        let exact_toe = TOE.contains(&rest);
+        if exact_heel || heel_stem {
+            heels += 1;
+        } else if exact_toe || toe_stem {
+            toes += 1;
+        } else {
+            continue;
+        }
+        qualified |= (heel_stem && !exact_heel) || (toe_stem && !exact_toe);
+        out.push(i);
+    }
+    (heels > 0 && toes > 0 && (out.len() >= 3 || qualified)).then_some(out)
+}
+
 /// The pelvis cluster markers, sided or not (`PV1`, `RPV2`), if at least two.
 fn pelvis_cluster(norm: &[String]) -> Option<Vec<usize>> {
     let v: Vec<usize> = norm
@@ -314,10 +364,27 @@ pub fn find_markers(labels: &[String], names: &MarkerNames) -> Result<MarkerChoi
                 };
             }
         }
+        if !f.named && (!f.complete() || f.ankle) && !f.cluster {
+            if let Some(landmarks) = foot_landmarks(&norm, side) {
+                f = SideFoot {
+                    heel: Ok(landmarks.clone()),
+                    toe: Ok(landmarks),
+                    ankle: false,
+                    cluster: true,
+                    named: false,
+                };
+            }
+        }
         f
     };
     let left = side_foot('l', &names.left_heel, &names.left_toe);
     let right = side_foot('r', &names.right_heel, &names.right_toe);
+    let any_foot = |f: &SideFoot| f.named || f.cluster || f.heel.is_ok() || f.toe.is_ok();
+    if !any_foot(&left) && !any_foot(&right) {
+        return Err(Error::NoFootMarkers {
+            markers: labels.iter().filter(|l| !l.trim().is_empty()).count(),
+        });
+    }
     if !left.complete() && (left.named || !right.complete()) {
         left.heel.clone()?;
         left.toe.clone()?;
@@ -376,6 +443,7 @@ pub fn find_markers(labels: &[String], names: &MarkerNames) -> Result<MarkerChoi
         left_toe,
         right_toe,
         pelvis,
+        by_position: Default::default(),
     })
 }
 
@@ -470,7 +538,18 @@ mod tests {
     fn names_given_and_errors() {
         let l = labels(&["A", "B", "C", "D", "E", "F"]);
         let e = find_markers(&l, &MarkerNames::default()).unwrap_err();
-        assert!(e.to_string().contains("no lheel marker"), "{e}");
+        assert!(
+            e.to_string()
+                .contains("no foot markers: none of the trial's 6 markers"),
+            "{e}"
+        );
+        // A set with a heel but no toe says which role is missing.
+        let l2 = labels(&["LHEE", "RHEE", "SACR"]);
+        let e = find_markers(&l2, &MarkerNames::default()).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "no ltoe marker: looked for LTOE, LTO, LMT2, LFM2, LFT1…"
+        );
         let n = MarkerNames::parse(&[
             "lheel=A,rheel=B".into(),
             "ltoe=C".into(),
@@ -557,6 +636,54 @@ mod tests {
         assert_eq!(cluster_heel_toe(&[&a, &b, &c], &back), Some((0, 2)));
         let none = vec![[f64::NAN; 3]; frames];
         assert_eq!(cluster_heel_toe(&[&a, &b, &c], &none), None);
+    }
+
+    #[test]
+    fn anatomical_landmark_sets_and_qualified_names() {
+        // IOR/CAST (MOtoNMS' Padova walks): calcaneus and metatarsal heads by numeral.
+        let l = labels(&[
+            "RPSIS", "LPSIS", "RLM", "LLM", "RMM", "LMM", "RCA", "LCA", "RVMH", "LVMH", "RIMH",
+            "LIMH", "RIIT", "LIIT",
+        ]);
+        let m = find_markers(&l, &MarkerNames::default()).unwrap();
+        assert_eq!(
+            (m.left_heel.clone(), m.left_toe.clone(), m.right_toe.clone()),
+            (vec![7], vec![11], vec![10])
+        );
+        assert_eq!(m.heel_is_ankle, [false, false]);
+        assert_eq!(m.foot_cluster, [false, false]);
+        // RBDS: three heel markers with qualifiers and two metatarsal heads, told apart by
+        // position (the whole set in both roles).
+        let l = labels(&[
+            "L.ASIS",
+            "L.Heel.Bottom",
+            "L.Heel.Lateral",
+            "L.Heel.Top",
+            "L.MT1",
+            "L.MT5",
+            "L.PSIS",
+            "R.Heel.Top",
+            "R.MT1",
+            "R.PSIS",
+        ]);
+        let m = find_markers(&l, &MarkerNames::default()).unwrap();
+        assert_eq!(m.foot_cluster, [true, true]);
+        assert_eq!(m.left_heel, vec![1, 2, 3, 4, 5]);
+        assert_eq!(m.right_toe, vec![7, 8]);
+        assert_eq!(m.pelvis, vec![6, 9]);
+        // An ankle-and-toe set keeps the ankle for the heel (no landmark names a heel).
+        let l = labels(&["LANK", "RANK", "LTOE", "RTOE", "LMT5", "RMT5", "SACR"]);
+        let m = find_markers(&l, &MarkerNames::default()).unwrap();
+        assert_eq!(
+            (m.heel_is_ankle, m.foot_cluster),
+            ([true, true], [false, false])
+        );
+        // Hand and wrist names that begin like foot parts are no foot.
+        let l = labels(&["RCAR", "LCAR", "RMETA", "SACR"]);
+        assert!(matches!(
+            find_markers(&l, &MarkerNames::default()),
+            Err(Error::NoFootMarkers { markers: 4 })
+        ));
     }
 
     #[test]

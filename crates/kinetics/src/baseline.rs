@@ -52,6 +52,24 @@ pub const MAX_UNLOADED_N: f64 = 60.0;
 pub struct Quiet {
     pub range: Range<usize>,
     pub level: f64,
+    /// How much the total force moves in the stretch (N, the root of the summed variances
+    /// of its components).
+    pub spread: f64,
+}
+
+/// The smallest pull (N) whose subtraction could lift a plate's zero readings to a contact:
+/// half the lowest contact threshold the library uses (10 N). Smaller levels are kept as
+/// they always were, whatever their noise.
+pub const MIN_LIFTING_PULL_N: f64 = 5.0;
+
+/// Whether a stretch read as a pull of `level` (negative push) with `spread` can be the
+/// plate's offset: a steady offset moves less than its own size. A "level" that is no more
+/// than the mean of pulls coming and going (a plate reading 0 on most samples and a pull
+/// of 95 N on the others, as `c3d-labs`' sprint plate 2 does) is no offset, and subtracting
+/// it would turn every sample at 0 into a push that nothing made: a pull is never a load.
+/// Pulls under [`MIN_LIFTING_PULL_N`] make no contact and are taken as before.
+pub fn steady_pull(level: f64, spread: f64) -> bool {
+    level > -MIN_LIFTING_PULL_N || spread < -level
 }
 
 /// The mean of `push` over `range` (the level a baseline stretch removes); NaN when the
@@ -109,13 +127,14 @@ pub fn quiet_stretch(push: &[f64], force: &[[f64; 3]], rate: f64) -> Option<Quie
     }
     let stillest = windows.iter().map(|w| w.2).fold(f64::INFINITY, f64::min);
     let steady = FLAT_FACTOR * stillest + FLAT_FLOOR_N;
-    let (start, mean, _) = windows
+    let (start, mean, spread) = windows
         .into_iter()
         .filter(|w| w.2 <= steady)
         .min_by(|a, b| a.1.total_cmp(&b.1))?;
     Some(Quiet {
         range: start..start + w,
         level: mean,
+        spread,
     })
 }
 

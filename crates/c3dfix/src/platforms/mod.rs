@@ -465,6 +465,25 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
                 continue;
             }
         };
+        let (r, reversed) = match reversed_origin(&spec, &refs, opts.threshold, &r) {
+            Some((r2, before, after)) => (r2, Some((before, after))),
+            None => (r, None),
+        };
+        if let Some((before, after)) = reversed {
+            warn(
+                &mut out,
+                p.index,
+                "ORIGIN",
+                format!(
+                    "x and y are {}, {}, which put the centre of pressure outside the plate in {:.0} % of its loaded samples; with their signs reversed, {:.0} %: read as {} (the transducer's offset written from the other end)",
+                    short(origin[0]),
+                    short(origin[1]),
+                    100.0 * before,
+                    100.0 * after,
+                    triple(r.origin.used)
+                ),
+            );
+        }
         if r.origin.corrected {
             warn(
                 &mut out,
@@ -536,6 +555,55 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
     Ok(out)
 }
 
+/// Loaded samples (push at least the threshold, a finite COP) needed before the COP's place
+/// on the plate is judged for [`reversed_origin`]: a tenth of a second at 1 kHz.
+const MIN_LOADED_SAMPLES: usize = 100;
+
+/// The plate computed with FORCE_PLATFORM:ORIGIN's x and y negated, when the ORIGIN as
+/// stored puts the centre of pressure outside the plate's corners in most loaded samples
+/// and the negated one puts it inside in at least nine in ten: the physics decides (a foot
+/// stands on the plate), and some writers store the transducer's offset from the other end
+/// (`c3d-labs`' rtosim treadmill: 100 % outside as stored). With the fractions outside,
+/// before and after. Type 3 plates' ORIGIN holds the sensors' distances, not an offset: left
+/// alone.
+fn reversed_origin(
+    spec: &PlateSpec,
+    refs: &[&[f64]],
+    threshold: f64,
+    r: &kinetics::PlateOutput,
+) -> Option<(kinetics::PlateOutput, f64, f64)> {
+    if spec.kind == 3 || !(spec.origin[0] != 0.0 || spec.origin[1] != 0.0) {
+        return None;
+    }
+    let off = |o: &kinetics::PlateOutput| -> Option<f64> {
+        let loaded: Vec<&[f64; 3]> = o
+            .push
+            .iter()
+            .zip(&o.cop)
+            .filter(|(p, c)| **p >= threshold && c.iter().all(|v| v.is_finite()))
+            .map(|(_, c)| c)
+            .collect();
+        (loaded.len() >= MIN_LOADED_SAMPLES).then(|| {
+            let n = loaded
+                .iter()
+                .filter(|c| crate::plate_silence::off_plate(&spec.corners, c, spec.mm_per_unit))
+                .count();
+            n as f64 / loaded.len() as f64
+        })
+    };
+    let before = off(r)?;
+    if before <= 0.5 {
+        return None;
+    }
+    let flipped = PlateSpec {
+        origin: [-spec.origin[0], -spec.origin[1], spec.origin[2]],
+        ..*spec
+    };
+    let r2 = kinetics::compute(&flipped, refs, threshold).ok()?;
+    let after = off(&r2)?;
+    (after <= 0.1).then_some((r2, before, after))
+}
+
 /// The stretch whose channel means are the plate's unloaded level: ZERO's samples where the
 /// plate reads no load there, else the quiet stretch of [`kinetics::baseline`]; with what to
 /// tell the user when the rule had to depart from ZERO or found nothing.
@@ -574,6 +642,13 @@ fn unloaded_stretch(
         }
     }
     match kinetics::baseline::quiet_stretch(&raw.push, &raw.force, rate) {
+        Some(q) if !kinetics::baseline::steady_pull(q.level, q.spread) => {
+            let m = format!(
+                "its quietest low stretch reads a pull of {:.1} N that moves by {:.1} N, pulls coming and going rather than an offset: nothing subtracted (a pull is never a load)",
+                -q.level, q.spread
+            );
+            (None, Some(note.map_or(m.clone(), |n| format!("{n}; {m}"))))
+        }
         Some(q) if kinetics::baseline::unloaded(q.level) => {
             let found = (BaselineSource::Quiet, q.range, q.level);
             let note = note.map(|n| format!("{n}; its quietest low stretch is used"));

@@ -133,6 +133,9 @@ fn as_json(path: &std::path::Path, d: &Detected) -> serde_json::Value {
         "markers": markers,
         "warnings": d.warnings,
     });
+    if let (false, Some(o)) = (d.notes.is_empty(), doc.as_object_mut()) {
+        o.insert("notes".into(), serde_json::json!(d.notes));
+    }
     if let (Some(s), Some(o)) = (&d.session_calibration, doc.as_object_mut()) {
         o.insert("session_calibration".into(), serde_json::json!(s));
     }
@@ -219,6 +222,9 @@ pub fn run(mut a: Args) -> Result<i32> {
 
 fn print_text(path: &std::path::Path, d: &Detected) -> Result<()> {
     outln!("{}: {} events", path.display(), d.events.len())?;
+    for n in &d.notes {
+        outln!("  note: {n}")?;
+    }
     for w in &d.warnings {
         outln!("  warning: {w}")?;
     }

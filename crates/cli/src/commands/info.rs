@@ -63,6 +63,9 @@ fn print_text(r: &Report) -> Result<()> {
         (Some(up), Some(source)) => outln!("  up           {up} (from {source})")?,
         _ => outln!("  up           unknown (no force plates, no marker samples)")?,
     }
+    if let Some(travel) = r.travel {
+        outln!("  travel       {travel} (the pelvis stays while the feet swing back and forth under it)")?;
+    }
     if r.analog_channels > 0 {
         outln!(
             "  analog       {} channels at {} Hz ({} samples per frame)",
@@ -174,7 +177,20 @@ fn print_text(r: &Report) -> Result<()> {
             outln!("    header  {:<8} {:>9.3} s", e.label, e.time)?;
         }
         for e in &r.events {
-            outln!("    {:<7} {:<16} {:>9.3} s", e.context, e.label, e.time)?;
+            // A lab's own gait label (`LHS` in General) says what it is read as.
+            let nexus = e.label.trim().eq_ignore_ascii_case("Foot Strike")
+                || e.label.trim().eq_ignore_ascii_case("Foot Off");
+            match c3dfix::event_labels::gait_event(&e.context, &e.label) {
+                Some((side, kind)) if !nexus => outln!(
+                    "    {:<7} {:<16} {:>9.3} s  (read as {} {})",
+                    e.context,
+                    e.label,
+                    e.time,
+                    side.context(),
+                    kind.label()
+                )?,
+                _ => outln!("    {:<7} {:<16} {:>9.3} s", e.context, e.label, e.time)?,
+            }
         }
     }
     if r.warnings.is_empty() {

@@ -1,0 +1,227 @@
+//! Gait events on the next lab's trials (`c3d-labs`, on which no constant was chosen): foot
+//! markers of other marker sets, found by name or told apart by position, treadmills, and
+//! trials that have no feet to give events.
+
+use c3dfix::events::{detect_events, is_treadmill, Detected, EventOptions, EventSource};
+use std::path::PathBuf;
+
+fn labs(name: &str) -> Option<PathBuf> {
+    Some(testkit::c3d_labs()?.join(format!("{name}.c3d")))
+}
+
+fn detect(path: &PathBuf, from: EventSource) -> c3dfix::Result<Detected> {
+    let c = c3dfix::open(path).unwrap();
+    let opts = EventOptions {
+        from,
+        ..EventOptions::default()
+    };
+    detect_events(&c, &opts, path)
+}
+
+fn role<'a>(d: &'a Detected, r: &str) -> Vec<&'a str> {
+    d.markers
+        .iter()
+        .find(|(name, _)| name == r)
+        .map(|(_, v)| v.iter().map(|s| s.as_str()).collect())
+        .unwrap_or_default()
+}
+
+fn count(d: &Detected, context: &str, label: &str) -> usize {
+    d.events
+        .iter()
+        .filter(|e| e.context == context && e.label == label)
+        .count()
+}
+
+#[test]
+fn an_ior_anatomical_set_gives_events_from_the_calcaneus_and_first_metatarsal_head() {
+    // MOtoNMS' Padova walk: calcaneus RCA, metatarsal heads RIMH/RVMH, no toe marker.
+    let Some(path) = labs("RehabEngGroup__MOtoNMS__Walking1") else {
+        return;
+    };
+    let d = detect(&path, EventSource::Kinematics).unwrap();
+    assert_eq!(role(&d, "lheel"), ["LCA"]);
+    assert_eq!(role(&d, "ltoe"), ["LIMH"]);
+    assert_eq!(role(&d, "rheel"), ["RCA"]);
+    assert_eq!(role(&d, "pelvis"), ["LPSIS", "RPSIS"]);
+    // The left foot's strike on plate 2 (3.017 s) and its off (3.719 s), from the markers.
+    let t = |label: &str, near: f64| {
+        d.events
+            .iter()
+            .filter(|e| e.context == "Left" && e.label == label)
+            .map(|e| e.time - near)
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+            .unwrap()
+    };
+    assert!(
+        t("Foot Strike", 3.017).abs() < 0.05,
+        "{}",
+        t("Foot Strike", 3.017)
+    );
+    assert!(
+        t("Foot Off", 3.719).abs() < 0.03,
+        "{}",
+        t("Foot Off", 3.719)
+    );
+}
+
+#[test]
+fn dotted_heel_names_with_qualifiers_are_told_apart_by_position() {
+    // RBDS (treadmill run): L.Heel.Bottom, L.Heel.Lateral, L.Heel.Top, L.MT1, L.MT5.
+    let Some(path) = labs("regifukuchi__BMC-RIC-running-biomechanics__RBDS001runT35") else {
+        return;
+    };
+    let d = detect(&path, EventSource::Kinematics).unwrap();
+    assert_eq!(role(&d, "lheel"), ["L.Heel.Bottom"]);
+    assert_eq!(role(&d, "ltoe"), ["L.MT1"]);
+    assert_eq!(role(&d, "rheel"), ["R.Heel.Bottom"]);
+    assert_eq!(role(&d, "rtoe"), ["R.MT5"]);
+    assert_eq!(role(&d, "pelvis"), ["L.PSIS", "R.PSIS"]);
+    assert!(
+        d.notes[0].starts_with("left foot: heel L.Heel.Bottom and toe L.MT1, the rearmost"),
+        "{:?}",
+        d.notes
+    );
+    assert_eq!(d.notes.last().unwrap(), c3dfix::events::TREADMILL_NOTE);
+}
+
+#[test]
+fn an_upper_body_set_is_refused_for_want_of_feet_not_of_a_heel() {
+    // pyomeca's box lifting: shoulder, arm and box markers, no foot.
+    let Some(path) = labs("pyomeca__pyomeca__markers_analogs") else {
+        return;
+    };
+    let e = detect(&path, EventSource::Auto).unwrap_err().to_string();
+    assert!(
+        e.contains("no foot markers: none of the trial's 51 markers"),
+        "{e}"
+    );
+    assert!(!e.contains("--markers"), "{e}");
+}
+
+#[test]
+fn treadmill_walking_gets_every_step_from_the_feet_relative_to_the_pelvis() {
+    // rtosim: 8.7 s on an instrumented treadmill, the pelvis still; each belt's plate
+    // shows 8 contacts of one foot.
+    let Some(path) = labs("RealTimeBiomechanics__rtosim__walking_1") else {
+        return;
+    };
+    let c = c3dfix::open(&path).unwrap();
+    assert!(is_treadmill(&c, &path));
+    let d = detect(&path, EventSource::Kinematics).unwrap();
+    assert_eq!(d.notes, [c3dfix::events::TREADMILL_NOTE]);
+    assert_eq!(
+        [
+            count(&d, "Left", "Foot Strike"),
+            count(&d, "Left", "Foot Off"),
+            count(&d, "Right", "Foot Strike"),
+            count(&d, "Right", "Foot Off"),
+        ],
+        [8, 7, 7, 8]
+    );
+    // An overground walk is no treadmill.
+    let Some(walk) = labs("psbiomech__lasem-data-processing__FAILT01_Walk01") else {
+        return;
+    };
+    assert!(!is_treadmill(&c3dfix::open(&walk).unwrap(), &walk));
+    // Nor is a walkway run whose pelvis is seen for less than a stride (85 % missing).
+    let Some(run) = labs("RehabEngGroup__MOtoNMS__Running_1") else {
+        return;
+    };
+    assert!(!is_treadmill(&c3dfix::open(&run).unwrap(), &run));
+}
+
+#[test]
+fn a_treadmill_run_with_a_foot_cluster_gets_its_events_not_a_missing_marker_error() {
+    // 20140515T133244_run: four-marker foot clusters (L_foot_1…4) and a pelvis cluster;
+    // the cluster's heel and toe need the walking direction, which is the treadmill's.
+    let Some(path) = labs("regifukuchi__BMC-RIC-running-biomechanics__20140515T133244_run") else {
+        return;
+    };
+    let d = detect(&path, EventSource::Kinematics).unwrap();
+    assert_eq!(role(&d, "lheel"), ["L_foot_2"]);
+    assert_eq!(role(&d, "ltoe"), ["L_foot_3"]);
+    assert_eq!(role(&d, "rheel"), ["R_foot_1"]);
+    assert_eq!(role(&d, "rtoe"), ["R_foot_2"]);
+    assert_eq!(d.events.len(), 152);
+}
+
+#[test]
+fn treadmill_running_strikes_from_the_markers_match_the_instrumented_belt() {
+    // RBDS001runT35: 30 s at 3.5 m/s, one plate under the belt. Every plate strike has a
+    // kinematic one of the same foot within 60 ms, 95 % within 30 ms, the median 11.6 ms
+    // (measured on this file; nothing was chosen on it).
+    let Some(path) = labs("regifukuchi__BMC-RIC-running-biomechanics__RBDS001runT35") else {
+        return;
+    };
+    let plates = detect(&path, EventSource::Plates).unwrap();
+    let kin = detect(&path, EventSource::Kinematics).unwrap();
+    let strikes: Vec<_> = plates
+        .events
+        .iter()
+        .filter(|e| e.label == "Foot Strike")
+        .collect();
+    assert_eq!(strikes.len(), 85);
+    let mut err: Vec<f64> = strikes
+        .iter()
+        .map(|p| {
+            kin.events
+                .iter()
+                .filter(|k| k.label == p.label && k.context == p.context)
+                .map(|k| (k.time - p.time).abs())
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
+    err.sort_by(f64::total_cmp);
+    assert!(err[err.len() - 1] < 0.060, "{err:?}");
+    assert!(err[err.len() * 95 / 100] < 0.030, "{err:?}");
+    assert!((err[err.len() / 2] - 0.0116).abs() < 0.002, "{err:?}");
+}
+
+#[test]
+fn a_labs_own_codes_in_the_general_context_are_read_as_gait_events() {
+    // s2mLab's walk: LHS, RTO, RHS, LTO in General, two full cycles of each foot.
+    let Some(path) = labs("s2mLab__BioptimPaperExamples__normal01_out") else {
+        return;
+    };
+    let c = c3dfix::open(&path).unwrap();
+    let ev = c3dfix::gait_params::file_events(&c);
+    assert_eq!(ev.len(), 7);
+    let r = c3dfix::gait_parameters(&c, &c3dfix::GaitOptions::default(), &path).unwrap();
+    let cadence = r
+        .parameters
+        .iter()
+        .find(|p| p.context == "Left" && p.name == "Cadence")
+        .map(|p| p.value);
+    assert!(
+        cadence.is_some_and(|v| (v - 129.0323).abs() < 1e-3),
+        "{cadence:?}"
+    );
+    // The session calibration reads them as truth too.
+    assert_eq!(c3dfix::events_session::lab_events(&c).len(), 7);
+}
+
+#[test]
+fn treadmill_gait_parameters_leave_out_what_needs_the_belt_speed() {
+    // rtosim: the markers' speed is the pelvis' drift (0.02 m/s), not the walk's.
+    let Some(path) = labs("RealTimeBiomechanics__rtosim__walking_1") else {
+        return;
+    };
+    let c = c3dfix::open(&path).unwrap();
+    let opts = c3dfix::GaitOptions {
+        detect: Some(EventOptions::default()),
+        ..c3dfix::GaitOptions::default()
+    };
+    let r = c3dfix::gait_parameters(&c, &opts, &path).unwrap();
+    let names: Vec<&str> = r
+        .parameters
+        .iter()
+        .filter(|p| p.context == "Left")
+        .map(|p| p.name)
+        .collect();
+    assert!(names.contains(&"Cadence") && names.contains(&"Step Width"));
+    assert!(!names.contains(&"Walking Speed") && !names.contains(&"Stride Length"));
+    assert!(r
+        .warnings
+        .contains(&c3dfix::gait_params::TREADMILL_WARNING.to_string()));
+}
