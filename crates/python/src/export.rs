@@ -24,7 +24,14 @@ fn selection(markers: Option<Vec<String>>, all_points: bool) -> PyResult<Option<
 fn export_file(py: Python<'_>, c3d: &PyC3d, path: PathBuf, opts: ExportOptions) -> PyResult<()> {
     let name = c3d.name();
     py.allow_threads(|| {
-        export::export(&c3d.inner, &name, &ExportDestination::File(path), &opts).map(|_| ())
+        export::export(
+            &c3d.inner,
+            &name,
+            &ExportDestination::File(path),
+            &opts,
+            &mut |_| {},
+        )
+        .map(|_| ())
     })
     .map_err(lib_err)
 }
@@ -120,7 +127,7 @@ pub fn export_opensim(
     let name = c3d.name();
     let dest = ExportDestination::Folder(out_dir);
     let exported = py
-        .allow_threads(|| export::export(&c3d.inner, &name, &dest, &opts))
+        .allow_threads(|| export::export(&c3d.inner, &name, &dest, &opts, &mut |_| {}))
         .map_err(lib_err)?;
     let Some(done) = exported.opensim else {
         return Err(err("the OpenSim export wrote no pair"));

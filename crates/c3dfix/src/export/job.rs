@@ -119,8 +119,6 @@ pub struct Exported {
     pub written: Vec<PathBuf>,
     /// Labels changed to fit a TRC header (empty, or holding a tab or a line break).
     pub changed_labels: Vec<String>,
-    /// The plates' warnings (MOT, `opensim`).
-    pub warnings: Vec<PlateWarning>,
     /// The pair's report, for `opensim`.
     pub opensim: Option<OpenSimExport>,
 }
@@ -151,12 +149,15 @@ impl ExportOptions {
 }
 
 /// Export the trial `c`, read from `input`, as `opts` asks, to `dest` (files written
-/// atomically, the CSV's two tables together or not at all).
+/// atomically, the CSV's two tables together or not at all). The plates' warnings go to
+/// `warn` as soon as the plates are computed, so a person hears of a plate left out even
+/// when the export then fails for want of plates.
 pub fn export(
     c: &c3d::C3d,
     input: &Path,
     dest: &ExportDestination,
     opts: &ExportOptions,
+    warn: &mut dyn FnMut(&PlateWarning),
 ) -> Result<Exported> {
     opts.check(input, dest)?;
     let points = opts
@@ -182,7 +183,7 @@ pub fn export(
         ExportFormat::Json => json(c, &points.indices(c)?)?,
         ExportFormat::Mot => {
             let fp = force_platforms(c, &opts.forces)?;
-            done.warnings = fp.warnings.clone();
+            fp.warnings.iter().for_each(&mut *warn);
             mot(c, &fp, input, &axes)?
         }
         ExportFormat::Opensim => {
@@ -203,7 +204,7 @@ pub fn export(
             done.written.push(pair.trc.clone());
             done.written.extend(pair.mot.clone());
             done.changed_labels = pair.changed_labels.clone();
-            done.warnings = pair.warnings.clone();
+            pair.warnings.iter().for_each(&mut *warn);
             done.opensim = Some(pair);
             return Ok(done);
         }

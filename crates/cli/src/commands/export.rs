@@ -94,10 +94,10 @@ pub fn run(a: Args) -> Result<i32> {
     };
     opts.check(&a.file, &dest)?;
     let c = read_c3d(&a.file)?;
-    let done = export::export(&c, &a.file, &dest, &opts)?;
-    for w in &done.warnings {
-        errln!("c3dfix: warning: {}: {w}", a.file.display());
-    }
+    let file = a.file.display().to_string();
+    let done = export::export(&c, &a.file, &dest, &opts, &mut |w| {
+        errln!("c3dfix: warning: {file}: {w}")
+    })?;
     warn_labels(&a.file, &done.changed_labels)?;
     if let Some(text) = &done.text {
         out!("{text}")?;
