@@ -38,6 +38,7 @@ pub mod markers;
 mod options;
 pub mod platforms;
 mod repair;
+pub mod report;
 pub mod rerun;
 pub mod save;
 pub mod swap_stage;
