@@ -393,6 +393,7 @@
     });
     r.links = Array.from(document.querySelectorAll('a.view')).map((a) => a.getAttribute('href'));
     r.scripts = document.scripts.length;
+    r.injected = document.querySelectorAll('[onload],[onerror],[onclick]').length + (window.pwned ? 1 : 0);
     r.ok = errors.length === 0 && r.sorted_desc && r.sorted_asc && r.filter_ok;
     const out = el('pre', JSON.stringify(r));
     out.id = 'selftest';
