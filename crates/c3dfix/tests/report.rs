@@ -100,7 +100,7 @@ fn rows_equal_the_repairs_summaries_and_records_on_c3d_more() {
             .map(|r| r.1 - r.0 + 1)
             .sum();
         assert_eq!(Some(drawn_missing), b.missing_after, "{name}");
-        assert_eq!(b.view.is_some(), true, "{name}");
+        assert!(b.view.is_some(), "{name}");
         assert!(a.pictures.fills.len() <= 3);
         assert_eq!(a.pictures.fills.len(), s.filled.min(3), "{name}");
         filled += s.filled;
