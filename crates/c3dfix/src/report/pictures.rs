@@ -11,8 +11,12 @@ use serde::Serialize;
 /// Values per force curve: one per bucket of samples, the bucket's largest push, so no
 /// contact's peak is lost between buckets.
 const FORCE_POINTS: usize = 300;
-/// Frames drawn per fill curve at most (longer windows are drawn every n-th frame).
-const FILL_POINTS: usize = 240;
+/// Frames drawn per fill curve at most (longer windows are drawn every n-th frame): a small
+/// picture is about as many pixels wide.
+const FILL_POINTS: usize = 120;
+/// Steps a fill curve's coordinates are rounded to, over each axis' range in the window: a
+/// thousandth of the picture's height, far below a pixel, and the page a third the size.
+const FILL_STEPS: f64 = 1000.0;
 /// Fills drawn per trial.
 const WORST_FILLS: usize = 3;
 
@@ -91,8 +95,8 @@ pub struct FillCurve {
     /// The frame of the first value, and frames between values.
     pub window_first: usize,
     pub stride: usize,
-    pub before: Vec<Option<[f32; 3]>>,
-    pub after: Vec<Option<[f32; 3]>>,
+    pub before: Vec<Option<[f64; 3]>>,
+    pub after: Vec<Option<[f64; 3]>>,
 }
 
 /// A gap the repair filled, with its expected error when the repair's summary gives it.
@@ -261,9 +265,12 @@ fn curve(c: &c3d::C3d, copy: &c3d::C3d, f: &Fill) -> Option<FillCurve> {
     let sample = |t: &c3d::C3d, p: usize, k: usize| {
         let pts = t.points();
         let x = pts.index(k, p);
-        pts.is_valid_at(x).then(|| pts.xyz[x])
+        pts.is_valid_at(x).then(|| pts.xyz[x].map(f64::from))
     };
     let at = (lo..=hi).step_by(stride);
+    let mut before: Vec<Option<[f64; 3]>> = at.clone().map(|k| sample(c, i, k)).collect();
+    let mut after: Vec<Option<[f64; 3]>> = at.map(|k| sample(copy, j, k)).collect();
+    rounded(&mut before, &mut after);
     Some(FillCurve {
         label: f.label.clone(),
         first_frame: f.first_frame,
@@ -271,14 +278,55 @@ fn curve(c: &c3d::C3d, copy: &c3d::C3d, f: &Fill) -> Option<FillCurve> {
         expected_error_mm: f.expected_error_mm,
         window_first: lo + first,
         stride,
-        before: at.clone().map(|k| sample(c, i, k)).collect(),
-        after: at.map(|k| sample(copy, j, k)).collect(),
+        before,
+        after,
     })
+}
+
+/// Both curves' coordinates rounded to a power of ten near [`FILL_STEPS`] steps of each
+/// axis' range, so the page carries the digits a picture shows, in any unit.
+fn rounded(a: &mut [Option<[f64; 3]>], b: &mut [Option<[f64; 3]>]) {
+    for axis in 0..3 {
+        let (lo, hi) = a
+            .iter()
+            .chain(b.iter())
+            .flatten()
+            .map(|p| p[axis])
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+                (l.min(v), h.max(v))
+            });
+        let range = hi - lo;
+        if !(range.is_finite() && range > 0.0) {
+            continue;
+        }
+        let q = 10f64.powf((range / FILL_STEPS).log10().floor());
+        for p in a.iter_mut().chain(b.iter_mut()).flatten() {
+            p[axis] = (p[axis] / q).round() * q;
+            // The product can land a last bit off the decimal; its shortest form is then
+            // the decimal itself.
+            p[axis] = format!("{:.*}", (-q.log10()).max(0.0) as usize, p[axis])
+                .parse()
+                .unwrap_or(p[axis]);
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fill_curves_keep_the_digits_a_picture_shows() {
+        let mut a = vec![Some([1234.5678, 0.012345, 7.0]), None];
+        let mut b = vec![
+            Some([1334.5678, 0.013345, 7.0]),
+            Some([1300.0, 0.0125, 7.0]),
+        ];
+        rounded(&mut a, &mut b);
+        assert_eq!(a[0], Some([1234.6, 0.012345, 7.0]));
+        assert_eq!(b[0], Some([1334.6, 0.013345, 7.0]));
+        assert_eq!(a[1], None);
+    }
 
     #[test]
     fn subtract_leaves_the_filled_parts() {

@@ -344,15 +344,18 @@
   renderSummary();
   renderHead();
   update();
+  const renderedMs = performance.now();
 
   // Self-test (?selftest=1): sorts, filters, expands and reports into the page, for the
   // browser test.
   if (/[?&]selftest=1\b/.test(location.search)) {
-    const r = { rows: rows.length, errors: errors };
+    const r = { rows: rows.length, errors: errors, rendered_ms: renderedMs };
     const cells = (key) => Array.from(document.querySelectorAll('#rows tr[data-row] td[data-key="' + key + '"]')).map((td) => td.dataset.value === undefined ? null : Number(td.dataset.value));
     r.shown_first_page = document.querySelectorAll('#rows tr[data-row]').length;
     const th = document.querySelector('#head th[data-key="missing_before"]');
+    let t = performance.now();
     th.click();
+    r.sort_ms = performance.now() - t;
     const desc = cells('missing_before').filter((v) => v !== null);
     r.sorted_desc = desc.every((v, k) => k === 0 || desc[k - 1] >= v);
     r.sorted_desc_first = desc.length ? desc[0] : null;
@@ -367,7 +370,9 @@
     const f = document.getElementById('filter');
     const target = rows[rows.length - 1].name;
     f.value = target;
+    t = performance.now();
     f.dispatchEvent(new Event('input'));
+    r.filter_ms = performance.now() - t;
     const filtered = Array.from(document.querySelectorAll('#rows tr[data-row]')).map((tr) => rows[Number(tr.dataset.row)]);
     r.filter_rows = filtered.length;
     r.filter_ok = filtered.length >= 1 && filtered.every((x) => (x.file + ' ' + (x.problem || '') + ' ' + (x.error || '')).toLowerCase().indexOf(target.toLowerCase()) >= 0);
