@@ -86,7 +86,7 @@ pub fn run(a: Args) -> Result<i32> {
         "summary",
     )?;
     if let Some(page) = &a.report_html {
-        session_page(&plan.targets, &results, t.in_place, page, t.force)?;
+        session_page(&plan.targets, &results, t.in_place, page, t.force, t.json)?;
     }
     let ok: Vec<&Summary> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
     let failed = results.len() - ok.len();
@@ -167,6 +167,7 @@ fn session_page(
     in_place: bool,
     page: &Path,
     force: bool,
+    json: bool,
 ) -> Result<()> {
     let trials: Vec<c3dfix::report::TrialInput> = targets
         .iter()
@@ -177,7 +178,7 @@ fn session_page(
             summary: Some(r.clone()),
         })
         .collect();
-    let mut rep = crate::commands::report::with_progress(trials.len(), |done| {
+    let mut rep = crate::commands::report::with_progress(trials.len(), !json, |done| {
         c3dfix::report::report_trials_with(&trials, false, done)
     });
     show::report::write(&mut rep, page, force)?;

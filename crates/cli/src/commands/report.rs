@@ -55,16 +55,20 @@ pub fn run(a: Args) -> Result<i32> {
         refuse_input(out, &inputs, "the report")?;
         c3dfix::save::check_destination(out, a.force)?;
     }
-    let mut rep = with_progress(trials.len(), |done| {
+    let mut rep = with_progress(trials.len(), !a.json, |done| {
         report_trials_with(&trials, a.views, done)
     });
     finish(&mut rep, a.output.as_deref(), a.json, a.force)
 }
 
-/// Run `work` with a progress bar on a terminal's standard error (none when piped), ticked
-/// by each row made.
-pub fn with_progress<R>(n: usize, work: impl FnOnce(&(dyn Fn(&TrialRow) + Sync)) -> R) -> R {
-    let bar = std::io::stderr().is_terminal().then(|| {
+/// Run `work` with a progress bar on a terminal's standard error (none when piped, nor when
+/// `shown` is false: with JSON, as `batch` does), ticked by each row made.
+pub fn with_progress<R>(
+    n: usize,
+    shown: bool,
+    work: impl FnOnce(&(dyn Fn(&TrialRow) + Sync)) -> R,
+) -> R {
+    let bar = (shown && std::io::stderr().is_terminal()).then(|| {
         let b = indicatif::ProgressBar::new(n as u64);
         b.set_style(
             indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}")
