@@ -157,3 +157,35 @@ fn an_unreadable_trial_is_a_row_saying_why() {
     }
     assert_eq!(rep.summary.worst[0].row, 1);
 }
+
+#[test]
+fn a_trial_without_its_repaired_copy_says_so() {
+    let Some(dir) = testkit::c3d_more() else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let (input, copies) = (tmp.path().join("in"), tmp.path().join("out"));
+    std::fs::create_dir_all(&input).unwrap();
+    for n in [
+        "tsalemink__C3D-parser__AUC_CB_Dynamic0003.c3d",
+        "tsalemink__C3D-parser__RBWH_bfnd_w1.c3d",
+    ] {
+        std::fs::copy(dir.join(n), input.join(n)).unwrap();
+    }
+    let done = repair_all(&input, &copies);
+    std::fs::remove_file(&done[1].1).unwrap();
+    let rep = report(&ReportOptions {
+        paths: vec![input.clone()],
+        repaired: Some(copies.clone()),
+        views: false,
+    })
+    .unwrap();
+    assert_eq!(rep.trials[0].repair_source, Some("record"));
+    assert_eq!(rep.trials[0].filled, Some(done[0].2.filled));
+    let r = &rep.trials[1];
+    assert!(r.error.is_none());
+    let e = r.repaired_error.as_deref().expect("the missing copy said");
+    assert!(e.contains("RBWH_bfnd_w1.c3d"), "{e}");
+    assert!(r.problem.as_deref().unwrap().starts_with("repaired copy:"));
+    assert_eq!(rep.summary.worst[0].row, 1);
+}

@@ -31,7 +31,7 @@ pub struct ReportOptions {
     /// Files and folders (walked for `*.c3d`, each file once, sorted: the plan of `batch`).
     pub paths: Vec<PathBuf>,
     /// A folder of repaired copies, matched by the path below the given folder as `batch
-    /// --out-dir` writes it, else by file name.
+    /// --out-dir` writes it, else by file name; a trial without one says so in its row.
     pub repaired: Option<PathBuf>,
     /// Name a view page per trial (rows get [`TrialRow::view`]; the page writer writes them).
     pub views: bool,
@@ -171,10 +171,12 @@ pub fn plan_inputs(opts: &ReportOptions) -> Result<Vec<TrialInput>> {
     Ok(p.targets
         .into_iter()
         .map(|t| {
-            let repaired = opts
-                .repaired
-                .as_deref()
-                .and_then(|d| matching_copy(d, &t.input, &opts.paths));
+            // No copy found: the path it was looked for by name, which the row then says
+            // it cannot read, so a trial the repair missed shows among those to look at.
+            let repaired = opts.repaired.as_deref().map(|d| {
+                matching_copy(d, &t.input, &opts.paths)
+                    .unwrap_or_else(|| d.join(t.input.file_name().unwrap_or_default()))
+            });
             TrialInput {
                 input: t.input,
                 repaired,
