@@ -23,6 +23,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 pub use pictures::{Coverage, FillCurve, ForceCurve, Mark, Pictures, Run};
+pub use row::LOOK_AT_ERROR_MM;
 pub use session::{SessionSummary, Worst};
 
 /// What to report on.
