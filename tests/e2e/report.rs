@@ -213,3 +213,31 @@ fn batch_report_html_shows_each_repairs_own_numbers() {
     assert!(!o.status.success());
     assert!(stderr(&o).contains("exists"), "{}", stderr(&o));
 }
+
+#[test]
+fn report_asks_for_an_output_and_draws_no_bar_when_piped() {
+    let Some(more) = testkit::c3d_more() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let o = c3dfix(&["report", s(&more)]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("-o REPORT.html, --json"),
+        "{}",
+        stderr(&o)
+    );
+    let o = c3dfix(&["report", s(&more), "--json", "--views"]);
+    assert_eq!(o.status.code(), Some(2), "views need a page beside them");
+    let page = dir.path().join("p.html");
+    let o = c3dfix(&["report", s(&more), "-o", s(&page)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Standard error is a pipe here: no progress bar, nothing at all.
+    assert_eq!(stderr(&o), "");
+    assert!(stdout(&o).starts_with("20 trials: "), "{}", stdout(&o));
+    // The page is never written over a trial it reads, force or not.
+    let trial = more.join("tsalemink__C3D-parser__AUC_CB_Dynamic0003.c3d");
+    let o = c3dfix(&["report", s(&more), "-o", s(&trial), "--force"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("is the input file"), "{}", stderr(&o));
+}
