@@ -14,6 +14,7 @@ mod gait;
 mod hostile;
 mod library;
 mod repair;
+mod report;
 mod reruns;
 mod seen;
 mod swaps;

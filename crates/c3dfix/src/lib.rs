@@ -42,6 +42,7 @@ mod options;
 pub mod plate_silence;
 pub mod platforms;
 mod repair;
+pub mod report;
 pub mod rerun;
 pub mod save;
 pub mod swap_stage;

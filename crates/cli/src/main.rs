@@ -52,6 +52,9 @@ enum Command {
     Repair(commands::repair::Args),
     /// Repair many files (folders recursively, lists, shards), in parallel.
     Batch(commands::batch::Args),
+    /// One offline page over a session of trials (and their repaired copies): a sortable,
+    /// filterable table, one row per trial, with its pictures; optionally as JSON.
+    Report(commands::report::Args),
     /// Measure fill accuracy: knock out recorded data (never points computed from other
     /// markers, which refill exactly, nor samples at exactly (0, 0, 0), a writer's mark of a
     /// lost one), refill it, report the error per method.
@@ -95,6 +98,7 @@ fn main() {
         Command::Cycles(a) => commands::cycles::run(a),
         Command::Repair(a) => commands::repair::run(a),
         Command::Batch(a) => commands::batch::run(a),
+        Command::Report(a) => commands::report::run(a),
         Command::Evaluate(a) => commands::evaluate::run(a),
         Command::Keyframes(a) => commands::keyframes::run(a),
         Command::Plot(a) => commands::plot::run(a),

@@ -19,6 +19,7 @@ mod options;
 mod pickling;
 mod platforms;
 mod plots;
+mod report;
 mod shared;
 
 pyo3::create_exception!(
@@ -562,6 +563,7 @@ fn _c3dfix(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(info_view::view, m)?)?;
     m.add_function(wrap_pyfunction!(plots::plot, m)?)?;
     m.add_function(wrap_pyfunction!(plots::plot_forces, m)?)?;
+    m.add_function(wrap_pyfunction!(report::report, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

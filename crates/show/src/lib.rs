@@ -10,6 +10,7 @@
 mod error;
 pub mod marks;
 pub mod plot;
+pub mod report;
 pub mod view;
 
 pub use error::{Error, Result};

@@ -14,6 +14,7 @@ use c3dfix::files::Destination;
 use c3dfix::save::write_atomic;
 use c3dfix::targets::plan;
 use c3dfix::Summary;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -21,6 +22,10 @@ pub struct Args {
     pub targets: TargetArgs,
     #[command(flatten)]
     pub repair: RepairArgs,
+    /// Also write the session's report page (as `c3dfix report --repaired`), from each
+    /// repair's own numbers.
+    #[arg(long, value_name = "FILE")]
+    pub report_html: Option<PathBuf>,
 }
 
 pub fn run(a: Args) -> Result<i32> {
@@ -34,6 +39,16 @@ pub fn run(a: Args) -> Result<i32> {
         bail!("no C3D files found");
     }
     let overwrite = t.force || t.in_place;
+    if let Some(page) = &a.report_html {
+        // Checked before any file is repaired: a run never ends without its page.
+        let inputs: Vec<&Path> = plan
+            .targets
+            .iter()
+            .flat_map(|t| [t.input.as_path(), t.output.as_path()])
+            .collect();
+        crate::output::refuse_input(page, &inputs, "the report")?;
+        c3dfix::save::check_destination(page, t.force)?;
+    }
     let results = run_each(
         &plan.targets,
         t.jobs,
@@ -70,6 +85,9 @@ pub fn run(a: Args) -> Result<i32> {
         },
         "summary",
     )?;
+    if let Some(page) = &a.report_html {
+        session_page(&plan.targets, &results, t.in_place, page, t.force, t.json)?;
+    }
     let ok: Vec<&Summary> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
     let failed = results.len() - ok.len();
     let skipped = ok.iter().filter(|s| s.skipped.is_some()).count();
@@ -139,4 +157,30 @@ pub fn run(a: Args) -> Result<i32> {
         }
     }
     Ok(if failed > 0 { 1 } else { 0 })
+}
+
+/// The session's page from the repairs just made: each trial with its repaired copy and the
+/// repair's own summary (in place, the file as it is now: the recorded one is gone).
+fn session_page(
+    targets: &[c3dfix::targets::Target],
+    results: &[std::result::Result<Summary, String>],
+    in_place: bool,
+    page: &Path,
+    force: bool,
+    json: bool,
+) -> Result<()> {
+    let trials: Vec<c3dfix::report::TrialInput> = targets
+        .iter()
+        .zip(results)
+        .map(|(t, r)| c3dfix::report::TrialInput {
+            input: t.input.clone(),
+            repaired: (!in_place && r.is_ok()).then(|| t.output.clone()),
+            summary: Some(r.clone()),
+        })
+        .collect();
+    let mut rep = crate::commands::report::with_progress(trials.len(), !json, |done| {
+        c3dfix::report::report_trials_with(&trials, false, done)
+    });
+    show::report::write(&mut rep, page, force)?;
+    Ok(())
 }

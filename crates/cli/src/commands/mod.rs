@@ -18,6 +18,7 @@ pub mod parallel;
 pub mod plot;
 pub mod repair;
 pub mod repair_io;
+pub mod report;
 pub mod swaps;
 pub mod targets;
 pub mod view;

@@ -34,6 +34,7 @@ from ._c3dfix import (
     read,
     repair,
     repair_file,
+    report,
     swaps,
     view,
 )
@@ -57,6 +58,7 @@ __all__ = [
     "read",
     "repair",
     "repair_file",
+    "report",
     "swaps",
     "view",
     "__version__",

@@ -279,3 +279,16 @@ def plot_forces(
     """Draw the force plates as SVG or PNG by the extension (what `c3dfix plot --forces`
     draws, byte for byte), atomically; the plate options as for C3d.force_platforms.
     Returns the plates' warnings."""
+
+def report(
+    paths: Sequence[_Path],
+    out: Optional[_Path] = None,
+    repaired: Optional[_Path] = None,
+    views: bool = False,
+    force: bool = False,
+) -> Dict[str, Any]:
+    """One row per trial of the files and folders in paths, with their repaired copies in
+    the folder repaired, and the session's summary: what `c3dfix report --json` prints
+    (keys summary and trials). out: also write the self-contained page (atomically);
+    views: with out, each trial's view page beside it, linked from its row. A trial that
+    cannot be read is a row with its error."""

@@ -164,7 +164,7 @@ fn bar_events(
         .collect()
 }
 
-fn escape_html(s: &str) -> String {
+pub(crate) fn escape_html(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
@@ -172,7 +172,7 @@ fn escape_html(s: &str) -> String {
 }
 
 /// JSON that is safe inside a `<script>` element.
-fn script_json<T: Serialize>(v: &T) -> Result<String> {
+pub(crate) fn script_json<T: Serialize>(v: &T) -> Result<String> {
     Ok(serde_json::to_string(v)?
         .replace('<', "\\u003c")
         .replace('>', "\\u003e")
@@ -314,7 +314,7 @@ pub fn render(
 
 /// Replace each `{{KEY}}` of `template` in one pass, so text put in (a marker label, say) is
 /// never taken for a placeholder itself. Unknown keys are kept as they are.
-fn fill(template: &str, fields: &[(&str, String)]) -> String {
+pub(crate) fn fill(template: &str, fields: &[(&str, String)]) -> String {
     let extra: usize = fields.iter().map(|(_, v)| v.len()).sum();
     let mut out = String::with_capacity(template.len() + extra);
     let mut rest = template;

@@ -1,0 +1,326 @@
+//! One trial's row: the trial as given, its repaired copy, and what the repair did, each
+//! from the library's own report of it.
+
+use super::pictures::{self, Fill};
+use super::{GaitValue, PlateRow, TrialInput, TrialRow};
+use crate::gaps::{gaps, GapInfo};
+use crate::rerun::Record;
+use crate::{EventOptions, ForceOptions, ForcePlatforms, GaitOptions, Summary};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// Expected errors above this (mm) are worth a look: a quarter of the default
+/// `max_expected_error` (20 mm), so a fill kept yet far from sure is shown, not hidden among
+/// the clean trials. A choice of presentation, not fitted on any lab.
+pub const LOOK_AT_ERROR_MM: f64 = 5.0;
+
+/// The row of one trial; never fails: what cannot be read is said in the row.
+pub(super) fn row(t: &TrialInput) -> TrialRow {
+    let name = t
+        .input
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| t.input.display().to_string());
+    let mut r = TrialRow {
+        file: t.input.display().to_string(),
+        name,
+        repaired: t.repaired.as_ref().map(|p| p.display().to_string()),
+        ..TrialRow::default()
+    };
+    let c = match crate::open_mapped(&t.input) {
+        Ok(c) => c,
+        Err(e) => {
+            r.error = Some(e.to_string());
+            r.problem = Some(format!("cannot be read: {e}"));
+            return r;
+        }
+    };
+    trial_numbers(&c, &mut r);
+    let before = gaps(&c, false);
+    r.gaps_before = before.len();
+    r.missing_before = before.iter().map(|g| g.length).sum();
+    let copy = t
+        .repaired
+        .as_deref()
+        .and_then(|p| match crate::open_mapped(p) {
+            Ok(rc) => Some(rc),
+            Err(e) => {
+                r.repaired_error = Some(e.to_string());
+                None
+            }
+        });
+    let after = copy.as_ref().map(|rc| gaps(rc, false));
+    r.missing_after = after.as_ref().map(|a| a.iter().map(|g| g.length).sum());
+    let mut fills = Vec::new();
+    match &t.summary {
+        Some(Ok(s)) if s.skipped.is_none() => from_summary(s, &mut r, &mut fills),
+        Some(Ok(_)) => {}
+        Some(Err(e)) => r.repaired_error = Some(e.clone()),
+        None => from_record(copy.as_ref().unwrap_or(&c), &mut r),
+    }
+    // Events, plates and gait of the repaired copy when there is one: what the lab goes on
+    // with.
+    let shown = copy.as_ref().unwrap_or(&c);
+    let shown_path = match &copy {
+        Some(_) => t.repaired.as_deref().unwrap_or(&t.input),
+        None => &t.input,
+    };
+    let fp = plates(&c, &mut r);
+    let marks = events(shown, shown_path, &mut r);
+    r.pictures = pictures::Pictures {
+        coverage: pictures::coverage(&c, &before, after.as_deref(), &fills),
+        forces: fp
+            .as_ref()
+            .map(|fp| pictures::forces(fp, r.up))
+            .unwrap_or_default(),
+        events: marks,
+        fills: copy
+            .as_ref()
+            .map(|rc| {
+                pictures::worst_fills(&c, rc, &before, after.as_deref().unwrap_or(&[]), &fills)
+            })
+            .unwrap_or_default(),
+    };
+    r.problem = first_problem(&r);
+    r
+}
+
+/// What the trial is: frames, rate, markers, up, the reader's warnings.
+fn trial_numbers(c: &c3d::C3d, r: &mut TrialRow) {
+    r.frames = c.frames();
+    r.first_frame = c.first_frame();
+    r.rate = c.point_rate();
+    r.duration_s = if r.rate > 0.0 {
+        r.frames as f64 / r.rate as f64
+    } else {
+        0.0
+    };
+    r.markers = crate::markers::marker_indices(c).len();
+    r.samples = r.markers * r.frames;
+    r.up = crate::axes::up(c).map(|u| u.up);
+    r.warnings = c.warnings().iter().map(|w| w.to_string()).collect();
+}
+
+/// The repair's numbers from its own summary; `fills` gets every filled gap with its
+/// expected error.
+fn from_summary(s: &Summary, r: &mut TrialRow, fills: &mut Vec<Fill>) {
+    r.repair_source = Some("summary");
+    r.filled = Some(s.filled);
+    r.left = Some(s.left);
+    r.left_because = s.left_because.clone();
+    r.left_at_trial_end = s
+        .gap_list
+        .iter()
+        .filter(|g| g.reason.is_some() && g.at_trial_end)
+        .count();
+    r.expected_error_mm_max = s.expected_error_mm_max;
+    r.swaps_found = Some(s.swap_list.len());
+    r.swaps_undone = s.swaps_undone;
+    r.jumps_to_gaps = s.jumps_to_gaps;
+    r.spikes = Some(s.spikes);
+    fills.extend(
+        s.gap_list
+            .iter()
+            .filter(|g| g.method.is_some())
+            .map(|g| Fill {
+                label: g.label.clone(),
+                first_frame: g.first_frame,
+                last_frame: g.last_frame,
+                expected_error_mm: g.expected_error_mm,
+            }),
+    );
+}
+
+/// The repair's numbers from what the file records (`C3DFIX`), if it records a repair.
+fn from_record(c: &c3d::C3d, r: &mut TrialRow) {
+    let rec = Record::read(c);
+    if rec.fill.is_none() && rec.filled.is_empty() && rec.left.is_empty() {
+        return;
+    }
+    r.repair_source = Some("record");
+    r.filled = Some(rec.filled.len());
+    r.left = Some(rec.left.len());
+    let last = c.frames().saturating_sub(1);
+    for l in &rec.left {
+        *r.left_because
+            .entry(l.reason.name().to_string())
+            .or_default() += 1;
+        if l.first_index == 0 || l.last_index == last {
+            r.left_at_trial_end += 1;
+        }
+    }
+    r.swaps_undone = rec.undone.iter().filter(|u| u.points.len() == 2).count();
+    r.jumps_to_gaps = rec.undone.iter().filter(|u| u.points.len() == 1).count();
+}
+
+/// The plates of the trial as given (a repair never touches analog data): contacts, peak
+/// push, the plates refused and why. `None` when FORCE_PLATFORM names none.
+fn plates(c: &c3d::C3d, r: &mut TrialRow) -> Option<ForcePlatforms> {
+    let params = c.platform_params();
+    if params.plates.is_empty() {
+        for p in params.problems {
+            r.plates_refused.push(
+                crate::PlateWarning {
+                    plate: p.plate,
+                    parameter: p.parameter,
+                    message: p.message,
+                }
+                .to_string(),
+            );
+        }
+        return None;
+    }
+    match crate::force_platforms(c, &ForceOptions::default()) {
+        Ok(fp) => {
+            r.plates = fp
+                .platforms
+                .iter()
+                .map(|p| PlateRow {
+                    index: p.index,
+                    kind: p.kind,
+                    contacts: p.contacts.len(),
+                    peak_force: p.peak_force,
+                })
+                .collect();
+            let computed: Vec<usize> = fp.platforms.iter().map(|p| p.index).collect();
+            for w in &fp.warnings {
+                if w.plate != 0 && !computed.contains(&w.plate) {
+                    r.plates_refused.push(w.to_string());
+                } else {
+                    r.warnings.push(w.to_string());
+                }
+            }
+            Some(fp)
+        }
+        Err(e) => {
+            r.plates_refused.push(e.to_string());
+            None
+        }
+    }
+}
+
+/// The file's events and the detector's (counted by source), and the gait parameters of the
+/// file's own events; the marks the force picture draws.
+fn events(c: &c3d::C3d, path: &Path, r: &mut TrialRow) -> Vec<pictures::Mark> {
+    let mut marks = Vec::new();
+    let own = c.events();
+    if !own.is_empty() {
+        r.events.insert("file".into(), own.len());
+    }
+    for e in &own {
+        if e.time.is_finite() {
+            marks.push(pictures::Mark::new(&e.context, &e.label, e.time, false));
+        }
+    }
+    match crate::detect_events(c, &EventOptions::default(), path) {
+        Ok(d) => {
+            for e in &d.events {
+                *r.events.entry(e.source.to_string()).or_default() += 1;
+                marks.push(pictures::Mark::new(e.context, e.label, e.time, true));
+            }
+        }
+        Err(e) => r.events_note = Some(strip_path(&e.to_string(), path)),
+    }
+    if !crate::gait_params::file_events(c).is_empty() {
+        match crate::gait_parameters(c, &GaitOptions::default(), path) {
+            Ok(g) => {
+                r.gait = g
+                    .parameters
+                    .iter()
+                    .map(|p| GaitValue {
+                        context: p.context.to_string(),
+                        name: p.name.to_string(),
+                        value: p.value,
+                        unit: p.unit.to_string(),
+                    })
+                    .collect()
+            }
+            Err(e) => {
+                let e = strip_path(&e.to_string(), path);
+                r.events_note = Some(match r.events_note.take() {
+                    Some(n) => format!("{n}; gait parameters: {e}"),
+                    None => format!("gait parameters: {e}"),
+                });
+            }
+        }
+    }
+    marks
+}
+
+/// A library message without the file's name in front (the row names the file).
+fn strip_path(msg: &str, path: &Path) -> String {
+    let p = format!("{}: ", path.display());
+    msg.strip_prefix(&p).unwrap_or(msg).to_string()
+}
+
+/// The first thing a person should look at, in words; `None` for a clean trial.
+fn first_problem(r: &TrialRow) -> Option<String> {
+    if let Some(e) = &r.repaired_error {
+        return Some(format!("repaired copy: {e}"));
+    }
+    let reasons = |m: &BTreeMap<String, usize>| {
+        m.iter()
+            .map(|(k, n)| format!("{n} {}", k.replace('_', " ")))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let left = r.left.unwrap_or(0);
+    if left > r.left_at_trial_end {
+        return Some(format!(
+            "{} left inside the trial, of {} ({})",
+            gaps_word(left - r.left_at_trial_end),
+            gaps_word(left),
+            reasons(&r.left_because)
+        ));
+    }
+    let found = r.swaps_found.unwrap_or(0);
+    if found > r.swaps_undone + r.jumps_to_gaps {
+        return Some(format!(
+            "{} label swaps or jumps found and not undone",
+            found - r.swaps_undone - r.jumps_to_gaps
+        ));
+    }
+    if let Some(e) = r.expected_error_mm_max.filter(|&e| e > LOOK_AT_ERROR_MM) {
+        return Some(format!("a fill may be off by {e:.1} mm"));
+    }
+    if left > 0 {
+        return Some(format!(
+            "{} left at the trial's ends ({})",
+            gaps_word(left),
+            reasons(&r.left_because)
+        ));
+    }
+    if let Some(p) = r.plates_refused.first() {
+        return Some(format!("plate refused: {p}"));
+    }
+    if r.repair_source.is_none() && r.missing_before > 0 {
+        return Some(format!(
+            "{} samples missing in {}, not repaired",
+            r.missing_before,
+            gaps_word(r.gaps_before)
+        ));
+    }
+    if r.missing_after.is_some_and(|m| m > 0) {
+        return Some(format!(
+            "{} samples still missing",
+            r.missing_after.unwrap_or(0)
+        ));
+    }
+    r.warnings.first().map(|w| format!("warning: {w}"))
+}
+
+/// "1 gap", "2 gaps".
+fn gaps_word(n: usize) -> String {
+    format!("{n} gap{}", if n == 1 { "" } else { "s" })
+}
+
+/// The gaps of `c`, with the frames of each, by label: what coverage and the fills read.
+pub(super) fn by_label(g: &[GapInfo]) -> BTreeMap<&str, Vec<(usize, usize)>> {
+    let mut m: BTreeMap<&str, Vec<(usize, usize)>> = BTreeMap::new();
+    for x in g {
+        m.entry(&x.label)
+            .or_default()
+            .push((x.first_frame, x.last_frame));
+    }
+    m
+}
