@@ -39,7 +39,7 @@ def first_sentence(f):
 files = subprocess.run(["git", "ls-files", "crates/*/src/*.rs", "crates/*/src/**/*.rs"],
                        cwd=root, capture_output=True, text=True, check=True).stdout.split()
 by = {}
-for f in sorted(files):
+for f in sorted(set(files)):
     by.setdefault(f.split("/")[1], []).append(f)
 crates = [c for c in ORDER if c in by] + sorted(c for c in by if c not in ORDER)
 out = [HEADING]

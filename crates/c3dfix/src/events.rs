@@ -61,7 +61,7 @@ pub struct EventOptions {
     /// The offsets learned from other trials of the session
     /// ([`crate::events_session`]): added to the kinematic events of each kind, except in
     /// `auto` for a kind the trial's own plates calibrate.
-    pub session: Option<crate::events_session::SessionCalibration>,
+    pub session: Option<crate::session_calibration::SessionCalibration>,
 }
 
 /// One detected event, as printed and written.
@@ -97,7 +97,7 @@ pub struct Detected {
     pub notes: Vec<String>,
     /// The session calibration applied, when one was given.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub session_calibration: Option<crate::events_session::SessionReport>,
+    pub session_calibration: Option<crate::session_calibration::SessionReport>,
 }
 
 /// Half the window (s) within which a plate event replaces a kinematic event of the same

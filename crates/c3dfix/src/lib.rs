@@ -45,6 +45,7 @@ mod repair;
 pub mod report;
 pub mod rerun;
 pub mod save;
+mod session_calibration;
 pub mod swap_stage;
 mod swaps;
 pub mod targets;

@@ -6,12 +6,8 @@
 //! with the opposite sign is the common cause, as on `c3d-labs`' instrumented treadmill),
 //! or feet that are not over it.
 
-use crate::platforms::{force_platforms, ForceOptions};
+use crate::platforms::{force_platforms, off_plate, ForceOptions};
 use gait::PlateOptions;
-
-/// How far (mm) outside its corners a centre of pressure may lie and still be on the plate:
-/// the noise of a COP near the plate's edge.
-pub const EDGE_MM: f64 = 50.0;
 
 /// One sentence per plate that has contacts (as the plate detector counts them) but none
 /// of whose contacts gave an event in `events`.
@@ -62,33 +58,4 @@ pub fn silent_plates(
         });
     }
     Ok(out)
-}
-
-/// Whether `cop` (point units) lies more than [`EDGE_MM`] outside the box of the plate's
-/// `corners` in the plane they span (the axis along which they spread least is the
-/// plate's normal).
-pub(crate) fn off_plate(corners: &[[f64; 3]; 4], cop: &[f64; 3], mm: f64) -> bool {
-    if !cop.iter().all(|v| v.is_finite()) {
-        return false;
-    }
-    let span = |k: usize| {
-        let lo = corners.iter().map(|c| c[k]).fold(f64::INFINITY, f64::min);
-        let hi = corners
-            .iter()
-            .map(|c| c[k])
-            .fold(f64::NEG_INFINITY, f64::max);
-        (lo, hi)
-    };
-    let normal = (0..3)
-        .min_by(|&a, &b| {
-            let (la, ha) = span(a);
-            let (lb, hb) = span(b);
-            (ha - la).total_cmp(&(hb - lb))
-        })
-        .unwrap_or(2);
-    let edge = EDGE_MM / mm;
-    (0..3).filter(|&k| k != normal).any(|k| {
-        let (lo, hi) = span(k);
-        cop[k] < lo - edge || cop[k] > hi + edge
-    })
 }

@@ -16,10 +16,13 @@
 //! CORNERS of the wrong size or enclosing no area, a type 4 without CAL_MATRIX) is left out
 //! with a warning naming the plate and the parameter; the others are computed.
 
+mod bounds;
 mod channels;
 mod table;
 mod units;
 
+pub(crate) use bounds::off_plate;
+pub use bounds::EDGE_MM;
 pub use table::ForcesReport;
 
 use crate::error::{Error, Result, Setting};
@@ -586,7 +589,7 @@ fn reversed_origin(
         (loaded.len() >= MIN_LOADED_SAMPLES).then(|| {
             let n = loaded
                 .iter()
-                .filter(|c| crate::plate_silence::off_plate(&spec.corners, c, spec.mm_per_unit))
+                .filter(|c| off_plate(&spec.corners, c, spec.mm_per_unit))
                 .count();
             n as f64 / loaded.len() as f64
         })

@@ -3,10 +3,10 @@
 //! (runs rather than samples, a few hundred values per curve) so that a page of a thousand
 //! trials stays a few megabytes.
 
-use super::row::by_label;
 use crate::gaps::GapInfo;
 use crate::{Direction, ForcePlatforms};
 use serde::Serialize;
+use std::collections::BTreeMap;
 
 /// Values per force curve: one per bucket of samples, the bucket's largest push, so no
 /// contact's peak is lost between buckets.
@@ -309,6 +309,17 @@ fn rounded(a: &mut [Option<[f64; 3]>], b: &mut [Option<[f64; 3]>]) {
                 .unwrap_or(p[axis]);
         }
     }
+}
+
+/// The gaps of `c`, with the frames of each, by label: what coverage and the fills read.
+fn by_label(g: &[GapInfo]) -> BTreeMap<&str, Vec<(usize, usize)>> {
+    let mut m: BTreeMap<&str, Vec<(usize, usize)>> = BTreeMap::new();
+    for x in g {
+        m.entry(&x.label)
+            .or_default()
+            .push((x.first_frame, x.last_frame));
+    }
+    m
 }
 
 #[cfg(test)]

@@ -1,13 +1,126 @@
 //! One trial's row: the trial as given, its repaired copy, and what the repair did, each
 //! from the library's own report of it.
 
-use super::pictures::{self, Fill};
-use super::{GaitValue, PlateRow, TrialInput, TrialRow};
-use crate::gaps::{gaps, GapInfo};
+use super::pictures::{self, Fill, Pictures};
+use crate::gaps::gaps;
 use crate::rerun::Record;
-use crate::{EventOptions, ForceOptions, ForcePlatforms, GaitOptions, Summary};
+use crate::{Direction, EventOptions, ForceOptions, ForcePlatforms, GaitOptions, Summary};
+use serde::Serialize;
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// One trial to report on, with what is known of its repair.
+#[derive(Debug, Clone, Default)]
+pub struct TrialInput {
+    /// The trial as recorded (as named).
+    pub input: PathBuf,
+    /// Its repaired copy, if any.
+    pub repaired: Option<PathBuf>,
+    /// The repair's own summary, when the report is made by the run that repaired it: `Err`
+    /// holds why the repair failed.
+    pub summary: Option<std::result::Result<Summary, String>>,
+}
+
+/// One trial: what it holds, what its repair did, and the first thing worth a look.
+#[derive(Debug, Clone, Serialize, PartialEq, Default)]
+pub struct TrialRow {
+    /// The trial as named.
+    pub file: String,
+    /// Its file name.
+    pub name: String,
+    /// Why the trial could not be read (the other fields are then empty).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+    /// The repaired copy, when one was given or written.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub repaired: Option<String>,
+    /// Why the repaired copy could not be read, or the repair failed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub repaired_error: Option<String>,
+    pub frames: usize,
+    /// The file's first frame number; every frame in the row is in the file's numbering.
+    pub first_frame: usize,
+    pub rate: f32,
+    pub duration_s: f64,
+    /// Markers (model outputs left out).
+    pub markers: usize,
+    /// Marker samples (markers × frames).
+    pub samples: usize,
+    /// Marker samples missing in the trial as given.
+    pub missing_before: usize,
+    /// Marker samples missing in the repaired copy.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub missing_after: Option<usize>,
+    /// Gaps of the markers in the trial as given.
+    pub gaps_before: usize,
+    /// Where the repair's numbers come from: `summary` (the repair's own, made by this run)
+    /// or `record` (the repaired file's C3DFIX group); none without a repair.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub repair_source: Option<&'static str>,
+    /// Gaps the repair filled and left, and the left ones per reason (`too_long`,
+    /// `uncertain`, `touches_edge`, `no_donors`, …).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub filled: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub left: Option<usize>,
+    pub left_because: BTreeMap<String, usize>,
+    /// Of the gaps left, those at the trial's first or last frame.
+    pub left_at_trial_end: usize,
+    /// Largest expected error of a fill, mm (the repair's summary; a file records none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub expected_error_mm_max: Option<f64>,
+    /// Label swaps and jumps found (the repair's summary only: a file records those undone).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub swaps_found: Option<usize>,
+    pub swaps_undone: usize,
+    pub jumps_to_gaps: usize,
+    /// Spikes removed (the repair's summary only: a file records the setting, not the count).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub spikes: Option<usize>,
+    /// Events by source: `file` (the EVENT group), `plate` and `kinematics` (detected).
+    pub events: BTreeMap<String, usize>,
+    /// Why events could not be detected, or gait parameters not computed (a trial that is
+    /// no walk says so here, not among the warnings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub events_note: Option<String>,
+    /// Gait-cycle parameters from the file's own Foot Strike / Foot Off events, if any.
+    pub gait: Vec<GaitValue>,
+    pub plates: Vec<PlateRow>,
+    /// Plates named in FORCE_PLATFORM and not computed, with why.
+    pub plates_refused: Vec<String>,
+    /// What the reader, the plates and the event detector noticed.
+    pub warnings: Vec<String>,
+    /// The lab's up ([`crate::axes::up`]).
+    pub up: Option<Direction>,
+    /// The first problem worth a look, in words; none for a clean trial.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub problem: Option<String>,
+    /// The trial's view page, a file name (written beside the report by the page writer).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub view: Option<String>,
+    pub pictures: Pictures,
+}
+
+/// One plate of a trial, as [`crate::info::PlateInfo`] gives it.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct PlateRow {
+    /// 1-based, as FORCE_PLATFORM numbers it.
+    pub index: usize,
+    #[serde(rename = "type")]
+    pub kind: i32,
+    pub contacts: usize,
+    /// Largest push over the trial (N), its unloaded level removed.
+    pub peak_force: f64,
+}
+
+/// One gait-cycle parameter ([`gait::params::Parameter`]).
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct GaitValue {
+    pub context: String,
+    pub name: String,
+    pub value: f64,
+    pub unit: String,
+}
 
 /// Expected errors above this (mm) are worth a look: a quarter of the default
 /// `max_expected_error` (20 mm), so a fill kept yet far from sure is shown, not hidden among
@@ -312,15 +425,4 @@ fn first_problem(r: &TrialRow) -> Option<String> {
 /// "1 gap", "2 gaps".
 fn gaps_word(n: usize) -> String {
     format!("{n} gap{}", if n == 1 { "" } else { "s" })
-}
-
-/// The gaps of `c`, with the frames of each, by label: what coverage and the fills read.
-pub(super) fn by_label(g: &[GapInfo]) -> BTreeMap<&str, Vec<(usize, usize)>> {
-    let mut m: BTreeMap<&str, Vec<(usize, usize)>> = BTreeMap::new();
-    for x in g {
-        m.entry(&x.label)
-            .or_default()
-            .push((x.first_frame, x.last_frame));
-    }
-    m
 }

@@ -1,8 +1,15 @@
 //! The session's summary: totals over the trials and the ones to look at first.
 
-use super::TrialRow;
+use super::row::TrialRow;
 use serde::Serialize;
 use std::collections::BTreeMap;
+
+/// The whole report: the session's summary, then one row per trial in the plan's order.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct SessionReport {
+    pub summary: SessionSummary,
+    pub trials: Vec<TrialRow>,
+}
 
 /// Trials listed as the worst.
 const WORST: usize = 5;
