@@ -17,7 +17,7 @@
 //! trial ([`crate::kinematic`]), so curved paths keep their progression in one signal;
 //! each run of valid samples is summed and filtered on its own.
 
-use crate::kinematic::{KinematicOptions, Prepared};
+use crate::kinematic_options::{KinematicOptions, Prepared};
 use crate::signal::{self, Pass};
 use crate::{Feet, Side};
 

@@ -9,7 +9,7 @@
 //! (the heel's largest acceleration is often its rise at heel-off or noise), and joined to
 //! the shipped strike mean it worsened the tuning labs' 95th percentile.
 
-use crate::kinematic::{KinematicOptions, Prepared};
+use crate::kinematic_options::{KinematicOptions, Prepared};
 use crate::signal::{self, Pass};
 use crate::{Feet, Side};
 

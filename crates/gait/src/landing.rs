@@ -17,7 +17,7 @@
 //! before contact; the forward speed's fraction marks the labs' own strikes well and the
 //! plates' badly; a metatarsal marker rises as the heel lifts, well before the toe leaves.
 
-use crate::kinematic::{KinematicOptions, Prepared};
+use crate::kinematic_options::{KinematicOptions, Prepared};
 use crate::signal::{self, Pass};
 use crate::{Feet, Side};
 

@@ -27,6 +27,7 @@ pub mod desailly;
 mod error;
 pub mod impact;
 pub mod kinematic;
+mod kinematic_options;
 pub mod landing;
 pub mod markers;
 pub mod oconnor;

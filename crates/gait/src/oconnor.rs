@@ -17,7 +17,7 @@
 //! ([`KinematicOptions::oconnor_lowpass_hz`]) before it is differentiated, as velocity
 //! methods need (pyCGM2 takes a marker cut-off for the same reason).
 
-use crate::kinematic::{KinematicOptions, Prepared};
+use crate::kinematic_options::{KinematicOptions, Prepared};
 use crate::signal::{self, Pass};
 use crate::{Feet, Side};
 

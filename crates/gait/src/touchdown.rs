@@ -11,7 +11,7 @@
 //! instant it gets there should carry less of the lab's placement than an extreme does.
 //! Whether it does is measured (docs/events.md, "A physically defined strike").
 
-use crate::kinematic::{KinematicOptions, Prepared};
+use crate::kinematic_options::{KinematicOptions, Prepared};
 use crate::signal::{self, Pass};
 use crate::{Feet, Side};
 

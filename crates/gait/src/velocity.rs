@@ -21,7 +21,7 @@
 //! markers are low-passed ([`KinematicOptions::oconnor_lowpass_hz`], as for O'Connor's
 //! velocities) before they are differentiated.
 
-use crate::kinematic::{KinematicOptions, Prepared};
+use crate::kinematic_options::{KinematicOptions, Prepared};
 use crate::signal::{self, Pass};
 use crate::{Feet, Side};
 
