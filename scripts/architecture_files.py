@@ -36,7 +36,8 @@ def first_sentence(f):
     return s or "(no module doc)"
 
 
-files = subprocess.run(["git", "ls-files", "crates/*/src/*.rs", "crates/*/src/**/*.rs"],
+files = subprocess.run(["git", "ls-files", "--cached", "--others", "--exclude-standard",
+                        "crates/*/src/*.rs", "crates/*/src/**/*.rs"],
                        cwd=root, capture_output=True, text=True, check=True).stdout.split()
 by = {}
 for f in sorted(set(files)):
