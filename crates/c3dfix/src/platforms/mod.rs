@@ -18,6 +18,7 @@
 
 mod bounds;
 mod channels;
+mod plate;
 mod table;
 mod units;
 
@@ -281,281 +282,60 @@ pub fn force_platforms(c: &C3d, opts: &ForceOptions) -> Result<ForcePlatforms> {
             u.trim().to_string()
         }
     };
-    let point_mm = c3d::mm_per_unit(&point_units);
-    let analog_units = c.analog_units();
-    let cal = c.analog_calibration();
     // How many channels ANALOG:SCALE and OFFSET really describe (the calibration pads the
     // rest with 1 and 0, which is no calibration for a force channel).
     let described = |name: &str| c.param("ANALOG", name).map_or(0, |p| p.value.len());
-    let (scaled, offset_known) = (described("SCALE"), described("OFFSET"));
-    let analog = c.analog();
-    let samples = analog.samples();
     let spf = out.samples_per_frame;
-    let warn = |out: &mut ForcePlatforms, plate: usize, parameter: &str, message: String| {
-        out.warnings.push(PlateWarning {
-            plate,
-            parameter: format!("FORCE_PLATFORM:{parameter}"),
-            message,
-        })
+    let samples = c.analog().samples();
+    let zero = zero_stretch(opts, fp.zero, spf, samples, &mut out.warnings);
+    let trial = plate::Trial {
+        c,
+        opts,
+        rate,
+        filter,
+        point_mm: c3d::mm_per_unit(&point_units),
+        point_units,
+        analog_units: c.analog_units(),
+        cal: c.analog_calibration(),
+        scaled: described("SCALE"),
+        offset_known: described("OFFSET"),
+        samples,
+        spf,
+        zero,
     };
+    for p in &fp.plates {
+        if let Some(platform) = trial.plate(p, &mut out.warnings) {
+            out.platforms.push(platform);
+        }
+    }
+    Ok(out)
+}
 
-    // FORCE_PLATFORM:ZERO's samples, when asked for and within the data; absent or [0, 0],
-    // each plate's quiet stretch is used, as it is when ZERO's frames carry a load.
-    let zero = match (opts.zero_baseline, fp.zero) {
+/// FORCE_PLATFORM:ZERO's samples, when asked for and within the data; absent or [0, 0],
+/// each plate's quiet stretch is used, as it is when ZERO's frames carry a load.
+fn zero_stretch(
+    opts: &ForceOptions,
+    zero: Option<[usize; 2]>,
+    spf: usize,
+    samples: usize,
+    warnings: &mut Vec<PlateWarning>,
+) -> Option<([usize; 2], Range<usize>)> {
+    match (opts.zero_baseline, zero) {
         (true, Some([a, b])) => {
             let (s0, s1) = ((a - 1) * spf, (b * spf).min(samples));
             if s0 >= s1 {
-                warn(
-                    &mut out,
-                    0,
-                    "ZERO",
-                    format!("frames {a}..{b} lie beyond the trial's analog data: each plate's quiet stretch is used instead"),
-                );
+                warnings.push(PlateWarning {
+                    plate: 0,
+                    parameter: "FORCE_PLATFORM:ZERO".into(),
+                    message: format!("frames {a}..{b} lie beyond the trial's analog data: each plate's quiet stretch is used instead"),
+                });
                 None
             } else {
                 Some(([a, b], s0..s1))
             }
         }
         _ => None,
-    };
-
-    for p in &fp.plates {
-        let kind = match kinetics::PlateKind::from_type(p.kind) {
-            Ok(k) => k,
-            Err(e) => {
-                let parameter = e.parameter();
-                let what = format!("FORCE_PLATFORM:{parameter} {e}: plate left out");
-                warn(&mut out, p.index, parameter, what);
-                continue;
-            }
-        };
-        let (Some(corners), Some(origin)) = (p.corners, p.origin) else {
-            // Already reported by the parameter reading.
-            continue;
-        };
-        if p.channels.is_empty() {
-            continue;
-        }
-        if p.channels.len() < kind.channels() {
-            warn(
-                &mut out,
-                p.index,
-                "CHANNEL",
-                format!(
-                    "lists {} channels; type {} needs {}: plate left out",
-                    p.channels.len(),
-                    p.kind,
-                    kind.channels()
-                ),
-            );
-            continue;
-        }
-        let used = &p.channels[..kind.channels()];
-        if let Some(&k) = used.iter().find(|&&k| k > scaled || k > offset_known) {
-            let (name, n) = if k > scaled {
-                ("SCALE", scaled)
-            } else {
-                ("OFFSET", offset_known)
-            };
-            out.warnings.push(PlateWarning {
-                plate: p.index,
-                parameter: format!("ANALOG:{name}"),
-                message: format!(
-                    "has {n} entries, none for the plate's channel {k}: plate left out"
-                ),
-            });
-            continue;
-        }
-        let mut ch = channels::physical(analog, &cal, used);
-        let spec = PlateSpec {
-            kind: p.kind,
-            corners,
-            origin,
-            cal_matrix: p.cal_matrix.as_deref(),
-            cop_poly: p.cop_poly,
-            mm_per_unit: point_mm,
-        };
-        let mut baseline = None;
-        if opts.zero_baseline {
-            let (found, message) = unloaded_stretch(&spec, &ch, zero.as_ref(), rate);
-            if let Some(message) = message {
-                // Named for ZERO when the file set one; else the rule's own.
-                let parameter = if zero.is_some() {
-                    "FORCE_PLATFORM:ZERO"
-                } else {
-                    "baseline"
-                };
-                out.warnings.push(PlateWarning {
-                    plate: p.index,
-                    parameter: parameter.into(),
-                    message,
-                });
-            }
-            if let Some((source, range, level)) = found {
-                channels::subtract_baseline(&mut ch, &range);
-                baseline = Some(Baseline {
-                    source,
-                    first_sample: range.start,
-                    last_sample: range.end - 1,
-                    first_frame: c.frame_number(range.start / spf),
-                    last_frame: c.frame_number((range.end - 1) / spf),
-                    level,
-                });
-            }
-        }
-        let bad = channels::non_finite(&ch);
-        if bad > 0 {
-            warn(
-                &mut out,
-                p.index,
-                "CHANNEL",
-                format!("analog data hold {bad} samples that are not finite: those samples give no force"),
-            );
-        }
-        for i in channels::constant(&ch) {
-            warn(
-                &mut out,
-                p.index,
-                "CHANNEL",
-                format!(
-                    "channel {} holds one value throughout: it recorded nothing, so what depends on it (moments, COP) is not measured",
-                    used[i]
-                ),
-            );
-        }
-        let mut filtered = None;
-        if let Some((spec, iir)) = &filter {
-            if bad > 0 {
-                warn(
-                    &mut out,
-                    p.index,
-                    "CHANNEL",
-                    format!("not filtered ({spec}): its analog data are not all finite"),
-                );
-            } else if channels::filter(&mut ch, iir) {
-                filtered = Some(spec.clone());
-            } else {
-                warn(
-                    &mut out,
-                    p.index,
-                    "CHANNEL",
-                    format!("not filtered ({spec}): {samples} samples are too few for its padding"),
-                );
-            }
-        }
-        for (k, label) in units::mislabelled(kind, used, &analog_units, point_mm) {
-            warn(
-                &mut out,
-                p.index,
-                "CHANNEL",
-                format!(
-                    "channel {k} is labelled {label:?} (ANALOG:UNITS), but the manual has every length in POINT:UNITS: read in {point_units}"
-                ),
-            );
-        }
-        let refs: Vec<&[f64]> = ch.iter().map(|v| v.as_slice()).collect();
-        let r = match kinetics::compute(&spec, &refs, opts.threshold) {
-            Ok(r) => r,
-            Err(e) => {
-                let parameter = e.parameter();
-                let msg = e.to_string();
-                warn(
-                    &mut out,
-                    p.index,
-                    parameter,
-                    format!("{msg}: plate left out"),
-                );
-                continue;
-            }
-        };
-        let (r, reversed) = match reversed_origin(&spec, &refs, opts.threshold, &r) {
-            Some((r2, before, after)) => (r2, Some((before, after))),
-            None => (r, None),
-        };
-        if let Some((before, after)) = reversed {
-            warn(
-                &mut out,
-                p.index,
-                "ORIGIN",
-                format!(
-                    "x and y are {}, {}, which put the centre of pressure outside the plate in {:.0} % of its loaded samples; with their signs reversed, {:.0} %: read as {} (the transducer's offset written from the other end)",
-                    short(origin[0]),
-                    short(origin[1]),
-                    100.0 * before,
-                    100.0 * after,
-                    triple(r.origin.used)
-                ),
-            );
-        }
-        if r.origin.corrected {
-            warn(
-                &mut out,
-                p.index,
-                "ORIGIN",
-                format!(
-                    "z is {} but must be negative (the plate's origin lies below its surface, z down): read as {}",
-                    short(origin[2]),
-                    triple(r.origin.used)
-                ),
-            );
-        }
-        if kind == kinetics::PlateKind::Type3
-            && (r.origin.used[0] == 0.0 || r.origin.used[1] == 0.0)
-        {
-            warn(
-                &mut out,
-                p.index,
-                "ORIGIN",
-                format!(
-                    "gives the sensors' distances a = {}, b = {}: with a zero the moments about that axis vanish and the COP cannot leave the plate's centre line",
-                    short(r.origin.used[0]),
-                    short(r.origin.used[1])
-                ),
-            );
-        }
-        let peak_force = r
-            .push
-            .iter()
-            .filter(|v| v.is_finite())
-            .fold(0.0f64, |m, &v| m.max(v));
-        let contacts = kinetics::contacts(&r.push, opts.threshold, rate)
-            .into_iter()
-            .map(|[a, b]| Contact {
-                first_sample: a,
-                last_sample: b,
-                first_frame: c.frame_number(a / spf),
-                last_frame: c.frame_number(b / spf),
-                first_time: c.analog_time(a),
-                last_time: c.analog_time(b),
-                peak: r.push[a..=b].iter().fold(0.0f64, |m, &v| m.max(v)),
-            })
-            .collect();
-        out.platforms.push(Platform {
-            index: p.index,
-            kind: p.kind,
-            rate,
-            channels: used.to_vec(),
-            corners,
-            centre: r.frame.centre,
-            origin: r.origin.used,
-            origin_corrected: r.origin.corrected,
-            baseline,
-            filtered,
-            force: r.force,
-            moment: r.moment,
-            cop: r.cop,
-            free_moment: r.free_moment,
-            push: r.push,
-            peak_force,
-            contacts,
-            units: Units {
-                force: "N".into(),
-                moment: format!("N{point_units}"),
-                position: point_units.clone(),
-            },
-        });
     }
-    Ok(out)
 }
 
 /// Loaded samples (push at least the threshold, a finite COP) needed before the COP's place
