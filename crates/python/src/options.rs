@@ -54,6 +54,7 @@ impl RepairKeywords<'_> {
             markers: self.markers,
             zero_invalid: self.zero_invalid,
             swaps: self.swaps.parse()?,
+            ..RepairOptions::default()
         })
     }
 }
