@@ -71,6 +71,8 @@ fn args() -> Result<Args, String> {
                     "path_mm" => o.path_mm = x,
                     "path_frames" => o.path_frames = x as usize,
                     "margin" => o.margin = x,
+                    "path_alone" => o.path_alone = x != 0.0,
+                    "min_ends" => o.min_ends = x as usize,
                     _ => return Err(format!("no option {k}")),
                 }
             }

@@ -52,6 +52,12 @@ pub struct ReclaimOptions {
     /// Frames over which the marker's path is carried into a gap to judge a piece that
     /// starts (ends) inside it; further in, only the links judge.
     pub path_frames: usize,
+    /// Ends of a piece (0, 1 or 2) that must be judged by the marker's path: a piece that
+    /// floats inside a long gap, away from both its ends, rests on the links alone.
+    pub min_ends: usize,
+    /// A piece that fills a whole gap, on the marker's path at both ends, is a candidate
+    /// without links (a marker with no segment to check, or none recorded there).
+    pub path_alone: bool,
     /// A rival fitting with a cost below `margin` times the best's (plus 0.02) leaves both
     /// unsettled.
     pub margin: f64,
@@ -62,11 +68,13 @@ impl Default for ReclaimOptions {
         ReclaimOptions {
             min_links: 2,
             min_checked: 0.5,
-            max_fail: 0.1,
-            max_cost: 1.0,
+            max_fail: 0.5,
+            max_cost: 3.0,
             path_mm: 20.0,
             path_frames: 5,
             margin: 4.0,
+            path_alone: true,
+            min_ends: 1,
         }
     }
 }

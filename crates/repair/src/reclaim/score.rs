@@ -69,8 +69,12 @@ pub(super) fn score(p: &Piece, m: &Trial, u: &Trial, links: &[Link], opts: &Recl
     let share = |k: usize| k >= 1 && k as f64 >= opts.min_checked * p.len() as f64;
     // A piece that reaches both ends of the gap, on the marker's path at both, needs one
     // link per frame; one that floats inside the gap needs `min_links`.
-    let enough = share(checked) || (ends == 2 && share(touched));
-    let verdict = if !path_ok || links_off {
+    let whole = p.first > 0
+        && p.last + 1 < m.frames()
+        && m.valid[p.marker][p.first - 1]
+        && m.valid[p.marker][p.last + 1];
+    let enough = share(checked) || (ends == 2 && (share(touched) || (opts.path_alone && whole)));
+    let verdict = if !path_ok || links_off || ends < opts.min_ends {
         Verdict::Off
     } else if !enough {
         if path_mm.is_some() {
@@ -130,7 +134,10 @@ fn path(p: &Piece, m: &Trial, u: &Trial, opts: &ReclaimOptions) -> (bool, Option
             mx[a][1] + v[1] * k,
             mx[a][2] + v[2] * k,
         ];
-        note(dist(&ux[p.first], &pred), opts.path_mm * k);
+        note(
+            dist(&ux[p.first], &pred),
+            (opts.path_mm + 0.5 * norm(&v)) * k,
+        );
         ends += 1;
     }
     let after = (p.last + 1..n).take(opts.path_frames).find(|&f| mv[f]);
@@ -146,7 +153,10 @@ fn path(p: &Piece, m: &Trial, u: &Trial, opts: &ReclaimOptions) -> (bool, Option
             mx[b][1] + v[1] * k,
             mx[b][2] + v[2] * k,
         ];
-        note(dist(&ux[p.last], &pred), opts.path_mm * k);
+        note(
+            dist(&ux[p.last], &pred),
+            (opts.path_mm + 0.5 * norm(&v)) * k,
+        );
         ends += 1;
     }
     // The unlabelled trajectory past the gap, where the marker is recorded too.
@@ -161,6 +171,10 @@ fn path(p: &Piece, m: &Trial, u: &Trial, opts: &ReclaimOptions) -> (bool, Option
         }
     }
     (ok, worst, ends)
+}
+
+fn norm(v: &[f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
 fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
