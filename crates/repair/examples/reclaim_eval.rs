@@ -23,8 +23,7 @@
 mod corpus;
 
 use corpus::FILES;
-use repair::reclaim::{find_reclaims, judge, ReclaimOptions, Reclaims};
-use repair::swaps::learn_links;
+use repair::reclaim::{find_reclaims, judge, segment_links, ReclaimOptions, Reclaims};
 use repair::{Trial, Unlabelled};
 use std::collections::BTreeMap;
 
@@ -73,6 +72,7 @@ fn args() -> Result<Args, String> {
                     "margin" => o.margin = x,
                     "path_alone" => o.path_alone = x != 0.0,
                     "min_ends" => o.min_ends = x as usize,
+                    "max_link_tol_mm" => o.max_link_tol_mm = x,
                     _ => return Err(format!("no option {k}")),
                 }
             }
@@ -368,7 +368,7 @@ fn real(l: &Loaded, opts: &ReclaimOptions) -> (usize, usize, usize, f64, f64) {
         .sum();
     let r = find_reclaims(&l.labelled, &l.unlabelled, 1.0, opts);
     let moved: usize = r.moves.iter().map(|m| m.piece.len()).sum();
-    let links = learn_links(&l.labelled, 2.5, 0.5, 8);
+    let links = segment_links(&l.labelled, opts);
     let (mut after, mut own, mut na, mut no) = (0.0, 0.0, 0usize, 0usize);
     let d = |a: &[f64; 3], b: &[f64; 3]| {
         ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()

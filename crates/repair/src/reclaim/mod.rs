@@ -52,6 +52,9 @@ pub struct ReclaimOptions {
     /// Frames over which the marker's path is carried into a gap to judge a piece that
     /// starts (ends) inside it; further in, only the links judge.
     pub path_frames: usize,
+    /// Links whose distance departs more than this (mm, 95th percentile over the trial) are
+    /// not used: they span a joint.
+    pub max_link_tol_mm: f64,
     /// Ends of a piece (0, 1 or 2) that must be judged by the marker's path: a piece that
     /// floats inside a long gap, away from both its ends, rests on the links alone.
     pub min_ends: usize,
@@ -75,6 +78,7 @@ impl Default for ReclaimOptions {
             margin: 4.0,
             path_alone: true,
             min_ends: 1,
+            max_link_tol_mm: 15.0,
         }
     }
 }
@@ -176,7 +180,7 @@ pub fn judge(
         return Vec::new();
     }
     let (m, u) = (in_mm(markers, mm_per_unit), in_mm(candidates, mm_per_unit));
-    let links = kept_distances(&m);
+    let links = segment_links(&m, opts);
     pieces(&m, &u)
         .into_iter()
         .map(|p| (p, score::score(&p, &m, &u, &links[p.marker], opts)))
@@ -188,8 +192,13 @@ pub fn judge(
 /// of a trial when they span a joint or sit on moving skin, so each link's tolerance here
 /// is the 95th percentile of its distance's departure over every frame where both markers
 /// are recorded, and at least the finder's own. A frame of the true marker then strays
-/// beyond a link's tolerance one time in twenty, wherever the gap falls.
-fn kept_distances(m: &Trial) -> Vec<Vec<crate::swaps::Link>> {
+/// beyond a link's tolerance one time in twenty, wherever the gap falls. A link whose
+/// tolerance comes out above `max_tol_mm` keeps no distance worth the name (a joint between
+/// the markers) and is dropped.
+///
+/// `m` in mm; public for evaluations that compare distances after reclaiming with these.
+pub fn segment_links(m: &Trial, opts: &ReclaimOptions) -> Vec<Vec<crate::swaps::Link>> {
+    let max_tol_mm = opts.max_link_tol_mm;
     let mut links = learn_links(m, 2.5, 0.5, 8);
     let n = m.frames();
     let step = n.div_ceil(2000).max(1);
@@ -212,6 +221,7 @@ fn kept_distances(m: &Trial) -> Vec<Vec<crate::swaps::Link>> {
             let (_, q95, _) = dev.select_nth_unstable_by(k, f64::total_cmp);
             l.tol_mm = l.tol_mm.max(*q95);
         }
+        ls.retain(|l| l.tol_mm <= max_tol_mm);
     }
     links
 }

@@ -44,9 +44,26 @@ fn dist(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 
 /// The piece `p` judged for its marker, with that marker's `links`; `m` and `u` in mm.
 pub(super) fn score(p: &Piece, m: &Trial, u: &Trial, links: &[Link], opts: &ReclaimOptions) -> Fit {
+    // The path first: it is cheap, and most pieces (another point's samples) fail it.
+    let (path_ok, path_mm, ends) = path(p, m, u, opts);
+    let off = |checks, fails| Fit {
+        verdict: Verdict::Off,
+        cost: f64::NAN,
+        rms_mm: f64::NAN,
+        checked_frames: 0,
+        checks,
+        fails,
+        path_mm,
+    };
+    if !path_ok || ends < opts.min_ends {
+        return off(0, 0);
+    }
     let (mut sum, mut sq, mut checks, mut fails) = (0.0, 0.0, 0, 0);
     // Frames checked by `min_links` links, and by at least one.
     let (mut checked, mut touched) = (0, 0);
+    // More fails than this share of every check the piece could have is Off whatever the
+    // rest says: most pieces are another point and stop within a few frames.
+    let most = opts.max_fail * (p.len() * links.len()) as f64;
     for f in p.first..=p.last {
         let q = &u.xyz[p.source][f];
         let mut here = 0;
@@ -59,10 +76,12 @@ pub(super) fn score(p: &Piece, m: &Trial, u: &Trial, links: &[Link], opts: &Recl
             fails += usize::from(x > 1.0);
             here += 1;
         }
+        if fails as f64 > most {
+            return off(checks, fails);
+        }
         checked += usize::from(here >= opts.min_links);
         touched += usize::from(here >= 1);
     }
-    let (path_ok, path_mm, ends) = path(p, m, u, opts);
     let cost = if checks > 0 { sum / checks as f64 } else { 0.0 };
     let links_off =
         checks > 0 && (fails as f64 > opts.max_fail * checks as f64 || cost > opts.max_cost);
@@ -74,7 +93,7 @@ pub(super) fn score(p: &Piece, m: &Trial, u: &Trial, links: &[Link], opts: &Recl
         && m.valid[p.marker][p.first - 1]
         && m.valid[p.marker][p.last + 1];
     let enough = share(checked) || (ends == 2 && (share(touched) || (opts.path_alone && whole)));
-    let verdict = if !path_ok || links_off || ends < opts.min_ends {
+    let verdict = if links_off {
         Verdict::Off
     } else if !enough {
         if path_mm.is_some() {
