@@ -96,7 +96,8 @@ pub struct Summary {
 pub struct UnlabelledBrief {
     /// How many points are unlabelled.
     pub points: usize,
-    /// Their recorded samples, over all frames.
+    /// The samples they hold after the repair, over all frames (samples reclaimed into a
+    /// marker leave them).
     pub samples: usize,
 }
 

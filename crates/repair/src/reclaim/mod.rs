@@ -4,7 +4,7 @@
 //! A camera system that loses a marker and finds it again often starts a new trajectory it
 //! cannot name (`*51`, see [`crate::unlabelled`]) while the labelled one has a gap. Each
 //! stretch where an unlabelled trajectory is recorded inside a labelled marker's gap is a
-//! *piece*, judged on the evidence of the trial alone ([`score`]):
+//! *piece*, judged on the evidence of the trial alone ([`judge`]):
 //!
 //! - the distances the marker keeps to the markers of its segment, learned from the trial's
 //!   own frames as the swap finder learns them ([`crate::swaps::learn_links`]; no marker set
@@ -16,7 +16,7 @@
 //!   point;
 //! - no rival fitting as well: another unlabelled piece for the same marker and frames, or
 //!   the same unlabelled samples for another marker's gap, that fits within
-//!   [`ReclaimOptions::margin`] of the best leaves both unsettled ([`decide`]), so one
+//!   [`ReclaimOptions::margin`] of the best leaves both unsettled, so one
 //!   unlabelled sample serves one marker.
 //!
 //! Settled pieces are [`Move`]s: the caller moves those samples, as recorded, from the
