@@ -225,6 +225,12 @@ pub(crate) fn repair_configured(
     let only = opts.markers.as_ref().map(|m| select(c, m)).transpose()?;
     let split = split_unlabelled(c, &opts.unlabelled_rule());
     let points = split.labelled.clone();
+    if let Some(p) = only.iter().flatten().find(|p| split.unlabelled.contains(p)) {
+        return Err(Error::options(format!(
+            "{:?} is an unlabelled point, not a marker: a repair leaves it as recorded",
+            c.point_labels()[*p].trim()
+        )));
+    }
     // What an earlier repair of this file did: done steps are not done again, its fills are
     // no data, the gaps it left under these settings stay left (see crate::rerun).
     let record = rerun::Record::read(c);

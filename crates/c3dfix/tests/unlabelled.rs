@@ -44,6 +44,16 @@ fn fast_walk_speaks_of_its_51_labelled_markers_and_leaves_29_unlabelled_as_recor
         assert_eq!(a.residuals(p), b.residuals(p), "{}", labels[p]);
     }
     assert_eq!(seen, 29);
+    // Asked for by name, an unlabelled point is refused with why.
+    let opts = RepairOptions {
+        markers: Some(vec!["*53".into()]),
+        ..RepairOptions::default()
+    };
+    let e = c3dfix::repair(&mut original.clone(), &opts, &path).unwrap_err();
+    assert!(
+        e.to_string().contains("\"*53\" is an unlabelled point"),
+        "{e}"
+    );
 }
 
 /// A lab's own placeholder, by pattern (here `lth3`, any case): the fast walk's `LTH3` named unlabelled
