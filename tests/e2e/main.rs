@@ -13,6 +13,7 @@ mod frames;
 mod gait;
 mod hostile;
 mod library;
+mod reclaim;
 mod repair;
 mod report;
 mod reruns;

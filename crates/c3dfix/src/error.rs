@@ -128,6 +128,8 @@ pub enum Setting {
     EventSource,
     /// Repair: what is done with label swaps and jumps.
     Swaps,
+    /// Repair: what is done with unlabelled samples that are a marker's.
+    Reclaim,
     /// Exports: the rotation from the lab's axes to the output's.
     Axes,
     /// Cycles: the feet whose cycles are cut.
@@ -148,6 +150,7 @@ impl Setting {
             Setting::Threshold => "threshold",
             Setting::EventSource => "event source",
             Setting::Swaps => "swaps",
+            Setting::Reclaim => "reclaim",
             Setting::Axes => "axes",
             Setting::Side => "side",
         }

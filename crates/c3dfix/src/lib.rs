@@ -41,6 +41,7 @@ pub mod markers;
 mod options;
 pub mod plate_silence;
 pub mod platforms;
+pub mod reclaim_stage;
 mod repair;
 pub mod report;
 pub mod rerun;
@@ -67,13 +68,15 @@ pub use gait_params::{gait_parameters, GaitOptions, GaitReport};
 pub use gaps::{gaps, GapInfo};
 pub use keyframes::{keyframes, KeyMethod, KeyframeOptions, KeyframeReport, Keyframed};
 pub use options::{
-    max_expected_error, RepairOptions, SwapsMode, DEFAULT_MAX_EXPECTED_ERROR_MM, DEFAULT_SWAPS,
+    max_expected_error, ReclaimMode, RepairOptions, SwapsMode, DEFAULT_MAX_EXPECTED_ERROR_MM,
+    DEFAULT_RECLAIM, DEFAULT_SWAPS,
 };
 pub use platforms::{
     force_platforms, Baseline, BaselineSource, Contact, ForceOptions, ForcePlatforms, ForcesReport,
     PlateWarning, Platform,
 };
-pub use repair::{repair, GapBrief, Repaired, Summary};
+pub use reclaim_stage::{reclaim, Reclaim};
+pub use repair::{repair, GapBrief, Repaired, Summary, UnlabelledBrief};
 pub use repair_lib::{FillMethod, FilterSpec, ParseError, SpikeMode, SpikeSpec};
 pub use swaps::{swaps, SwapFind, Swaps};
 pub use trial::{open, open_mapped};

@@ -38,4 +38,26 @@ pub fn select(c: &c3d::C3d, names: &[String]) -> Result<Vec<usize>> {
     Ok(out)
 }
 
+/// The markers of a trial split by [`repair::Unlabelled`]'s one rule: `labelled` are the
+/// markers every repair stage speaks of, `unlabelled` the points a capture system could not
+/// name (`*51`, `Unlabeled 3`, an empty label, or the user's pattern), candidates for the
+/// markers' gaps and otherwise left as recorded. Both in the file's order.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Split {
+    pub labelled: Vec<usize>,
+    pub unlabelled: Vec<usize>,
+}
+
+/// [`marker_indices`] of `c` split into labelled markers and unlabelled points by `rule`.
+pub fn split_unlabelled(c: &c3d::C3d, rule: &repair::Unlabelled) -> Split {
+    let labels = c.point_labels();
+    let (unlabelled, labelled) = marker_indices(c)
+        .into_iter()
+        .partition(|&i| rule.is_unlabelled(&labels[i]));
+    Split {
+        labelled,
+        unlabelled,
+    }
+}
+
 pub use c3d::mm_per_unit;

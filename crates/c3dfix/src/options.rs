@@ -5,7 +5,9 @@
 //! same things.
 
 use crate::error::{Error, Result, Setting};
-use repair::{FillMethod, FillOptions, FilterSpec, RepairConfig, SpikeMode, SpikeSpec};
+use repair::{
+    FillMethod, FillOptions, FilterSpec, Glob, RepairConfig, SpikeMode, SpikeSpec, Unlabelled,
+};
 
 /// Longest gap that may be asked for, in frames (a C3D file holds at most 2³² frames).
 pub const MAX_GAP_FRAMES: usize = u32::MAX as usize;
@@ -66,6 +68,50 @@ impl std::fmt::Display for SwapsMode {
     }
 }
 
+/// What `repair` does with the unlabelled samples that are a labelled marker's (issue 47),
+/// the stage after the swaps and before the fills.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ReclaimMode {
+    /// Move the settled pieces into their markers (recorded samples, flags and all); report
+    /// the others.
+    On,
+    /// Find and report, change nothing. The default: see [`DEFAULT_RECLAIM`].
+    #[default]
+    Report,
+    /// Do not look.
+    Off,
+}
+
+/// The default of `--reclaim`: `report` (docs/reclaim.md, "Choosing the default").
+pub const DEFAULT_RECLAIM: ReclaimMode = ReclaimMode::Report;
+
+impl std::str::FromStr for ReclaimMode {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<ReclaimMode> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "on" => Ok(ReclaimMode::On),
+            "report" => Ok(ReclaimMode::Report),
+            "off" => Ok(ReclaimMode::Off),
+            _ => Err(Error::OutOfRange {
+                setting: Setting::Reclaim,
+                value: format!("{s:?}"),
+                limits: "expected on, report or off".into(),
+            }),
+        }
+    }
+}
+
+impl std::fmt::Display for ReclaimMode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ReclaimMode::On => "on",
+            ReclaimMode::Report => "report",
+            ReclaimMode::Off => "off",
+        })
+    }
+}
+
 /// Everything `repair` can be asked to do, typed: names and specs are read (`FromStr`) at
 /// each front end's door, so a misspelt method or filter is refused there, and written back
 /// (`Display`) in reports and the C3DFIX record as one spelling.
@@ -95,6 +141,12 @@ pub struct RepairOptions {
     pub zero_invalid: bool,
     /// Label swaps and jumps, the first stage: fixed, reported or not looked for.
     pub swaps: SwapsMode,
+    /// Labels that also mark a point as unlabelled, beside the common placeholders
+    /// ([`repair::unlabelled::is_common_placeholder`]): such points are no markers of the
+    /// repair (not filled, no donors, no swaps), counted apart and left as recorded.
+    pub unlabelled: Option<Glob>,
+    /// Unlabelled samples that are a marker's: moved back, reported or not looked for.
+    pub reclaim: ReclaimMode,
 }
 
 impl Default for RepairOptions {
@@ -114,11 +166,20 @@ impl Default for RepairOptions {
             markers: None,
             zero_invalid: false,
             swaps: DEFAULT_SWAPS,
+            unlabelled: None,
+            reclaim: DEFAULT_RECLAIM,
         }
     }
 }
 
 impl RepairOptions {
+    /// Which points are unlabelled under these options.
+    pub fn unlabelled_rule(&self) -> Unlabelled {
+        self.unlabelled
+            .clone()
+            .map_or_else(Unlabelled::common, Unlabelled::with_pattern)
+    }
+
     /// Check every option, once, and build the repair library's configuration in
     /// millimetres ([`RepairConfig::in_units`] turns it to a file's units). Nothing here
     /// depends on a file, so a run checks before it touches one.

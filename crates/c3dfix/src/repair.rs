@@ -3,8 +3,9 @@
 //! back with their flags, and a report of every swap, gap, spike and segment.
 
 use crate::error::{Error, Result};
-use crate::markers::{marker_indices, mm_per_unit, select};
+use crate::markers::{mm_per_unit, select, split_unlabelled};
 use crate::options::RepairOptions;
+use crate::reclaim_stage::{self, Reclaim, ReclaimAction, ReclaimBrief, UnsettledBrief};
 use crate::rerun;
 use crate::swap_stage::{self, SwapAction, SwapBrief};
 use crate::trial::{to_trial, write_back};
@@ -18,8 +19,14 @@ use std::path::Path;
 pub struct Summary {
     pub file: String,
     pub output: String,
+    /// Labelled markers: the ones repaired, and the only ones `gaps`, `filled`, the swaps and
+    /// every other count below speak of.
     pub markers: usize,
     pub model_outputs_left: usize,
+    /// Points a capture system left unlabelled (`*51`, `Unlabeled 3`, an empty label, or the
+    /// user's pattern), counted apart and left as recorded; absent when there are none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unlabelled: Option<UnlabelledBrief>,
     pub gaps: usize,
     pub filled: usize,
     /// Gaps filled per method (for `auto`, the method it chose).
@@ -56,6 +63,17 @@ pub struct Summary {
     /// numbering, with its evidence and what was done with it.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub swap_list: Vec<SwapBrief>,
+    /// Recorded samples moved from unlabelled points into their markers (`--reclaim on`).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub reclaimed: usize,
+    /// Every settled piece of unlabelled samples found in a marker's gap (`--reclaim on` or
+    /// `report`), frames in the file's numbering, with its fit and what was done with it.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub reclaim_list: Vec<ReclaimBrief>,
+    /// Pieces that fit a marker's gap and are not settled (a rival fits as well, or too
+    /// few segment distances to tell): reported, never moved.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub reclaim_unsettled: Vec<UnsettledBrief>,
     /// Why the swap stage checked nothing (too little to judge), if so.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub swaps_note: Option<String>,
@@ -71,6 +89,16 @@ pub struct Summary {
     /// Why the file was left as it was (batch only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped: Option<String>,
+}
+
+/// A trial's unlabelled points in a summary.
+#[derive(Debug, Clone, Serialize, Default, PartialEq)]
+pub struct UnlabelledBrief {
+    /// How many points are unlabelled.
+    pub points: usize,
+    /// The samples they hold after the repair, over all frames (samples reclaimed into a
+    /// marker leave them).
+    pub samples: usize,
 }
 
 fn is_zero(n: &usize) -> bool {
@@ -111,6 +139,7 @@ pub struct Repaired {
     pub summary: Summary,
     config: serde_json::Value,
     swaps: Vec<SwapBrief>,
+    reclaim: Reclaim,
     gaps: Vec<serde_json::Value>,
     spikes: Vec<serde_json::Value>,
     spike_mode: serde_json::Value,
@@ -131,6 +160,7 @@ impl Repaired {
             "config": self.config,
             "summary": self.summary,
             "swaps": self.swaps,
+            "reclaim": self.reclaim,
             "gaps": self.gaps,
             "spikes": self.spikes,
             "spike_mode": self.spike_mode,
@@ -193,7 +223,14 @@ pub(crate) fn repair_configured(
         .in_units(mm_per_unit(&c.point_units()))
         .with_storage(storage);
     let only = opts.markers.as_ref().map(|m| select(c, m)).transpose()?;
-    let points = marker_indices(c);
+    let split = split_unlabelled(c, &opts.unlabelled_rule());
+    let points = split.labelled.clone();
+    if let Some(p) = only.iter().flatten().find(|p| split.unlabelled.contains(p)) {
+        return Err(Error::options(format!(
+            "{:?} is an unlabelled point, not a marker: a repair leaves it as recorded",
+            c.point_labels()[*p].trim()
+        )));
+    }
     // What an earlier repair of this file did: done steps are not done again, its fills are
     // no data, the gaps it left under these settings stay left (see crate::rerun).
     let record = rerun::Record::read(c);
@@ -210,6 +247,33 @@ pub(crate) fn repair_configured(
         _ => {
             let point_in_scope = |p: usize| only.as_ref().is_none_or(|o| o.contains(&p));
             swap_stage::run(c, name, opts.swaps, &point_in_scope, &points, &mut trial)?
+        }
+    };
+    // 1. Unlabelled samples that are a marker's, moved back before any fill reads the gaps;
+    // never twice (a second run would judge against the first run's moves).
+    let reclaim_settings = rerun::reclaim_settings(opts);
+    let reclaim = match (&record.reclaim, &reclaim_settings) {
+        (Some(done), Some(_)) => {
+            already_applied.push(format!("reclaim ({done})"));
+            Reclaim::default()
+        }
+        _ => {
+            let data = reclaim_stage::own_data(c, &points, &trial);
+            let point_in_scope = |p: usize| only.as_ref().is_none_or(|o| o.contains(&p));
+            let labelled = reclaim_stage::Points {
+                labelled: &points,
+                unlabelled: &split.unlabelled,
+                data: &data,
+                zero_invalid: opts.zero_invalid,
+            };
+            reclaim_stage::run(
+                c,
+                name,
+                opts.reclaim,
+                &labelled,
+                &mut trial,
+                &point_in_scope,
+            )?
         }
     };
     let mut spikes = cfg.spikes().copied();
@@ -288,7 +352,8 @@ pub(crate) fn repair_configured(
         file: name.display().to_string(),
         already_applied,
         markers: points.len(),
-        model_outputs_left: c.point_count() - points.len(),
+        model_outputs_left: c.point_count() - points.len() - split.unlabelled.len(),
+        unlabelled: unlabelled_brief(c, &split.unlabelled, opts.zero_invalid),
         samples_at_origin: (0..points.len())
             .filter(|&r| in_scope(r))
             .map(|r| {
@@ -303,6 +368,9 @@ pub(crate) fn repair_configured(
         jumps_to_gaps: count_action(&stage.briefs, SwapAction::Gap),
         swap_list: stage.briefs.clone(),
         swaps_note: stage.note.clone(),
+        reclaimed: reclaim.samples_moved,
+        reclaim_list: reclaim.settled.clone(),
+        reclaim_unsettled: reclaim.unsettled.clone(),
         ..Summary::default()
     };
     let mut gaps = Vec::new();
@@ -389,7 +457,21 @@ pub(crate) fn repair_configured(
         spikes: record.spikes.clone(),
         swaps: record.swaps.clone().or(swap_settings),
         undone: record.undone.iter().chain(&stage.undone).cloned().collect(),
+        // Recorded only when something moved: a stage that moved nothing leaves the file as
+        // it was, and judges the same again.
+        reclaim: record
+            .reclaim
+            .clone()
+            .or(reclaim_settings.filter(|_| !reclaim.moved.is_empty())),
+        reclaimed: record
+            .reclaimed
+            .iter()
+            .chain(&reclaim.moved)
+            .copied()
+            .collect(),
     };
+    next.reclaimed.sort();
+    next.reclaimed.dedup();
     next.undone.sort();
     next.undone.dedup();
     for g in report.gaps.iter().filter(|g| in_scope(g.gap.marker)) {
@@ -420,7 +502,7 @@ pub(crate) fn repair_configured(
     };
     next.write(c).map_err(c3d_error)?;
     let wb = write_back(c, &trial, &points, &report.changes, only.as_deref()).map_err(c3d_error)?;
-    s.samples_changed = wb.changed + stage.exchanged;
+    s.samples_changed = wb.changed + stage.exchanged + reclaim.samples_moved;
     s.samples_clamped = wb.clamped;
     let exchanged: Vec<usize> = stage
         .briefs
@@ -428,10 +510,13 @@ pub(crate) fn repair_configured(
         .filter(|b| b.action == SwapAction::Undone)
         .flat_map(|b| b.find.points.iter().copied())
         .collect();
+    let moved_into = |p: usize| reclaim.moved.iter().any(|m| m.point == p);
     s.markers_changed = (0..points.len())
         .filter(|&r| {
             in_scope(r)
-                && (report.changes[r].iter().any(|&x| x != 0) || exchanged.contains(&points[r]))
+                && (report.changes[r].iter().any(|&x| x != 0)
+                    || exchanged.contains(&points[r])
+                    || moved_into(points[r]))
         })
         .count();
     let markers = (0..points.len())
@@ -443,11 +528,18 @@ pub(crate) fn repair_configured(
                 .filter(|b| b.action == SwapAction::Undone && b.find.points.contains(&points[r]))
                 .map(|b| b.find.last_index - b.find.first_index + 1)
                 .sum::<usize>();
-            serde_json::json!({"label": row_label(r), "samples_changed": report.changed_per_marker[r] + swapped})
+            let reclaimed = reclaim
+                .settled
+                .iter()
+                .filter(|b| b.action == ReclaimAction::Moved && b.point == points[r])
+                .map(|b| b.samples)
+                .sum::<usize>();
+            serde_json::json!({"label": row_label(r), "samples_changed": report.changed_per_marker[r] + swapped + reclaimed})
         })
         .collect();
     Ok(Repaired {
         swaps: stage.briefs,
+        reclaim,
         summary: s,
         config: serde_json::to_value(&cfg).unwrap_or_default(),
         gaps,
@@ -455,6 +547,22 @@ pub(crate) fn repair_configured(
         spike_mode: serde_json::to_value(report.spike_mode).unwrap_or_default(),
         segments,
         markers,
+    })
+}
+
+/// The unlabelled points of `c` for the summary, `None` when there are none.
+fn unlabelled_brief(c: &c3d::C3d, points: &[usize], zero_invalid: bool) -> Option<UnlabelledBrief> {
+    if points.is_empty() {
+        return None;
+    }
+    let v = crate::trial::validity(c, points, zero_invalid);
+    Some(UnlabelledBrief {
+        points: points.len(),
+        samples: v
+            .valid
+            .iter()
+            .map(|r| r.iter().filter(|&&x| x).count())
+            .sum(),
     })
 }
 

@@ -15,6 +15,10 @@
 //! - `SWAPS` (char): the swap stage applied (`--swaps fix`), if any, and `UNDONE` (float,
 //!   rows of 4): point numbers of the two markers (the second 0 for a jump), first and last
 //!   frame number of every label swap exchanged back and every label jump made a gap.
+//! - `RECLAIM` (char): the reclaim stage applied (`--reclaim on`), if any, and `RECLAIMED`
+//!   (float, rows of 4): point numbers of the marker and of the unlabelled point, first and
+//!   last frame number of every stretch of recorded samples moved from the one to the other
+//!   (issue 47). Those samples are data, as recorded, not fills.
 //!
 //! A later repair (the rule, applied in [`repair::repair_trial_after`]): samples in `FILLED`
 //! are kept and are no data (no donor, no context, never a spike), so fills never breed
@@ -41,6 +45,11 @@ pub fn fill_settings(o: &crate::RepairOptions) -> String {
     if o.zero_invalid {
         s.push_str(" --zero-invalid");
     }
+    // Which points are markers decides which gaps there are: a pattern asked for is part of
+    // the settings (none asked for writes what earlier runs wrote).
+    if let Some(p) = &o.unlabelled {
+        s.push_str(&format!(" --unlabelled {p}"));
+    }
     s
 }
 
@@ -61,6 +70,12 @@ pub fn spike_settings(o: &crate::RepairOptions) -> Option<String> {
 /// changes the file only when fixing).
 pub fn swap_settings(o: &crate::RepairOptions) -> Option<String> {
     (o.swaps == crate::SwapsMode::Fix).then(|| "--swaps fix".to_string())
+}
+
+/// The reclaim stage asked for, as `RECLAIM` records it (`None`: nothing to record, the
+/// stage changes the file only when on).
+pub fn reclaim_settings(o: &crate::RepairOptions) -> Option<String> {
+    (o.reclaim == crate::ReclaimMode::On).then(|| "--reclaim on".to_string())
 }
 
 /// One label swap (two points) or jump (one point) a repair undid: point indices (0-based)
@@ -97,6 +112,9 @@ pub struct Record {
     pub swaps: Option<String>,
     /// Swaps exchanged back and jumps made gaps, over all runs.
     pub undone: Vec<Undone>,
+    pub reclaim: Option<String>,
+    /// Recorded samples moved from unlabelled points into markers, over all runs.
+    pub reclaimed: Vec<crate::reclaim_stage::Reclaimed>,
 }
 
 /// A reason as `LEFT` stores it: a code and two values (the reason's numbers, 0 without).
@@ -221,6 +239,19 @@ impl Record {
                 })
             })
             .collect();
+        let reclaimed = rows(c, "RECLAIMED", 4)
+            .iter()
+            .filter_map(|r| {
+                let (point, first, last) = place(&[r[0], r[2], r[3]])?;
+                let (source, _, _) = place(&[r[1], r[2], r[3]])?;
+                Some(crate::reclaim_stage::Reclaimed {
+                    point,
+                    source,
+                    first,
+                    last,
+                })
+            })
+            .collect();
         Record {
             filled,
             left,
@@ -229,6 +260,8 @@ impl Record {
             spikes: string(c, "SPIKES"),
             swaps: string(c, "SWAPS"),
             undone,
+            reclaim: string(c, "RECLAIM"),
+            reclaimed,
         }
     }
 
@@ -275,7 +308,36 @@ impl Record {
                 ]
             })
             .collect();
+        let reclaimed: Vec<[f32; 4]> = self
+            .reclaimed
+            .iter()
+            .map(|r| {
+                [
+                    (r.point + 1) as f32,
+                    (r.source + 1) as f32,
+                    r.first as f32 + first_frame,
+                    r.last as f32 + first_frame,
+                ]
+            })
+            .collect();
         let ps = &mut c.parameters;
+        if reclaimed.is_empty() {
+            remove_rows(ps, "RECLAIMED");
+        } else {
+            set_rows(
+                ps,
+                "RECLAIMED",
+                &reclaimed.concat(),
+                4,
+                "recorded samples moved from unlabelled points: marker point number, unlabelled point number, first frame, last frame",
+            )?;
+        }
+        set_string(
+            ps,
+            "RECLAIM",
+            self.reclaim.as_deref(),
+            "reclaim stage c3dfix applied",
+        )?;
         if undone.is_empty() {
             remove_rows(ps, "UNDONE");
         } else {

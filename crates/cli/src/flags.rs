@@ -17,6 +17,7 @@ pub fn flag(s: Setting) -> &'static str {
         Setting::Threshold => "--threshold",
         Setting::EventSource => "--from",
         Setting::Swaps => "--swaps",
+        Setting::Reclaim => "--reclaim",
         Setting::Axes => "--axes",
         Setting::Side => "--side",
         // A setting added to the library before it is given a flag here: its plain name.

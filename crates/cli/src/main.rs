@@ -35,6 +35,9 @@ enum Command {
     Gaps(commands::gaps::Args),
     /// Find marker label swaps and label jumps (reported with their frames and confidence).
     Swaps(commands::swaps::Args),
+    /// Find the unlabelled samples that are a labelled marker's, in its gaps (reported; repair
+    /// --reclaim on moves them).
+    Reclaim(commands::reclaim::Args),
     /// Force platforms: ground reaction force, moment, centre of pressure, free moment and
     /// contact intervals of every plate.
     Forces(commands::forces::Args),
@@ -92,6 +95,7 @@ fn main() {
         Command::Export(a) => commands::export::run(a),
         Command::Gaps(a) => commands::gaps::run(a),
         Command::Swaps(a) => commands::swaps::run(a),
+        Command::Reclaim(a) => commands::reclaim::run(a),
         Command::Forces(a) => commands::forces::run(a),
         Command::Events(a) => commands::events::run(a),
         Command::Gait(a) => commands::gait::run(a),

@@ -25,6 +25,7 @@ pub fn roots() -> std::collections::BTreeMap<&'static str, Option<std::path::Pat
 /// artificial gap such a sample would score a fill against the origin: 206 of the 353 gaps
 /// of `arthuman-sample.c3d` touched its one such frame, the only stretches there not
 /// skipped as computed points (the frame breaks their constant distances).
+#[allow(dead_code)]
 pub fn load(path: &std::path::Path) -> Result<Trial, String> {
     load_with(path, false)
 }

@@ -36,10 +36,10 @@ fn file_err(input: &Path, e: c3dfix::Error) -> PyErr {
 /// as FILE.bak), a device or folder never; the report never replaces the input or the output.
 /// Repair options as for `repair`. Raises C3dError naming the file.
 #[pyfunction]
-#[pyo3(signature = (input, output=None, *, in_place=false, backup=false, force=false, report=None, fill="auto", spikes=None, lowpass=None, max_gap=200, max_expected_error=Some(c3dfix::DEFAULT_MAX_EXPECTED_ERROR_MM), spike_mode="gap", spike_min_mm=5.0, spike_classic=false, markers=None, zero_invalid=false, swaps="report"))]
+#[pyo3(signature = (input, output=None, *, in_place=false, backup=false, force=false, report=None, fill="auto", spikes=None, lowpass=None, max_gap=200, max_expected_error=Some(c3dfix::DEFAULT_MAX_EXPECTED_ERROR_MM), spike_mode="gap", spike_min_mm=5.0, spike_classic=false, markers=None, zero_invalid=false, swaps="report", reclaim="report", unlabelled=None))]
 // As for `repair`: the text signature says the expression default's value.
 #[pyo3(
-    text_signature = "(input, output=None, *, in_place=False, backup=False, force=False, report=None, fill='auto', spikes=None, lowpass=None, max_gap=200, max_expected_error=20.0, spike_mode='gap', spike_min_mm=5.0, spike_classic=False, markers=None, zero_invalid=False, swaps='report')"
+    text_signature = "(input, output=None, *, in_place=False, backup=False, force=False, report=None, fill='auto', spikes=None, lowpass=None, max_gap=200, max_expected_error=20.0, spike_mode='gap', spike_min_mm=5.0, spike_classic=False, markers=None, zero_invalid=False, swaps='report', reclaim='report', unlabelled=None)"
 )]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn repair_file(
@@ -61,6 +61,8 @@ pub(crate) fn repair_file(
     markers: Option<Vec<String>>,
     zero_invalid: bool,
     swaps: &str,
+    reclaim: &str,
+    unlabelled: Option<&str>,
 ) -> PyResult<PyObject> {
     let dest = Destination {
         output,
@@ -80,6 +82,8 @@ pub(crate) fn repair_file(
         markers,
         zero_invalid,
         swaps,
+        reclaim,
+        unlabelled,
     }
     .options()
     .map_err(|e| file_err(&input, e))?;

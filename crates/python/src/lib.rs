@@ -432,13 +432,16 @@ fn gaps(py: Python<'_>, path: PathBuf, zero_invalid: bool) -> PyResult<PyObject>
 /// "cheby2:ORDER:CUTOFF_HZ:ATTEN_DB", markers a list of labels to repair; gaps whose expected
 /// fill error is above max_expected_error mm are left (reason "uncertain"), None fills all;
 /// swaps is "fix" (settled label swaps exchanged back, jumps refilled), "report" (listed in
-/// the report's "swaps", nothing changed) or "off".
+/// the report's "swaps", nothing changed) or "off"; reclaim is "on" (unlabelled samples that
+/// are a marker's moved into it as recorded), "report" (listed in the report's "reclaim",
+/// nothing changed) or "off"; unlabelled a label glob that also marks points unlabelled
+/// (beside `*51`, `Unlabeled 3`, empty labels): such points are not repaired.
 #[pyfunction]
-#[pyo3(signature = (c3d, fill="auto", spikes=None, lowpass=None, max_gap=200, max_expected_error=Some(c3dfix::DEFAULT_MAX_EXPECTED_ERROR_MM), spike_mode="gap", spike_min_mm=5.0, spike_classic=false, markers=None, zero_invalid=false, swaps="report"))]
+#[pyo3(signature = (c3d, fill="auto", spikes=None, lowpass=None, max_gap=200, max_expected_error=Some(c3dfix::DEFAULT_MAX_EXPECTED_ERROR_MM), spike_mode="gap", spike_min_mm=5.0, spike_classic=false, markers=None, zero_invalid=false, swaps="report", reclaim="report", unlabelled=None))]
 // The default of max_expected_error is an expression, which pyo3 would show as `...`; the
 // text signature says its value (test_repair_defaults_agree_everywhere checks it).
 #[pyo3(
-    text_signature = "(c3d, fill='auto', spikes=None, lowpass=None, max_gap=200, max_expected_error=20.0, spike_mode='gap', spike_min_mm=5.0, spike_classic=False, markers=None, zero_invalid=False, swaps='report')"
+    text_signature = "(c3d, fill='auto', spikes=None, lowpass=None, max_gap=200, max_expected_error=20.0, spike_mode='gap', spike_min_mm=5.0, spike_classic=False, markers=None, zero_invalid=False, swaps='report', reclaim='report', unlabelled=None)"
 )]
 #[allow(clippy::too_many_arguments)]
 fn repair(
@@ -455,6 +458,8 @@ fn repair(
     markers: Option<Vec<String>>,
     zero_invalid: bool,
     swaps: &str,
+    reclaim: &str,
+    unlabelled: Option<&str>,
 ) -> PyResult<(PyC3d, PyObject)> {
     let opts = options::RepairKeywords {
         fill,
@@ -468,6 +473,8 @@ fn repair(
         markers,
         zero_invalid,
         swaps,
+        reclaim,
+        unlabelled,
     }
     .options()
     .map_err(err)?;
@@ -494,6 +501,31 @@ fn swaps(py: Python<'_>, c3d: &PyC3d) -> PyResult<PyObject> {
     let opts = c3dfix::repair_lib::swaps::SwapOptions::default();
     let found = py
         .allow_threads(|| c3dfix::swaps(&c3d.inner, &name, &opts))
+        .map_err(err)?;
+    to_python(py, &serde_json::to_value(&found).map_err(err)?)
+}
+
+/// reclaim(c3d, unlabelled=None, zero_invalid=False) -> dict
+///
+/// The unlabelled samples that are a labelled marker's, as `c3dfix reclaim --json` lists
+/// them: "settled" (what repair(..., reclaim="on") moves: marker, source, first_frame,
+/// last_frame, samples, fit) and "unsettled" (with why), markers, unlabelled and pieces.
+/// Changes nothing.
+#[pyfunction]
+#[pyo3(signature = (c3d, unlabelled=None, zero_invalid=false))]
+fn reclaim(
+    py: Python<'_>,
+    c3d: &PyC3d,
+    unlabelled: Option<&str>,
+    zero_invalid: bool,
+) -> PyResult<PyObject> {
+    let name = c3d.name();
+    let rule = match unlabelled {
+        Some(p) => c3dfix::repair_lib::Unlabelled::with_pattern(p.parse().map_err(err)?),
+        None => c3dfix::repair_lib::Unlabelled::common(),
+    };
+    let found = py
+        .allow_threads(|| c3dfix::reclaim(&c3d.inner, &name, &rule, zero_invalid))
         .map_err(err)?;
     to_python(py, &serde_json::to_value(&found).map_err(err)?)
 }
@@ -548,6 +580,7 @@ fn _c3dfix(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(gaps, m)?)?;
     m.add_function(wrap_pyfunction!(repair, m)?)?;
     m.add_function(wrap_pyfunction!(swaps, m)?)?;
+    m.add_function(wrap_pyfunction!(reclaim, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(files::repair_file, m)?)?;
     m.add_function(wrap_pyfunction!(options::_repair_defaults, m)?)?;

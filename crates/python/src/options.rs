@@ -37,6 +37,8 @@ pub(crate) struct RepairKeywords<'a> {
     pub markers: Option<Vec<String>>,
     pub zero_invalid: bool,
     pub swaps: &'a str,
+    pub reclaim: &'a str,
+    pub unlabelled: Option<&'a str>,
 }
 
 impl RepairKeywords<'_> {
@@ -54,6 +56,8 @@ impl RepairKeywords<'_> {
             markers: self.markers,
             zero_invalid: self.zero_invalid,
             swaps: self.swaps.parse()?,
+            reclaim: self.reclaim.parse()?,
+            unlabelled: self.unlabelled.map(str::parse).transpose()?,
         })
     }
 }
@@ -77,6 +81,8 @@ pub(crate) fn _repair_defaults(py: Python<'_>) -> PyResult<PyObject> {
         "markers": d.markers,
         "zero_invalid": d.zero_invalid,
         "swaps": d.swaps.to_string(),
+        "reclaim": d.reclaim.to_string(),
+        "unlabelled": d.unlabelled.map(|g| g.to_string()),
     });
     to_python(py, &v).map_err(|e| err(format!("repair defaults: {e}")))
 }

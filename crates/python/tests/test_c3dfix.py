@@ -382,3 +382,24 @@ def test_repair_defaults_agree_everywhere():
         for key, value in want.items():
             assert params[key].default == value, (f.__name__, key, params[key].default, value)
             assert stubbed[f.__name__][key] == value, (f.__name__, "stub", key)
+
+
+def test_reclaim_lists_what_repair_moves():
+    """Issue 47: reclaim() lists the settled pieces; repair(..., reclaim="on") moves exactly
+    those, the unlabelled points are counted apart, and a misspelt mode raises C3dError."""
+    labs = corpus("C3D_LABS", "../shared/c3d-labs")
+    if labs is None:
+        pytest.skip("c3d-labs corpus not found")
+    path = Path(labs) / "RehabEngGroup__MOtoNMS__Fast_Walking.c3d"
+    c = c3dfix.read(str(path))
+    listed = c3dfix.reclaim(c)
+    assert (listed["markers"], listed["unlabelled"]) == (51, 29)
+    assert listed["settled"] and all(b["action"] == "reported" for b in listed["settled"])
+    _, report = c3dfix.repair(c, reclaim="on")
+    moved = [(b["marker"], b["source"], b["first_frame"], b["last_frame"])
+             for b in report["summary"]["reclaim_list"]]
+    assert moved == [(b["marker"], b["source"], b["first_frame"], b["last_frame"])
+                     for b in listed["settled"]]
+    assert report["summary"]["unlabelled"]["points"] == 29
+    with pytest.raises(c3dfix.C3dError):
+        c3dfix.repair(c, reclaim="maybe")

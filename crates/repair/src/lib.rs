@@ -40,6 +40,7 @@ mod linalg;
 pub mod names;
 pub mod pipeline;
 pub mod profile;
+pub mod reclaim;
 mod rng;
 pub mod spikes;
 pub mod swaps;
@@ -48,6 +49,7 @@ pub mod swaps;
 /// the runtime API.
 #[cfg(any(test, feature = "synth"))]
 pub mod synth;
+pub mod unlabelled;
 
 pub use error::{RepairError, Result};
 pub use evaluate::{
@@ -60,6 +62,7 @@ pub use names::{ParseError, SpikeSpec};
 pub use pipeline::{change, repair_trial, repair_trial_after, Earlier, RepairConfig, RepairReport};
 pub use spikes::{SpikeMode, SpikeOptions};
 pub use swaps::{find_swaps, Find, FindKind, SwapOptions};
+pub use unlabelled::{Glob, Unlabelled};
 
 /// Marker trajectories of one trial: `xyz[marker][frame]` and `valid[marker][frame]`.
 /// Invalid samples' coordinates are ignored (whatever they hold).

@@ -16,6 +16,7 @@ pub mod info;
 pub mod keyframes;
 pub mod parallel;
 pub mod plot;
+pub mod reclaim;
 pub mod repair;
 pub mod repair_io;
 pub mod report;

@@ -5,6 +5,7 @@ use crate::commands::repair_io::RepairArgs;
 use crate::console::outln;
 use anyhow::Result;
 use c3dfix::files::Destination;
+use c3dfix::reclaim_stage::ReclaimAction;
 use c3dfix::swap_stage::SwapAction;
 use c3dfix::Summary;
 use std::path::PathBuf;
@@ -91,6 +92,13 @@ pub fn print_summary(s: &Summary) -> Result<()> {
             format!(" ({})", left.join(", "))
         }
     )?;
+    if let Some(u) = &s.unlabelled {
+        outln!(
+            "  unlabelled {} points ({} samples): not markers, left as recorded",
+            u.points,
+            u.samples
+        )?;
+    }
     if let (Some(mean), Some(max)) = (s.expected_error_mm_mean, s.expected_error_mm_max) {
         outln!("  expected fill error {mean:.2} mm on average, {max:.2} mm at most")?;
     }
@@ -134,6 +142,28 @@ pub fn print_summary(s: &Summary) -> Result<()> {
             x.first_frame,
             x.last_frame,
             x.confidence
+        )?;
+    }
+    for b in &s.reclaim_list {
+        let action = match b.action {
+            ReclaimAction::Moved => "moved",
+            ReclaimAction::Reported => "reported (--reclaim on moves it)",
+            ReclaimAction::OutOfScope => "reported (a marker outside --markers)",
+        };
+        outln!(
+            "  reclaim  {} ← {} frames {}–{} ({} samples, link rms {:.2} mm): {action}",
+            b.marker,
+            b.source,
+            b.first_frame,
+            b.last_frame,
+            b.samples,
+            b.fit.rms_mm
+        )?;
+    }
+    if !s.reclaim_unsettled.is_empty() {
+        outln!(
+            "  reclaim  {} pieces fit a gap and are not settled (c3dfix reclaim lists them): left as they are",
+            s.reclaim_unsettled.len()
         )?;
     }
     for done in &s.already_applied {

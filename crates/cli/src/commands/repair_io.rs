@@ -61,6 +61,18 @@ pub struct RepairArgs {
     /// changes nothing; `off` skips it.
     #[arg(long, default_value_t = RepairOptions::default().swaps, value_parser = swaps_arg)]
     pub swaps: c3dfix::SwapsMode,
+    /// Labels (a glob: `*` any text, `?` one character, case-insensitive) that also mark a
+    /// point as unlabelled, beside the common placeholders (`*51`, `Unlabeled 3`,
+    /// `uname*2`, an empty label). Unlabelled points are not repaired nor donors nor
+    /// searched for swaps; they are counted apart and left as recorded.
+    #[arg(long, value_name = "PATTERN")]
+    pub unlabelled: Option<c3dfix::repair_lib::Glob>,
+    /// Unlabelled samples that are a labelled marker's, the stage after the swaps and before
+    /// the fills (docs/reclaim.md): `on` moves the settled ones into their markers (recorded
+    /// values, residuals and camera masks; the unlabelled point is marked missing there);
+    /// `report` (the default) lists them and changes nothing; `off` skips it.
+    #[arg(long, default_value_t = RepairOptions::default().reclaim, value_parser = reclaim_arg)]
+    pub reclaim: c3dfix::ReclaimMode,
 }
 
 /// `--fill`'s help, listing the names from the library's one table.
@@ -86,6 +98,8 @@ impl RepairArgs {
             markers: self.markers.clone(),
             zero_invalid: self.zero_invalid,
             swaps: self.swaps,
+            unlabelled: self.unlabelled.clone(),
+            reclaim: self.reclaim,
         }
     }
 }
@@ -108,6 +122,12 @@ fn expected_error_arg(s: &str) -> std::result::Result<ExpectedError, String> {
     c3dfix::max_expected_error(s)
         .map(ExpectedError)
         .map_err(|e| e.to_string())
+}
+
+/// `--reclaim on|report|off`, checked while the command line is parsed.
+fn reclaim_arg(s: &str) -> std::result::Result<c3dfix::ReclaimMode, String> {
+    s.parse()
+        .map_err(|e: c3dfix::Error| crate::flags::phrase(&e))
 }
 
 /// `--swaps fix|report|off`, checked while the command line is parsed.

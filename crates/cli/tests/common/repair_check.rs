@@ -46,6 +46,9 @@ fn options(data: &[u8]) -> RepairOptions {
         // Found and reported on every input (never a panic); `fix` would exchange samples
         // the check below expects unchanged.
         swaps: c3dfix::SwapsMode::Report,
+        // Judged and reported on every input, likewise; `on` would move recorded samples.
+        reclaim: c3dfix::ReclaimMode::Report,
+        unlabelled: None,
     }
 }
 

@@ -100,8 +100,16 @@ def repair(
     markers: Optional[Sequence[str]] = None,
     zero_invalid: bool = False,
     swaps: Literal["fix", "report", "off"] = "report",
+    reclaim: Literal["on", "report", "off"] = "report",
+    unlabelled: Optional[str] = None,
 ) -> Tuple[C3d, Dict[str, Any]]:
-    """Swaps -> spikes -> fill -> filter on a copy; the repaired copy and the report."""
+    """Swaps -> reclaim -> spikes -> fill -> filter on a copy; the repaired copy and the report."""
+
+def reclaim(
+    c3d: C3d, unlabelled: Optional[str] = None, zero_invalid: bool = False
+) -> Dict[str, Any]:
+    """The unlabelled samples that are a labelled marker's, as `c3dfix reclaim --json` lists
+    them ("settled", "unsettled"); changes nothing."""
 
 def swaps(c3d: C3d) -> Dict[str, Any]:
     """Label swaps and jumps as `c3dfix swaps --json` lists them (frames in the file's numbering)."""
@@ -136,6 +144,8 @@ def repair_file(
     markers: Optional[Sequence[str]] = None,
     zero_invalid: bool = False,
     swaps: Literal["fix", "report", "off"] = "report",
+    reclaim: Literal["on", "report", "off"] = "report",
+    unlabelled: Optional[str] = None,
 ) -> Dict[str, Any]:
     """`c3dfix repair` on one file, path in and path out: the command's bytes, written
     atomically (no overwrite without force, never over a device); returns the report."""

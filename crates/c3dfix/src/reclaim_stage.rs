@@ -1,0 +1,306 @@
+//! Reclaiming (issue 47): the labelled markers' real positions taken back from the points a
+//! capture system left unlabelled, a repair stage after the swaps and before the fills, and
+//! what `c3dfix reclaim` lists. The judging is the repair crate's
+//! ([`repair::reclaim`]); this module names the points by label, numbers frames as the file
+//! does, and moves the settled samples in the file itself.
+//!
+//! A settled piece's samples are moved as the library decodes them (coordinates, residual
+//! and camera mask): the marker gets the recorded sample, flags and all, and the unlabelled
+//! point is marked missing there; nothing is recomputed. What the evidence does not settle
+//! is reported and changes nothing.
+
+use crate::error::{Error, Result};
+use crate::markers::{mm_per_unit, split_unlabelled};
+use crate::options::ReclaimMode;
+use crate::trial::to_trial;
+use repair::reclaim::{find_reclaims, Fit, Piece, ReclaimOptions, Why};
+use serde::Serialize;
+use std::path::Path;
+
+/// What the stage did with a settled piece.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReclaimAction {
+    /// Its samples were moved into the marker.
+    Moved,
+    /// Listed only (not asked to move, or the command that only looks).
+    Reported,
+    /// Settled, but the marker is outside the repair's `markers`.
+    OutOfScope,
+}
+
+/// One settled piece: the unlabelled samples that are the marker's.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ReclaimBrief {
+    /// The labelled marker and the unlabelled point the samples are in.
+    pub marker: String,
+    pub source: String,
+    /// First and last frame, in the file's numbering.
+    pub first_frame: usize,
+    pub last_frame: usize,
+    pub samples: usize,
+    pub action: ReclaimAction,
+    pub fit: Fit,
+    /// Point indices (0-based) of the marker and the source, and 0-based frames.
+    #[serde(skip)]
+    pub point: usize,
+    #[serde(skip)]
+    pub source_point: usize,
+    #[serde(skip)]
+    pub first_index: usize,
+    #[serde(skip)]
+    pub last_index: usize,
+}
+
+/// Why an unsettled piece was not moved, in labels and the file's frames.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "why", rename_all = "snake_case")]
+pub enum UnsettledWhy {
+    /// Another piece fits as well: `rival_marker` ← `rival_source` over its frames.
+    Ambiguous {
+        rival_marker: String,
+        rival_source: String,
+        rival_first_frame: usize,
+        rival_last_frame: usize,
+        rival_cost: f64,
+    },
+    /// The marker's path fits, too few segment distances could be checked.
+    FewLinks { checked_frames: usize },
+}
+
+/// One piece that fits and is not settled.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct UnsettledBrief {
+    pub marker: String,
+    pub source: String,
+    pub first_frame: usize,
+    pub last_frame: usize,
+    #[serde(flatten)]
+    pub why: UnsettledWhy,
+    pub fit: Fit,
+}
+
+/// One move a repair made, for the file's record: point indices and 0-based frames.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Reclaimed {
+    pub point: usize,
+    pub source: usize,
+    pub first: usize,
+    pub last: usize,
+}
+
+/// The stage's (or the command's) outcome.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Reclaim {
+    /// Labelled markers and unlabelled points of the trial.
+    pub markers: usize,
+    pub unlabelled: usize,
+    /// Stretches of unlabelled samples inside labelled gaps that were judged.
+    pub pieces: usize,
+    /// Samples moved into markers.
+    pub samples_moved: usize,
+    pub settled: Vec<ReclaimBrief>,
+    pub unsettled: Vec<UnsettledBrief>,
+    /// What was moved, for the record.
+    #[serde(skip)]
+    pub moved: Vec<Reclaimed>,
+}
+
+/// The trial's labelled markers and unlabelled points, read once, and which of the
+/// markers' samples are data.
+pub(crate) struct Points<'a> {
+    pub labelled: &'a [usize],
+    pub unlabelled: &'a [usize],
+    /// `data[row][frame]` of the labelled markers' trial.
+    pub data: &'a [Vec<bool>],
+    /// Samples at exactly (0, 0, 0) count as missing.
+    pub zero_invalid: bool,
+}
+
+/// Judge the unlabelled points of `c` against the gaps of its labelled markers and, for
+/// [`ReclaimMode::On`], move the settled pieces' samples in `c` and in `trial` (the repair's
+/// trial of `points.labelled`). `points.data` says which of the trial's samples are the
+/// marker's data (its own earlier fills are not: they are gaps here as for every stage).
+/// `in_scope` says which points a repair may change.
+pub(crate) fn run(
+    c: &mut c3d::C3d,
+    name: &Path,
+    mode: ReclaimMode,
+    points: &Points<'_>,
+    trial: &mut repair::Trial,
+    in_scope: &dyn Fn(usize) -> bool,
+) -> Result<Reclaim> {
+    let mut out = Reclaim {
+        markers: points.labelled.len(),
+        unlabelled: points.unlabelled.len(),
+        ..Reclaim::default()
+    };
+    if mode == ReclaimMode::Off || points.unlabelled.is_empty() || points.labelled.is_empty() {
+        return Ok(out);
+    }
+    let cands = to_trial(c, points.unlabelled, points.zero_invalid)?;
+    let judged = repair::Trial {
+        rate_hz: trial.rate_hz,
+        xyz: trial.xyz.clone(),
+        valid: points.data.to_vec(),
+    };
+    let mm = mm_per_unit(&c.point_units());
+    let found =
+        forkpool::install(|| find_reclaims(&judged, &cands, mm, &ReclaimOptions::default()));
+    out.pieces = found.pieces;
+    let labels = c.point_labels();
+    let name_of = |p: usize| labels[p].trim().to_string();
+    let marker = |pc: &Piece| points.labelled[pc.marker];
+    let source = |pc: &Piece| points.unlabelled[pc.source];
+    for mv in &found.moves {
+        let pc = &mv.piece;
+        let action = if mode != ReclaimMode::On {
+            ReclaimAction::Reported
+        } else if !in_scope(marker(pc)) {
+            ReclaimAction::OutOfScope
+        } else {
+            ReclaimAction::Moved
+        };
+        out.settled.push(ReclaimBrief {
+            marker: name_of(marker(pc)),
+            source: name_of(source(pc)),
+            first_frame: c.frame_number(pc.first),
+            last_frame: c.frame_number(pc.last),
+            samples: pc.len(),
+            action,
+            fit: mv.fit,
+            point: marker(pc),
+            source_point: source(pc),
+            first_index: pc.first,
+            last_index: pc.last,
+        });
+    }
+    for u in &found.unsettled {
+        let pc = &u.piece;
+        let why = match u.why {
+            Why::Ambiguous { rival, rival_cost } => UnsettledWhy::Ambiguous {
+                rival_marker: name_of(marker(&rival)),
+                rival_source: name_of(source(&rival)),
+                rival_first_frame: c.frame_number(rival.first),
+                rival_last_frame: c.frame_number(rival.last),
+                rival_cost,
+            },
+            Why::FewLinks { checked_frames } => UnsettledWhy::FewLinks { checked_frames },
+        };
+        out.unsettled.push(UnsettledBrief {
+            marker: name_of(marker(pc)),
+            source: name_of(source(pc)),
+            first_frame: c.frame_number(pc.first),
+            last_frame: c.frame_number(pc.last),
+            why,
+            fit: u.fit,
+        });
+    }
+    let moves: Vec<&ReclaimBrief> = out
+        .settled
+        .iter()
+        .filter(|b| b.action == ReclaimAction::Moved)
+        .collect();
+    out.moved = moves
+        .iter()
+        .map(|b| Reclaimed {
+            point: b.point,
+            source: b.source_point,
+            first: b.first_index,
+            last: b.last_index,
+        })
+        .collect();
+    out.moved.sort();
+    out.samples_moved = move_samples(c, &out.moved).map_err(|source| Error::C3d {
+        path: name.to_path_buf(),
+        source,
+    })?;
+    // The same move in the trial: the marker's row takes the samples as decoded.
+    for (b, mv) in moves.iter().zip(found.moves.iter().filter(|m| {
+        let pc = &m.piece;
+        mode == ReclaimMode::On && in_scope(marker(pc))
+    })) {
+        let (row, src) = (mv.piece.marker, mv.piece.source);
+        for f in b.first_index..=b.last_index {
+            trial.xyz[row][f] = cands.xyz[src][f];
+            trial.valid[row][f] = true;
+        }
+    }
+    Ok(out)
+}
+
+/// Move the samples of each `(point ← source, first..=last)` in the file: the marker takes
+/// each sample as the library decodes it (coordinates, residual, camera mask) and the
+/// source is marked missing there. Returns the marker samples written.
+fn move_samples(c: &mut c3d::C3d, moved: &[Reclaimed]) -> c3d::Result<usize> {
+    if moved.is_empty() {
+        return Ok(0);
+    }
+    type Sample = (usize, usize, [f32; 3], f32, u8);
+    let states = vec![(); c.point_chunks()];
+    let samples: Vec<Vec<Sample>> = c.map_point_chunks(states, |(), view| {
+        let mut out = Vec::new();
+        for f in 0..view.frames {
+            let frame = view.first_frame + f;
+            for m in moved {
+                if (m.first..=m.last).contains(&frame)
+                    && m.point < view.count
+                    && m.source < view.count
+                {
+                    let (p, r, k) = view.sample(f, m.source);
+                    out.push((frame, m.point, p, r, k));
+                    let (xyz, r, k) = c3d::Mark::Missing.stored();
+                    out.push((frame, m.source, xyz, r, k));
+                }
+            }
+        }
+        out
+    });
+    let n: usize = samples.iter().map(|s| s.len() / 2).sum();
+    c.patch_points(samples.into_iter().flatten())?;
+    Ok(n)
+}
+
+/// What reclaiming would do on `c`, changing nothing: `c3dfix reclaim`. `unlabelled` is the
+/// rule of which points are unlabelled; samples at exactly (0, 0, 0) count as missing with
+/// `zero_invalid`. The marker's own earlier fills (the file's C3DFIX record) are gaps here,
+/// as for the repair.
+pub fn reclaim(
+    c: &c3d::C3d,
+    path: &Path,
+    unlabelled: &repair::Unlabelled,
+    zero_invalid: bool,
+) -> Result<Reclaim> {
+    let split = split_unlabelled(c, unlabelled);
+    let mut trial = to_trial(c, &split.labelled, zero_invalid)?;
+    let data = own_data(c, &split.labelled, &trial);
+    let mut copy = c.clone();
+    run(
+        &mut copy,
+        path,
+        ReclaimMode::Report,
+        &Points {
+            labelled: &split.labelled,
+            unlabelled: &split.unlabelled,
+            data: &data,
+            zero_invalid,
+        },
+        &mut trial,
+        &|_| false,
+    )
+}
+
+/// Which samples of `trial` (rows: `points`) are the markers' data: the valid ones, less the
+/// stretches the file's C3DFIX record says c3dfix filled (no data, docs/reruns.md).
+pub(crate) fn own_data(c: &c3d::C3d, points: &[usize], trial: &repair::Trial) -> Vec<Vec<bool>> {
+    let mut data = trial.valid.clone();
+    for &(p, a, b) in &crate::rerun::Record::read(c).filled {
+        if let Some(r) = points.iter().position(|&q| q == p) {
+            let end = b.min(trial.frames().saturating_sub(1));
+            if a <= end {
+                data[r][a..=end].fill(false);
+            }
+        }
+    }
+    data
+}

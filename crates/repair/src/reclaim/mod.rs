@@ -1,0 +1,284 @@
+//! Reclaiming (issue 47): a labelled marker's real positions put back into its gaps from
+//! unlabelled trajectories, before any fill.
+//!
+//! A camera system that loses a marker and finds it again often starts a new trajectory it
+//! cannot name (`*51`, see [`crate::unlabelled`]) while the labelled one has a gap. Each
+//! stretch where an unlabelled trajectory is recorded inside a labelled marker's gap is a
+//! *piece*, judged on the evidence of the trial alone ([`judge`]):
+//!
+//! - the distances the marker keeps to the markers of its segment, learned from the trial's
+//!   own frames as the swap finder learns them ([`crate::swaps::learn_links`]; no marker set
+//!   is written into the code): the piece's samples must keep them, frame by frame;
+//! - the marker's own path at the gap's ends: where the piece starts at the gap's first frame
+//!   (or ends at its last), its first (last) sample must sit where the marker's position and
+//!   velocity before (after) the gap carry it; where the unlabelled trajectory goes on past
+//!   the gap, it must be the marker there too (a second reconstruction of it), not another
+//!   point;
+//! - no rival fitting as well: another unlabelled piece for the same marker and frames, or
+//!   the same unlabelled samples for another marker's gap, that fits within
+//!   [`ReclaimOptions::margin`] of the best leaves both unsettled, so one
+//!   unlabelled sample serves one marker.
+//!
+//! Settled pieces are [`Move`]s: the caller moves those samples, as recorded, from the
+//! unlabelled point into the marker. What fits but is not settled is reported
+//! ([`Unsettled`]), never moved. Frames are 0-based; the arrays are in the trial's units and
+//! the thresholds in mm (`mm_per_unit` converts).
+
+mod decide;
+mod score;
+
+use crate::swaps::learn_links;
+use crate::Trial;
+use serde::Serialize;
+
+pub use score::{Fit, Verdict};
+
+/// The thresholds of the evidence, in mm. The defaults were chosen on the corpora
+/// `c3d-samples`, `c3d-extra` and `c3d-fullbody` with the `reclaim_eval` example
+/// (docs/reclaim.md); `c3d-more` and `c3d-labs` chose nothing.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ReclaimOptions {
+    /// Links (segment distances) must be checked in a frame for it to count as checked.
+    pub min_links: usize,
+    /// Share of a piece's frames that must be checked by `min_links` links.
+    pub min_checked: f64,
+    /// Share of a piece's link checks that may stray beyond the link's tolerance.
+    pub max_fail: f64,
+    /// Largest mean squared link residual, in tolerances.
+    pub max_cost: f64,
+    /// How far the piece's first or last sample may sit from where the marker's path
+    /// carries it across one frame (mm); grows with the frames it is carried over.
+    pub path_mm: f64,
+    /// Frames over which the marker's path is carried into a gap to judge a piece that
+    /// starts (ends) inside it; further in, only the links judge.
+    pub path_frames: usize,
+    /// Links whose distance departs more than this (mm, 95th percentile over the trial) are
+    /// not used: they span a joint.
+    pub max_link_tol_mm: f64,
+    /// Ends of a piece (0, 1 or 2) that must be judged by the marker's path: a piece that
+    /// floats inside a long gap, away from both its ends, rests on the links alone.
+    pub min_ends: usize,
+    /// A piece that fills a whole gap, on the marker's path at both ends, is a candidate
+    /// without links (a marker with no segment to check, or none recorded there).
+    pub path_alone: bool,
+    /// A rival fitting with a cost below `margin` times the best's (plus 0.02) leaves both
+    /// unsettled.
+    pub margin: f64,
+}
+
+impl Default for ReclaimOptions {
+    fn default() -> Self {
+        ReclaimOptions {
+            min_links: 2,
+            min_checked: 0.5,
+            max_fail: 0.5,
+            max_cost: 3.0,
+            path_mm: 20.0,
+            path_frames: 5,
+            margin: 4.0,
+            path_alone: true,
+            min_ends: 1,
+            max_link_tol_mm: 15.0,
+        }
+    }
+}
+
+/// One stretch of an unlabelled trajectory's samples inside a marker's gap.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Piece {
+    /// The labelled marker (row of the markers' trial).
+    pub marker: usize,
+    /// The unlabelled trajectory (row of the candidates' trial).
+    pub source: usize,
+    /// First and last frame, inclusive.
+    pub first: usize,
+    pub last: usize,
+}
+
+impl Piece {
+    pub fn len(&self) -> usize {
+        self.last - self.first + 1
+    }
+
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    fn overlaps(&self, o: &Piece) -> bool {
+        self.first <= o.last && o.first <= self.last
+    }
+}
+
+/// A settled piece: its samples belong to the marker.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Move {
+    #[serde(flatten)]
+    pub piece: Piece,
+    pub fit: Fit,
+}
+
+/// Why a piece that fits was not moved.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "why", rename_all = "snake_case")]
+pub enum Why {
+    /// Another piece fits as well: the same marker's gap from another unlabelled
+    /// trajectory, or the same unlabelled samples in another marker's gap.
+    Ambiguous { rival: Piece, rival_cost: f64 },
+    /// The marker's path fits, but too few of its segment's distances could be checked to
+    /// tell it from another point.
+    FewLinks { checked_frames: usize },
+}
+
+/// A piece the evidence does not settle.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Unsettled {
+    #[serde(flatten)]
+    pub piece: Piece,
+    #[serde(flatten)]
+    pub why: Why,
+    pub fit: Fit,
+}
+
+/// What [`find_reclaims`] found.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Reclaims {
+    /// Settled pieces, by marker and frame.
+    pub moves: Vec<Move>,
+    /// Pieces that fit and were not settled, by marker and frame.
+    pub unsettled: Vec<Unsettled>,
+    /// Pieces judged (unlabelled stretches inside labelled gaps).
+    pub pieces: usize,
+}
+
+/// The pieces of `candidates` inside the gaps of `markers`, judged. `markers.valid` says
+/// which samples are the marker's data (a caller leaves its own earlier fills out); a gap is
+/// a run of the others. `candidates` are the unlabelled trajectories, same frames. Arrays in
+/// the trials' units, `mm_per_unit` to millimetres. Samples with a coordinate that is not
+/// finite count as missing.
+pub fn find_reclaims(
+    markers: &Trial,
+    candidates: &Trial,
+    mm_per_unit: f64,
+    opts: &ReclaimOptions,
+) -> Reclaims {
+    let scored = judge(markers, candidates, mm_per_unit, opts);
+    let mut out = decide::decide(&scored, opts);
+    out.pieces = scored.len();
+    out
+}
+
+/// Every piece with its fit, before any is settled: what [`find_reclaims`] decides on, for
+/// evaluations that ask why a piece was not moved.
+pub fn judge(
+    markers: &Trial,
+    candidates: &Trial,
+    mm_per_unit: f64,
+    opts: &ReclaimOptions,
+) -> Vec<(Piece, Fit)> {
+    let n = markers.frames();
+    if markers.markers() == 0 || candidates.markers() == 0 || n == 0 || candidates.frames() != n {
+        return Vec::new();
+    }
+    let (m, u) = (in_mm(markers, mm_per_unit), in_mm(candidates, mm_per_unit));
+    let links = segment_links(&m, opts);
+    pieces(&m, &u)
+        .into_iter()
+        .map(|p| (p, score::score(&p, &m, &u, &links[p.marker], opts)))
+        .collect()
+}
+
+/// Each marker's links with the tolerance the trial itself shows: the swap finder's links
+/// (pairs whose distance clusters tightly in most frames) keep that distance only in part
+/// of a trial when they span a joint or sit on moving skin, so each link's tolerance here
+/// is the 95th percentile of its distance's departure over every frame where both markers
+/// are recorded, and at least the finder's own. A frame of the true marker then strays
+/// beyond a link's tolerance one time in twenty, wherever the gap falls. A link whose
+/// tolerance comes out above `max_tol_mm` keeps no distance worth the name (a joint between
+/// the markers) and is dropped.
+///
+/// `m` in mm; public for evaluations that compare distances after reclaiming with these.
+pub fn segment_links(m: &Trial, opts: &ReclaimOptions) -> Vec<Vec<crate::swaps::Link>> {
+    let max_tol_mm = opts.max_link_tol_mm;
+    let mut links = learn_links(m, 2.5, 0.5, 8);
+    let n = m.frames();
+    let step = n.div_ceil(2000).max(1);
+    for (a, ls) in links.iter_mut().enumerate() {
+        for l in ls.iter_mut() {
+            let mut dev: Vec<f64> = (0..n)
+                .step_by(step)
+                .filter(|&f| m.valid[a][f] && m.valid[l.other][f])
+                .map(|f| {
+                    let (p, q) = (&m.xyz[a][f], &m.xyz[l.other][f]);
+                    let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2))
+                        .sqrt();
+                    (d - l.d0_mm).abs()
+                })
+                .collect();
+            if dev.is_empty() {
+                continue;
+            }
+            let k = (dev.len() * 95 / 100).min(dev.len() - 1);
+            let (_, q95, _) = dev.select_nth_unstable_by(k, f64::total_cmp);
+            l.tol_mm = l.tol_mm.max(*q95);
+        }
+        ls.retain(|l| l.tol_mm <= max_tol_mm);
+    }
+    links
+}
+
+/// `t` in millimetres, with samples whose coordinates are not finite marked missing.
+fn in_mm(t: &Trial, mm_per_unit: f64) -> Trial {
+    let xyz = t
+        .xyz
+        .iter()
+        .map(|r| r.iter().map(|p| p.map(|v| v * mm_per_unit)).collect())
+        .collect();
+    let valid = t
+        .xyz
+        .iter()
+        .zip(&t.valid)
+        .map(|(r, v)| {
+            r.iter()
+                .zip(v)
+                .map(|(p, &ok)| ok && p.iter().all(|c| c.is_finite()))
+                .collect()
+        })
+        .collect();
+    Trial {
+        rate_hz: t.rate_hz,
+        xyz,
+        valid,
+    }
+}
+
+/// Every stretch of an unlabelled trajectory recorded inside a gap of a marker.
+fn pieces(m: &Trial, u: &Trial) -> Vec<Piece> {
+    let mut out = Vec::new();
+    for (marker, mv) in m.valid.iter().enumerate() {
+        for g in crate::gaps::find_gaps(mv, marker) {
+            for (source, uv) in u.valid.iter().enumerate() {
+                let mut f = g.first;
+                while f <= g.last {
+                    if !uv[f] {
+                        f += 1;
+                        continue;
+                    }
+                    let first = f;
+                    while f <= g.last && uv[f] {
+                        f += 1;
+                    }
+                    out.push(Piece {
+                        marker,
+                        source,
+                        first,
+                        last: f - 1,
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests;
