@@ -13,16 +13,15 @@
 //! the moved samples' segment distances against the trial's own.
 //!
 //! ```sh
-//! cargo run --release -p repair --example reclaim_eval                   # about a minute
-//! cargo run --release -p repair --example reclaim_eval -- --rounds 4 --seed 7
+//! cargo run --release -p evals --bin reclaim_eval                   # about a minute
+//! cargo run --release -p evals --bin reclaim_eval -- --rounds 4 --seed 7
 //! ```
 //! Options: `--rounds N` (rounds of cuts per trial, default 2), `--cuts K` (fragments per
 //! round, default 6), `--seed S`, `--only TEXT` (files whose path contains TEXT), `--list`
 //! (every fragment not put back, and every wrong or false move).
 
-mod corpus;
-
-use corpus::FILES;
+use clap::Parser;
+use evals::corpus::{self, FILES};
 use repair::reclaim::{find_reclaims, judge, segment_links, ReclaimOptions, Reclaims};
 use repair::{Trial, Unlabelled};
 use std::collections::BTreeMap;
@@ -39,44 +38,58 @@ struct Args {
     opts: ReclaimOptions,
 }
 
+/// The benchmark's options.
+#[derive(Parser)]
+#[command(
+    about = "Reclaiming on the corpora's labelled trials: cut fragments put back, distractors left"
+)]
+struct Cli {
+    /// Rounds of cuts per trial.
+    #[arg(long, value_name = "N", default_value_t = 2)]
+    rounds: usize,
+    /// Fragments cut per round.
+    #[arg(long, value_name = "K", default_value_t = 6)]
+    cuts: usize,
+    #[arg(long, default_value_t = 47)]
+    seed: u64,
+    /// Only the files whose path contains TEXT.
+    #[arg(long, value_name = "TEXT")]
+    only: Option<String>,
+    /// Every fragment not put back, and every wrong or false move.
+    #[arg(long)]
+    list: bool,
+    /// A reclaim constant set for this run: min_links, min_checked, max_fail, max_cost,
+    /// path_mm, path_frames, margin, path_alone, min_ends or max_link_tol_mm.
+    #[arg(long = "set", value_name = "FIELD=VALUE")]
+    set: Vec<String>,
+}
+
 fn args() -> Result<Args, String> {
+    let cli = Cli::try_parse().map_err(|e| e.to_string())?;
     let mut a = Args {
-        rounds: 2,
-        cuts: 6,
-        seed: 47,
-        only: None,
-        list: false,
+        rounds: cli.rounds,
+        cuts: cli.cuts,
+        seed: cli.seed,
+        only: cli.only,
+        list: cli.list,
         opts: ReclaimOptions::default(),
     };
-    let mut it = std::env::args().skip(1);
-    while let Some(k) = it.next() {
-        let mut val = || it.next().ok_or(format!("{k} needs a value"));
-        match k.as_str() {
-            "--rounds" => a.rounds = val()?.parse().map_err(|e| format!("--rounds: {e}"))?,
-            "--cuts" => a.cuts = val()?.parse().map_err(|e| format!("--cuts: {e}"))?,
-            "--seed" => a.seed = val()?.parse().map_err(|e| format!("--seed: {e}"))?,
-            "--only" => a.only = Some(val()?),
-            "--list" => a.list = true,
-            "--set" => {
-                let kv = val()?;
-                let (k, v) = kv.split_once('=').ok_or("--set FIELD=VALUE")?;
-                let x: f64 = v.parse().map_err(|e| format!("--set {k}: {e}"))?;
-                let o = &mut a.opts;
-                match k {
-                    "min_links" => o.min_links = x as usize,
-                    "min_checked" => o.min_checked = x,
-                    "max_fail" => o.max_fail = x,
-                    "max_cost" => o.max_cost = x,
-                    "path_mm" => o.path_mm = x,
-                    "path_frames" => o.path_frames = x as usize,
-                    "margin" => o.margin = x,
-                    "path_alone" => o.path_alone = x != 0.0,
-                    "min_ends" => o.min_ends = x as usize,
-                    "max_link_tol_mm" => o.max_link_tol_mm = x,
-                    _ => return Err(format!("no option {k}")),
-                }
-            }
-            _ => return Err(format!("unknown option {k}")),
+    for kv in &cli.set {
+        let (k, v) = kv.split_once('=').ok_or("--set FIELD=VALUE")?;
+        let x: f64 = v.parse().map_err(|e| format!("--set {k}: {e}"))?;
+        let o = &mut a.opts;
+        match k {
+            "min_links" => o.min_links = x as usize,
+            "min_checked" => o.min_checked = x,
+            "max_fail" => o.max_fail = x,
+            "max_cost" => o.max_cost = x,
+            "path_mm" => o.path_mm = x,
+            "path_frames" => o.path_frames = x as usize,
+            "margin" => o.margin = x,
+            "path_alone" => o.path_alone = x != 0.0,
+            "min_ends" => o.min_ends = x as usize,
+            "max_link_tol_mm" => o.max_link_tol_mm = x,
+            _ => return Err(format!("no option {k}")),
         }
     }
     Ok(a)
