@@ -111,7 +111,9 @@ fn the_report_page_of_a_repaired_folder_works_in_a_browser() {
     assert_eq!(r["unreadable_rows"], 1, "{r}");
     assert_eq!(r["sorted_by_name"], true, "{r}");
     assert_eq!(r["sorted_desc_first"], 27567, "{r}");
-    assert!(r["pictures"].as_u64().unwrap() >= 40, "{r}");
+    // Coverage, force and fill pictures of c3d-more's trials (pyCGM's and the puppeteer's
+    // unlabelled points are no markers with gaps to draw, issue 47).
+    assert!(r["pictures"].as_u64().unwrap() >= 30, "{r}");
     // Every row's numbers are batch's.
     let table = r["table"].as_array().unwrap();
     let mut compared = 0;
@@ -199,7 +201,9 @@ fn batch_report_html_shows_each_repairs_own_numbers() {
             sum["swap_list"].as_array().map_or(0, Vec::len)
         );
     }
-    assert_eq!(data["report"]["summary"]["filled"], 674);
+    // Labelled markers only (issue 47): pyCGM's and the puppeteer's unlabelled points are
+    // no longer filled.
+    assert_eq!(data["report"]["summary"]["filled"], 655);
     assert_eq!(data["report"]["summary"]["swaps_found"], 3);
     // A page is never written over an input, and an existing one only with --force.
     let o = c3dfix(&[

@@ -137,7 +137,8 @@ pub(super) fn coverage(
     let a = after.map(by_label);
     let labels = c.point_labels();
     let mut out = Vec::new();
-    for i in crate::markers::marker_indices(c) {
+    let markers = crate::markers::split_unlabelled(c, &repair::Unlabelled::common()).labelled;
+    for i in markers {
         let label = &labels[i];
         let gone = b.get(label.as_str()).map(Vec::as_slice).unwrap_or(&[]);
         let mut runs: Vec<Run> = match &a {

@@ -3,6 +3,7 @@
 
 use super::pictures::{self, Fill, Pictures};
 use crate::gaps::gaps;
+use crate::markers::split_unlabelled;
 use crate::rerun::Record;
 use crate::{Direction, EventOptions, ForceOptions, ForcePlatforms, GaitOptions, Summary};
 use serde::Serialize;
@@ -42,8 +43,12 @@ pub struct TrialRow {
     pub first_frame: usize,
     pub rate: f32,
     pub duration_s: f64,
-    /// Markers (model outputs left out).
+    /// Labelled markers (model outputs and unlabelled points left out): what every number
+    /// of the row speaks of, as the repair does.
     pub markers: usize,
+    /// Unlabelled points (`*51`, `Unlabeled 3`, an empty label: [`repair::Unlabelled`]'s
+    /// common spellings), counted apart: candidates for reclaiming, not markers with gaps.
+    pub unlabelled: usize,
     /// Marker samples (markers × frames).
     pub samples: usize,
     /// Marker samples missing in the trial as given.
@@ -149,7 +154,7 @@ pub(super) fn row(t: &TrialInput) -> TrialRow {
         }
     };
     trial_numbers(&c, &mut r);
-    let before = gaps(&c, false);
+    let before = labelled_gaps(&c);
     r.gaps_before = before.len();
     r.missing_before = before.iter().map(|g| g.length).sum();
     let copy = t
@@ -162,7 +167,7 @@ pub(super) fn row(t: &TrialInput) -> TrialRow {
                 None
             }
         });
-    let after = copy.as_ref().map(|rc| gaps(rc, false));
+    let after = copy.as_ref().map(labelled_gaps);
     r.missing_after = after.as_ref().map(|a| a.iter().map(|g| g.length).sum());
     let mut fills = Vec::new();
     match &t.summary {
@@ -198,6 +203,15 @@ pub(super) fn row(t: &TrialInput) -> TrialRow {
     r
 }
 
+/// The gaps of `c`'s labelled markers: an unlabelled point's absences are no marker's
+/// missing samples (most `*NN` points are seen a fraction of the trial by nature).
+fn labelled_gaps(c: &c3d::C3d) -> Vec<crate::GapInfo> {
+    let rule = repair::Unlabelled::common();
+    let mut g = gaps(c, false);
+    g.retain(|x| !rule.is_unlabelled(&x.label));
+    g
+}
+
 /// What the trial is: frames, rate, markers, up, the reader's warnings.
 fn trial_numbers(c: &c3d::C3d, r: &mut TrialRow) {
     r.frames = c.frames();
@@ -208,7 +222,9 @@ fn trial_numbers(c: &c3d::C3d, r: &mut TrialRow) {
     } else {
         0.0
     };
-    r.markers = crate::markers::marker_indices(c).len();
+    let split = split_unlabelled(c, &repair::Unlabelled::common());
+    r.markers = split.labelled.len();
+    r.unlabelled = split.unlabelled.len();
     r.samples = r.markers * r.frames;
     r.up = crate::axes::up(c).map(|u| u.up);
     r.warnings = c.warnings().iter().map(|w| w.to_string()).collect();
