@@ -206,31 +206,9 @@ pub(crate) fn repair_configured(
     cfg: repair::RepairConfig,
     name: &Path,
 ) -> Result<Repaired> {
-    if c.point_count() == 0 {
-        return Err(Error::Trial {
-            path: name.to_path_buf(),
-            what: "the file has no points to repair".into(),
-        });
-    }
-    // Fills are held to the step rule as this file will store them.
-    let storage = match c.format() {
-        c3d::NumberFormat::Integer => repair::Storage::Integer {
-            scale: c.layout().point_scale,
-        },
-        c3d::NumberFormat::Float => repair::Storage::Float32,
-    };
-    let mut cfg = cfg
-        .in_units(mm_per_unit(&c.point_units()))
-        .with_storage(storage);
-    let only = opts.markers.as_ref().map(|m| select(c, m)).transpose()?;
-    let split = split_unlabelled(c, &opts.unlabelled_rule());
+    let (only, split) = markers_of(c, opts, name)?;
+    let cfg = in_file_units(c, cfg);
     let points = split.labelled.clone();
-    if let Some(p) = only.iter().flatten().find(|p| split.unlabelled.contains(p)) {
-        return Err(Error::options(format!(
-            "{:?} is an unlabelled point, not a marker: a repair leaves it as recorded",
-            c.point_labels()[*p].trim()
-        )));
-    }
     // What an earlier repair of this file did: done steps are not done again, its fills are
     // no data, the gaps it left under these settings stay left (see crate::rerun).
     let record = rerun::Record::read(c);
@@ -239,99 +217,35 @@ pub(crate) fn repair_configured(
     let mut trial = to_trial(c, &points, opts.zero_invalid)?;
     // 0. Label swaps, in the file and the trial, before any other stage reads them.
     let swap_settings = rerun::swap_settings(opts);
+    let point_in_scope = |p: usize| only.as_ref().is_none_or(|o| o.contains(&p));
     let stage = match (&record.swaps, &swap_settings) {
         (Some(done), Some(_)) => {
             already_applied.push(format!("swaps ({done})"));
             swap_stage::Stage::default()
         }
-        _ => {
-            let point_in_scope = |p: usize| only.as_ref().is_none_or(|o| o.contains(&p));
-            swap_stage::run(c, name, opts.swaps, &point_in_scope, &points, &mut trial)?
-        }
+        _ => swap_stage::run(c, name, opts.swaps, &point_in_scope, &points, &mut trial)?,
     };
     // 1. Unlabelled samples that are a marker's, moved back before any fill reads the gaps;
     // never twice (a second run would judge against the first run's moves).
     let reclaim_settings = rerun::reclaim_settings(opts);
+    let stage_points = reclaim_stage::Points {
+        labelled: &points,
+        unlabelled: &split.unlabelled,
+        data: &[],
+        zero_invalid: opts.zero_invalid,
+    };
     let reclaim = match (&record.reclaim, &reclaim_settings) {
         (Some(done), Some(_)) => {
             already_applied.push(format!("reclaim ({done})"));
             Reclaim::default()
         }
-        _ => {
-            let data = reclaim_stage::own_data(c, &points, &trial);
-            let point_in_scope = |p: usize| only.as_ref().is_none_or(|o| o.contains(&p));
-            let labelled = reclaim_stage::Points {
-                labelled: &points,
-                unlabelled: &split.unlabelled,
-                data: &data,
-                zero_invalid: opts.zero_invalid,
-            };
-            reclaim_stage::run(
-                c,
-                name,
-                opts.reclaim,
-                &labelled,
-                &mut trial,
-                &point_in_scope,
-            )?
-        }
+        _ => reclaim_now(c, name, opts, &stage_points, &mut trial, &point_in_scope)?,
     };
-    let mut spikes = cfg.spikes().copied();
-    let mut filter = cfg.filter().copied();
-    if let (Some(done), Some(_)) = (&record.spikes, spikes) {
-        already_applied.push(format!("spikes ({done})"));
-        spikes = None;
-    }
-    if let (Some(done), Some(_)) = (&record.filter, filter) {
-        already_applied.push(format!("filter ({done})"));
-        filter = None;
-    }
-    if !already_applied.is_empty() {
-        cfg = repair::RepairConfig::new(spikes, cfg.fill().clone(), filter).map_err(|source| {
-            Error::Repair {
-                path: name.to_path_buf(),
-                source,
-            }
-        })?;
-    }
+    let cfg = without_done_steps(cfg, &record, name, &mut already_applied)?;
     let row_of: std::collections::HashMap<usize, usize> =
         points.iter().enumerate().map(|(r, &p)| (p, r)).collect();
-    // A settled jump's samples are a gap for the fill stage; unfilled, they are written
-    // missing.
-    let mut jumped = Vec::new();
-    for &(p, a, b) in &stage.gaps {
-        if let Some(&r) = row_of.get(&p) {
-            for f in a..=b.min(c.frames().saturating_sub(1)) {
-                if trial.valid[r][f] {
-                    trial.valid[r][f] = false;
-                    jumped.push((r, f));
-                }
-            }
-        }
-    }
-    let mut earlier = repair::Earlier::default();
-    if !record.filled.is_empty() {
-        earlier.filled = vec![vec![false; c.frames()]; points.len()];
-        for &(p, a, b) in &record.filled {
-            if let Some(&r) = row_of.get(&p) {
-                earlier.filled[r][a..=b].fill(true);
-            }
-        }
-    }
-    if record.fill.as_deref() == Some(fill_settings.as_str()) {
-        earlier.left = record
-            .left
-            .iter()
-            .filter_map(|l| {
-                Some((
-                    *row_of.get(&l.point)?,
-                    l.first_index,
-                    l.last_index,
-                    l.reason,
-                ))
-            })
-            .collect();
-    }
+    let jumped = jumps_made_gaps(&stage, &row_of, &mut trial, c.frames());
+    let earlier = earlier_of(&record, &row_of, c.frames(), points.len(), &fill_settings);
     // In the process's own pool, so that a forked process repairs too (see forkpool).
     let mut report = forkpool::install(|| repair::repair_trial_after(&mut trial, &cfg, &earlier))
         .map_err(|source| Error::Repair {
@@ -354,16 +268,7 @@ pub(crate) fn repair_configured(
         markers: points.len(),
         model_outputs_left: c.point_count() - points.len() - split.unlabelled.len(),
         unlabelled: unlabelled_brief(c, &split.unlabelled, opts.zero_invalid),
-        samples_at_origin: (0..points.len())
-            .filter(|&r| in_scope(r))
-            .map(|r| {
-                trial.xyz[r]
-                    .iter()
-                    .zip(&trial.valid[r])
-                    .filter(|(p, &v)| v && **p == [0.0; 3])
-                    .count()
-            })
-            .sum(),
+        samples_at_origin: at_origin(&trial, &in_scope),
         swaps_undone: count_action(&stage.briefs, SwapAction::Undone),
         jumps_to_gaps: count_action(&stage.briefs, SwapAction::Gap),
         swap_list: stage.briefs.clone(),
@@ -373,6 +278,59 @@ pub(crate) fn repair_configured(
         reclaim_unsettled: reclaim.unsettled.clone(),
         ..Summary::default()
     };
+    let gaps = gap_summary(c, &report, &in_scope, &row_label, &mut s);
+    let rows = Rows {
+        points: &points,
+        row_of: &row_of,
+        in_scope: &in_scope,
+    };
+    let (spikes, segments) = spike_and_segment_rows(c, &report, &in_scope, &row_label, &mut s);
+    let next = next_record(
+        &record,
+        Settings {
+            fill: fill_settings,
+            swaps: swap_settings,
+            reclaim: reclaim_settings,
+        },
+        &stage,
+        &reclaim,
+        &report,
+        &rows,
+        &cfg,
+        opts,
+    );
+    let c3d_error = |source| Error::C3d {
+        path: name.to_path_buf(),
+        source,
+    };
+    next.write(c).map_err(c3d_error)?;
+    let wb = write_back(c, &trial, &points, &report.changes, only.as_deref()).map_err(c3d_error)?;
+    s.samples_changed = wb.changed + stage.exchanged + reclaim.samples_moved;
+    s.samples_clamped = wb.clamped;
+    let (markers_changed, markers) = marker_changes(&rows, &report, &stage, &reclaim, &row_label);
+    s.markers_changed = markers_changed;
+    Ok(Repaired {
+        swaps: stage.briefs,
+        reclaim,
+        summary: s,
+        config: serde_json::to_value(&cfg).unwrap_or_default(),
+        gaps,
+        spikes,
+        spike_mode: serde_json::to_value(report.spike_mode).unwrap_or_default(),
+        segments,
+        markers,
+    })
+}
+
+/// Every gap of the markers in scope, into the summary's counts and gap list, and as the
+/// report's gap rows (each with its expected error in millimetres).
+fn gap_summary(
+    c: &c3d::C3d,
+    report: &repair::RepairReport,
+    in_scope: &dyn Fn(usize) -> bool,
+    row_label: &dyn Fn(usize) -> String,
+    s: &mut Summary,
+) -> Vec<serde_json::Value> {
     let mut gaps = Vec::new();
     let mm = mm_per_unit(&c.point_units());
     let mut expected = Vec::new();
@@ -421,28 +379,39 @@ pub(crate) fn repair_configured(
         s.expected_error_mm_max = Some(expected.iter().copied().fold(0.0, f64::max));
         s.expected_error_mm_mean = Some(expected.iter().sum::<f64>() / expected.len() as f64);
     }
-    let spikes: Vec<_> = report
-        .spikes
-        .iter()
-        .filter(|sp| in_scope(sp.marker))
-        .map(|sp| labelled(sp, row_label(sp.marker), c, &["frame"]))
-        .collect();
-    s.spikes = spikes.len();
-    let segments: Vec<_> = report
-        .segments
-        .iter()
-        .filter(|x| in_scope(x.marker))
-        .map(|x| {
-            if x.filtered {
-                s.segments_filtered += 1;
-            } else {
-                s.segments_too_short += 1;
-            }
-            labelled(x, row_label(x.marker), c, &["first", "last"])
-        })
-        .collect();
+    gaps
+}
+
+/// This run's settings as the file's record writes them.
+struct Settings {
+    fill: String,
+    swaps: Option<String>,
+    reclaim: Option<String>,
+}
+
+/// The markers a repair works on: their points, each point's row, and which rows are in
+/// this run's scope.
+struct Rows<'a> {
+    points: &'a [usize],
+    row_of: &'a std::collections::HashMap<usize, usize>,
+    in_scope: &'a dyn Fn(usize) -> bool,
+}
+
+/// The record this run leaves in the file (see [`crate::rerun`]).
+#[allow(clippy::too_many_arguments)]
+fn next_record(
+    record: &rerun::Record,
+    settings: Settings,
+    stage: &swap_stage::Stage,
+    reclaim: &Reclaim,
+    report: &repair::RepairReport,
+    rows: &Rows,
+    cfg: &repair::RepairConfig,
+    opts: &RepairOptions,
+) -> rerun::Record {
     // The record this run leaves: every fill so far; the gaps left now (and those of
     // markers outside this run's --markers, as they were); the steps applied.
+    let (points, row_of, in_scope) = (rows.points, rows.row_of, rows.in_scope);
     let in_scope_point = |p: usize| row_of.get(&p).is_some_and(|&r| in_scope(r));
     let mut next = rerun::Record {
         filled: record.filled.clone(),
@@ -452,17 +421,17 @@ pub(crate) fn repair_configured(
             .filter(|l| !in_scope_point(l.point))
             .copied()
             .collect(),
-        fill: Some(fill_settings),
+        fill: Some(settings.fill),
         filter: record.filter.clone(),
         spikes: record.spikes.clone(),
-        swaps: record.swaps.clone().or(swap_settings),
+        swaps: record.swaps.clone().or(settings.swaps),
         undone: record.undone.iter().chain(&stage.undone).cloned().collect(),
         // Recorded only when something moved: a stage that moved nothing leaves the file as
         // it was, and judges the same again.
         reclaim: record
             .reclaim
             .clone()
-            .or(reclaim_settings.filter(|_| !reclaim.moved.is_empty())),
+            .or(settings.reclaim.filter(|_| !reclaim.moved.is_empty())),
         reclaimed: record
             .reclaimed
             .iter()
@@ -496,14 +465,51 @@ pub(crate) fn repair_configured(
     if cfg.spikes().is_some() {
         next.spikes = rerun::spike_settings(opts);
     }
-    let c3d_error = |source| Error::C3d {
-        path: name.to_path_buf(),
-        source,
-    };
-    next.write(c).map_err(c3d_error)?;
-    let wb = write_back(c, &trial, &points, &report.changes, only.as_deref()).map_err(c3d_error)?;
-    s.samples_changed = wb.changed + stage.exchanged + reclaim.samples_moved;
-    s.samples_clamped = wb.clamped;
+    next
+}
+
+/// The spikes and filtered segments of the markers in scope, counted into the summary and as
+/// the report's rows.
+fn spike_and_segment_rows(
+    c: &c3d::C3d,
+    report: &repair::RepairReport,
+    in_scope: &dyn Fn(usize) -> bool,
+    row_label: &dyn Fn(usize) -> String,
+    s: &mut Summary,
+) -> (Vec<serde_json::Value>, Vec<serde_json::Value>) {
+    let spikes: Vec<serde_json::Value> = report
+        .spikes
+        .iter()
+        .filter(|sp| in_scope(sp.marker))
+        .map(|sp| labelled(sp, row_label(sp.marker), c, &["frame"]))
+        .collect();
+    s.spikes = spikes.len();
+    let segments: Vec<serde_json::Value> = report
+        .segments
+        .iter()
+        .filter(|x| in_scope(x.marker))
+        .map(|x| {
+            if x.filtered {
+                s.segments_filtered += 1;
+            } else {
+                s.segments_too_short += 1;
+            }
+            labelled(x, row_label(x.marker), c, &["first", "last"])
+        })
+        .collect();
+    (spikes, segments)
+}
+
+/// How many markers in scope this repair changed (by fills, spikes, filters, swaps undone or
+/// samples reclaimed), and per marker how many samples, as the report lists them.
+fn marker_changes(
+    rows: &Rows,
+    report: &repair::RepairReport,
+    stage: &swap_stage::Stage,
+    reclaim: &Reclaim,
+    row_label: &dyn Fn(usize) -> String,
+) -> (usize, Vec<serde_json::Value>) {
+    let (points, in_scope) = (rows.points, rows.in_scope);
     let exchanged: Vec<usize> = stage
         .briefs
         .iter()
@@ -511,7 +517,7 @@ pub(crate) fn repair_configured(
         .flat_map(|b| b.find.points.iter().copied())
         .collect();
     let moved_into = |p: usize| reclaim.moved.iter().any(|m| m.point == p);
-    s.markers_changed = (0..points.len())
+    let markers_changed = (0..points.len())
         .filter(|&r| {
             in_scope(r)
                 && (report.changes[r].iter().any(|&x| x != 0)
@@ -519,7 +525,7 @@ pub(crate) fn repair_configured(
                     || moved_into(points[r]))
         })
         .count();
-    let markers = (0..points.len())
+    let markers: Vec<serde_json::Value> = (0..points.len())
         .filter(|&r| in_scope(r))
         .map(|r| {
             let swapped = stage
@@ -537,17 +543,162 @@ pub(crate) fn repair_configured(
             serde_json::json!({"label": row_label(r), "samples_changed": report.changed_per_marker[r] + swapped + reclaimed})
         })
         .collect();
-    Ok(Repaired {
-        swaps: stage.briefs,
-        reclaim,
-        summary: s,
-        config: serde_json::to_value(&cfg).unwrap_or_default(),
-        gaps,
-        spikes,
-        spike_mode: serde_json::to_value(report.spike_mode).unwrap_or_default(),
-        segments,
-        markers,
+    (markers_changed, markers)
+}
+
+/// The reclaim stage run on this trial: the labelled markers' own data judged, the
+/// unlabelled points' samples moved where settled (see [`crate::reclaim_stage`]).
+fn reclaim_now(
+    c: &mut c3d::C3d,
+    name: &Path,
+    opts: &RepairOptions,
+    points: &reclaim_stage::Points,
+    trial: &mut repair::Trial,
+    point_in_scope: &dyn Fn(usize) -> bool,
+) -> Result<Reclaim> {
+    let data = reclaim_stage::own_data(c, points.labelled, trial);
+    let labelled = reclaim_stage::Points {
+        data: &data,
+        ..*points
+    };
+    reclaim_stage::run(c, name, opts.reclaim, &labelled, trial, point_in_scope)
+}
+
+/// The points a repair works on: those `opts` names (`None`: every marker) and the trial's
+/// markers split into labelled and unlabelled; refused for a file without points and for an
+/// unlabelled point named as a marker.
+fn markers_of(
+    c: &c3d::C3d,
+    opts: &RepairOptions,
+    name: &Path,
+) -> Result<(Option<Vec<usize>>, crate::markers::Split)> {
+    if c.point_count() == 0 {
+        return Err(Error::Trial {
+            path: name.to_path_buf(),
+            what: "the file has no points to repair".into(),
+        });
+    }
+    let only = opts.markers.as_ref().map(|m| select(c, m)).transpose()?;
+    let split = split_unlabelled(c, &opts.unlabelled_rule());
+    if let Some(p) = only.iter().flatten().find(|p| split.unlabelled.contains(p)) {
+        return Err(Error::options(format!(
+            "{:?} is an unlabelled point, not a marker: a repair leaves it as recorded",
+            c.point_labels()[*p].trim()
+        )));
+    }
+    Ok((only, split))
+}
+
+/// Valid samples at exactly (0, 0, 0) among the rows in scope: a writer's stand-in for
+/// missing points, which only `zero_invalid` reads as such.
+fn at_origin(trial: &repair::Trial, in_scope: &dyn Fn(usize) -> bool) -> usize {
+    (0..trial.xyz.len())
+        .filter(|&r| in_scope(r))
+        .map(|r| {
+            trial.xyz[r]
+                .iter()
+                .zip(&trial.valid[r])
+                .filter(|(p, &v)| v && **p == [0.0; 3])
+                .count()
+        })
+        .sum()
+}
+
+/// `cfg` in the file's length unit, its fills held to the step rule as this file will store
+/// them.
+fn in_file_units(c: &c3d::C3d, cfg: repair::RepairConfig) -> repair::RepairConfig {
+    let storage = match c.format() {
+        c3d::NumberFormat::Integer => repair::Storage::Integer {
+            scale: c.layout().point_scale,
+        },
+        c3d::NumberFormat::Float => repair::Storage::Float32,
+    };
+    cfg.in_units(mm_per_unit(&c.point_units()))
+        .with_storage(storage)
+}
+
+/// `cfg` without the spikes and filter an earlier repair of this file applied (each named in
+/// `already_applied`): a step is never done twice.
+fn without_done_steps(
+    cfg: repair::RepairConfig,
+    record: &rerun::Record,
+    name: &Path,
+    already_applied: &mut Vec<String>,
+) -> Result<repair::RepairConfig> {
+    let mut spikes = cfg.spikes().copied();
+    let mut filter = cfg.filter().copied();
+    if let (Some(done), Some(_)) = (&record.spikes, spikes) {
+        already_applied.push(format!("spikes ({done})"));
+        spikes = None;
+    }
+    if let (Some(done), Some(_)) = (&record.filter, filter) {
+        already_applied.push(format!("filter ({done})"));
+        filter = None;
+    }
+    if already_applied.is_empty() {
+        return Ok(cfg);
+    }
+    repair::RepairConfig::new(spikes, cfg.fill().clone(), filter).map_err(|source| Error::Repair {
+        path: name.to_path_buf(),
+        source,
     })
+}
+
+/// A settled jump's samples made a gap for the fill stage (unfilled, they are written
+/// missing): the (row, frame) of each sample made invalid.
+fn jumps_made_gaps(
+    stage: &swap_stage::Stage,
+    row_of: &std::collections::HashMap<usize, usize>,
+    trial: &mut repair::Trial,
+    frames: usize,
+) -> Vec<(usize, usize)> {
+    let mut jumped = Vec::new();
+    for &(p, a, b) in &stage.gaps {
+        if let Some(&r) = row_of.get(&p) {
+            for f in a..=b.min(frames.saturating_sub(1)) {
+                if trial.valid[r][f] {
+                    trial.valid[r][f] = false;
+                    jumped.push((r, f));
+                }
+            }
+        }
+    }
+    jumped
+}
+
+/// What an earlier repair recorded, as the fill stage reads it: its fills are no data, and
+/// the gaps it left under the same fill settings stay left.
+fn earlier_of(
+    record: &rerun::Record,
+    row_of: &std::collections::HashMap<usize, usize>,
+    frames: usize,
+    rows: usize,
+    fill_settings: &str,
+) -> repair::Earlier {
+    let mut earlier = repair::Earlier::default();
+    if !record.filled.is_empty() {
+        earlier.filled = vec![vec![false; frames]; rows];
+        for &(p, a, b) in &record.filled {
+            if let Some(&r) = row_of.get(&p) {
+                earlier.filled[r][a..=b].fill(true);
+            }
+        }
+    }
+    if record.fill.as_deref() == Some(fill_settings) {
+        earlier.left = record
+            .left
+            .iter()
+            .filter_map(|l| {
+                Some((
+                    *row_of.get(&l.point)?,
+                    l.first_index,
+                    l.last_index,
+                    l.reason,
+                ))
+            })
+            .collect();
+    }
+    earlier
 }
 
 /// The unlabelled points of `c` for the summary, `None` when there are none.
