@@ -579,43 +579,77 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
     if nm < 2 || nf < 3 {
         return Ok(Vec::new());
     }
-    let ok: Vec<Vec<bool>> = (0..nm)
-        .map(|m| {
-            (0..nf)
-                .map(|f| trial.valid[m][f] && finite(&trial.xyz[m][f]))
-                .collect()
-        })
-        .collect();
-    let links = learn_links(
-        trial,
-        opts.max_link_spread_mm,
-        opts.min_link_support,
-        opts.max_links,
-    );
-    let mut cx = Ctx {
-        t: trial,
-        links,
-        ok,
-        usual: Vec::new(),
-        labelled: Vec::new(),
-    };
-    cx.usual = (0..nm)
-        .map(|m| {
-            median(
-                (2..nf)
-                    .step_by((nf / 2000).max(1))
-                    .filter_map(|f| cx.step(m, f, (m, m), (0, 0), false))
-                    .collect(),
-            )
-        })
-        .collect();
+    let cx = Ctx::learned(trial, opts);
+    let (mut swap_frames, jump_frames) = broken_link_frames(&cx, opts);
+    leaps_into_places(&cx, &mut swap_frames);
+    let mut finds = Vec::new();
+    for &(a, b) in swap_frames.keys() {
+        for (s, e, decided) in swap_runs(&cx, a, b, opts.max_hole) {
+            finds.push(swap_find(&cx, a, b, s, e, decided, opts));
+        }
+    }
+    let jumps = jump_finds(&cx, jump_frames, &finds, opts);
+    finds.extend(jumps);
+    finds.retain(|x| x.confidence >= opts.min_report);
+    finds.sort_by_key(|x| (x.first, x.markers.clone()));
+    Ok(finds)
+}
 
-    // Frames where a marker's links break, and the exchange that mends them if any.
+impl<'a> Ctx<'a> {
+    /// What the finding reads of `trial`: which samples are data, the links learned from
+    /// it, each marker's usual step, and (on trials small enough) the labelled scores.
+    fn learned(trial: &'a Trial, opts: &SwapOptions) -> Ctx<'a> {
+        let (nm, nf) = (trial.markers(), trial.frames());
+        let ok: Vec<Vec<bool>> = (0..nm)
+            .map(|m| {
+                (0..nf)
+                    .map(|f| trial.valid[m][f] && finite(&trial.xyz[m][f]))
+                    .collect()
+            })
+            .collect();
+        let links = learn_links(
+            trial,
+            opts.max_link_spread_mm,
+            opts.min_link_support,
+            opts.max_links,
+        );
+        let mut cx = Ctx {
+            t: trial,
+            links,
+            ok,
+            usual: Vec::new(),
+            labelled: Vec::new(),
+        };
+        cx.usual = (0..nm)
+            .map(|m| {
+                median(
+                    (2..nf)
+                        .step_by((nf / 2000).max(1))
+                        .filter_map(|f| cx.step(m, f, (m, m), (0, 0), false))
+                        .collect(),
+                )
+            })
+            .collect();
+        if nm * nf <= LABELLED_MAX_SAMPLES {
+            cx.labelled = cx.labelled_scores();
+        }
+        cx
+    }
+}
+
+/// Swap frames per pair, jump frames per marker: frames where a marker's links break, and
+/// the exchange that mends them if any.
+#[allow(clippy::type_complexity)]
+fn broken_link_frames(
+    cx: &Ctx,
+    opts: &SwapOptions,
+) -> (
+    BTreeMap<(usize, usize), Vec<usize>>,
+    BTreeMap<usize, Vec<usize>>,
+) {
+    let (trial, nm, nf) = (cx.t, cx.t.markers(), cx.t.frames());
     let mut swap_frames: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
     let mut jump_frames: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-    if nm * nf <= LABELLED_MAX_SAMPLES {
-        cx.labelled = cx.labelled_scores();
-    }
     // Each frame's markers whose links are half broken as labelled.
     let offs: Vec<Vec<usize>> = (0..nf)
         .into_par_iter()
@@ -672,8 +706,13 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
             }
         }
     }
+    (swap_frames, jump_frames)
+}
 
-    // Pairs that leap into each other's places at one frame, links or not.
+/// Pairs that leap into each other's places at one frame, links or not, added to
+/// `swap_frames`.
+fn leaps_into_places(cx: &Ctx, swap_frames: &mut BTreeMap<(usize, usize), Vec<usize>>) {
+    let (nm, nf) = (cx.t.markers(), cx.t.frames());
     for f in 2..nf {
         let broke: Vec<usize> = (0..nm)
             .filter(|&m| {
@@ -702,15 +741,21 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
             }
         }
     }
+}
 
-    let mut finds = Vec::new();
-    for &(a, b) in swap_frames.keys() {
-        for (s, e, decided) in swap_runs(&cx, a, b, opts.max_hole) {
-            finds.push(swap_find(&cx, a, b, s, e, decided, opts));
-        }
-    }
+/// The jumps: each marker's jump frames (those a swap in `swaps` explains left out) made
+/// episodes, joined across the leaps that bound them; markers with fewer than two links by
+/// continuity alone.
+fn jump_finds(
+    cx: &Ctx,
+    mut jump_frames: BTreeMap<usize, Vec<usize>>,
+    swaps: &[Find],
+    opts: &SwapOptions,
+) -> Vec<Find> {
+    let (nm, nf) = (cx.t.markers(), cx.t.frames());
+    let mut out = Vec::new();
     // Frames a swap explains are no jump of either marker.
-    for x in &finds {
+    for x in swaps {
         for m in &x.markers {
             if let Some(v) = jump_frames.get_mut(m) {
                 v.retain(|&f| f < x.first || f > x.last);
@@ -723,7 +768,7 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
     for &a in &few_links {
         jump_frames.entry(a).or_default();
     }
-    let swapped: Vec<(usize, usize, usize)> = finds
+    let swapped: Vec<(usize, usize, usize)> = swaps
         .iter()
         .flat_map(|x| x.markers.iter().map(move |&m| (m, x.first, x.last)))
         .collect();
@@ -755,19 +800,17 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
         for (s, e, decided) in eps {
             if e + 1 - s >= opts.min_jump_frames {
                 let x = if decided.is_empty() {
-                    leap_jump_find(&cx, a, s, e, opts)
+                    leap_jump_find(cx, a, s, e, opts)
                 } else {
-                    jump_find(&cx, a, s, e, decided, opts)
+                    jump_find(cx, a, s, e, decided, opts)
                 };
                 if x.last + 1 - x.first >= opts.min_jump_frames {
-                    finds.push(x);
+                    out.push(x);
                 }
             }
         }
     }
-    finds.retain(|x| x.confidence >= opts.min_report);
-    finds.sort_by_key(|x| (x.first, x.markers.clone()));
-    Ok(finds)
+    out
 }
 
 /// Confidence of a jump found by continuity alone whose second leap takes back the first
