@@ -74,3 +74,40 @@ fn sample_trials_fall_back_on_their_file_names_and_set() {
     assert_eq!(of(&v, "sample_09/PlugInC3D.c3d"), "walking");
     assert_eq!(of(&v, "sample_34/AlbertoREAL.c3d"), "other full body");
 }
+
+#[test]
+fn c3d_labs_activities_come_from_its_readme_column() {
+    let Some(root) = testkit::c3d_labs() else {
+        return;
+    };
+    let v = activities(&root, "labs");
+    assert_eq!(v.len(), 21);
+    assert_eq!(
+        of(&v, "psbiomech__lasem-data-processing__FAILT01_SLDJ03.c3d"),
+        "jumping"
+    );
+    assert_eq!(
+        of(&v, "RehabEngGroup__MOtoNMS__Cross_-_Overs_2.c3d"),
+        "cutting"
+    );
+    assert_eq!(
+        of(&v, "basgoncalves__msk_modelling_python__sprint_1.c3d"),
+        "running"
+    );
+    assert_eq!(
+        of(&v, "vaila-multimodaltoolbox__vaila__C3D_to_CSV_01.c3d"),
+        "sit-to-stand"
+    );
+    assert_eq!(of(&v, "pyomeca__pyomeca__markers_analogs.c3d"), "lifting");
+    // "walking (likely treadmill/overground, 8.7 s)": walking, though its row names no gait.
+    assert_eq!(
+        of(&v, "RealTimeBiomechanics__rtosim__walking_1.c3d"),
+        "walking"
+    );
+    let count = |a: &str| v.iter().filter(|x| x.1 == a).count();
+    assert_eq!(
+        (count("walking"), count("running"), count("lifting")),
+        (8, 5, 2),
+        "{v:?}"
+    );
+}

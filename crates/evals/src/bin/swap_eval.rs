@@ -154,11 +154,8 @@ fn side(path: &std::path::Path, recorded: bool) -> Side {
     let Ok(c) = c3d::read_file(path) else {
         return Side::default();
     };
-    let outputs = c.model_output_labels();
     let p = c.points();
-    let markers: Vec<usize> = (0..c.point_labels().len())
-        .filter(|&i| !outputs.contains(&c.point_labels()[i]))
-        .collect();
+    let markers = corpus::markers_of(&c);
     let measured = markers.iter().any(|&i| {
         let r = p.residuals(i);
         (0..p.frames()).any(|f| p.is_valid(f, i) && r[f] > 0.0)
@@ -614,7 +611,7 @@ fn main() {
             "held apart"
         };
         let path = root.join(rel);
-        let recorded = corpus == "more";
+        let recorded = corpus::holds_fills(corpus);
         let loaded = if recorded {
             load_recorded(&path)
         } else {

@@ -366,7 +366,7 @@ fn measure_trial<'a>(
         .flatten()
         .ok_or("corpus not on this machine")?;
     let path = root.join(file);
-    let mut trial = load_as_recorded(&path, corpus == "more")?;
+    let mut trial = load_as_recorded(&path, corpus::holds_fills(corpus))?;
     // A gap's frames held the truth it was scored on: they must be recorded now.
     for (_, r) in rs {
         let (m, a, len) = (r.g.marker, r.g.first, r.g.gap_len);

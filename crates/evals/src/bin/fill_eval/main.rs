@@ -71,6 +71,8 @@ struct Args {
     seed: u64,
     only: Option<String>,
     set: Option<String>,
+    /// Only the trials of this corpus (its short name in `corpus::roots`).
+    corpus: Option<String>,
     records: Option<PathBuf>,
     replay: Option<PathBuf>,
     /// With `--replay`: the expected-error model with each feature left out in turn.
@@ -122,6 +124,9 @@ struct Cli {
     /// Only the trials of this set (walking, fullbody).
     #[arg(long)]
     set: Option<String>,
+    /// Only the trials of this corpus (samples, extra, fullbody, more, labs).
+    #[arg(long)]
+    corpus: Option<String>,
     /// Every gap's errors as JSON lines (with --replay: the replayed records with the
     /// expected errors the model now makes).
     #[arg(long, value_name = "FILE")]
@@ -206,6 +211,7 @@ fn args() -> Args {
         seed: c.seed,
         only: c.only,
         set: c.set,
+        corpus: c.corpus,
         records: c.records,
         replay: c.replay,
         ablate: c.ablate,
@@ -331,6 +337,7 @@ fn run(a: &Args) -> Vec<Rec> {
     for &(set, lab, corpus, rel) in FILES {
         let held = !TUNED.contains(&corpus) && !tuned_labs.contains(&lab);
         if a.set.as_deref().is_some_and(|s| s != set)
+            || a.corpus.as_deref().is_some_and(|c| c != corpus)
             || a.only.as_deref().is_some_and(|o| !rel.contains(o))
             || (a.held_apart && !held)
             || (a.skip_held_apart && held)
@@ -341,9 +348,10 @@ fn run(a: &Args) -> Vec<Rec> {
             continue;
         };
         let path = root.join(rel);
-        // Trials of `c3d-more` may hold the capture software's fills (residual 0), which
-        // are no truth: where a trial has recorded residuals, they count as missing.
-        let loaded = if corpus == "more" {
+        // Trials of `c3d-more` and `c3d-labs` may hold the capture software's fills
+        // (residual 0), which are no truth: where a trial has recorded residuals, they
+        // count as missing.
+        let loaded = if corpus::holds_fills(corpus) {
             load_recorded(&path)
         } else {
             load(&path)
