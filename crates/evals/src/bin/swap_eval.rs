@@ -9,14 +9,15 @@
 //! untouched trials (per 10 000 frames), and, apart, the hits that are jumps of markers
 //! with 2–3 links found by their leaps and steady offset alone. Constants were chosen on the corpora `samples`,
 //! `extra` and `fullbody` (the "tuned" labs); the labs of `c3d-more` other than CMU chose
-//! nothing and are reported apart ("held apart").
+//! nothing and are reported apart ("held apart"), and `c3d-labs`' labs, which came after every
+//! rule, apart again.
 //!
 //! ```sh
 //! cargo run --release -p evals --bin swap_eval                        # a few minutes
 //! cargo run --release -p evals --bin swap_eval -- --per 2 --seed 35   # docs/swaps.md
 //! ```
 //! Options: `--per N` (episodes per kind, length and trial, jumps 4 × N; default 1), `--seed S`,
-//! `--only TEXT` (files whose path contains TEXT), `--list` (every injected episode missed),
+//! `--only TEXT` (files whose path contains TEXT), `--corpus NAME` (one corpus's trials), `--list` (every injected episode missed),
 //! `--untouched` (the finds on the untouched trials alone, no episode injected: a quick look),
 //! `--explain` (with each untouched find, and each missed jump onto a recorded point under
 //! `--list`, the samples it rests on), `--residual res|cam|both FLOOR` (the residual-witness
@@ -39,6 +40,8 @@ struct Args {
     per: usize,
     seed: u64,
     only: Option<String>,
+    /// Only the trials of this corpus (its short name in `corpus::roots`).
+    corpus: Option<String>,
     list: bool,
     untouched: bool,
     /// With the untouched finds, each one's samples: its links inside and around it.
@@ -68,6 +71,9 @@ struct Cli {
     /// Only files whose path contains TEXT.
     #[arg(long, value_name = "TEXT")]
     only: Option<String>,
+    /// Only the trials of this corpus (samples, extra, fullbody, more, labs).
+    #[arg(long)]
+    corpus: Option<String>,
     /// Every injected episode missed.
     #[arg(long)]
     list: bool,
@@ -105,6 +111,7 @@ fn args() -> Result<Args, String> {
         per: c.per,
         seed: c.seed,
         only: c.only,
+        corpus: c.corpus,
         list: c.list,
         untouched: c.untouched,
         explain: c.explain,
@@ -597,7 +604,9 @@ fn main() {
     let t0 = std::time::Instant::now();
     println!("## finds on the untouched trials\n");
     for &(_set, lab, corpus, rel) in FILES {
-        if a.only.as_deref().is_some_and(|o| !rel.contains(o)) {
+        if a.only.as_deref().is_some_and(|o| !rel.contains(o))
+            || a.corpus.as_deref().is_some_and(|c| c != corpus)
+        {
             continue;
         }
         let Some(Some(root)) = roots.get(corpus) else {
@@ -607,6 +616,9 @@ fn main() {
             "tuned"
         } else if tuned_labs.contains(&lab) {
             "cmu (c3d-more)"
+        } else if corpus == "labs" {
+            // `c3d-labs` came after every rule: its labs are held apart from all of them.
+            "held apart: c3d-labs"
         } else {
             "held apart"
         };
