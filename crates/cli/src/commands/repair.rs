@@ -7,7 +7,7 @@ use anyhow::Result;
 use c3dfix::files::Destination;
 use c3dfix::reclaim_stage::ReclaimAction;
 use c3dfix::swap_stage::SwapAction;
-use c3dfix::Summary;
+use c3dfix::{SkipKind, Summary};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -105,7 +105,7 @@ pub fn print_summary(s: &Summary) -> Result<()> {
     for g in s
         .gap_list
         .iter()
-        .filter(|g| g.reason.as_deref() == Some("uncertain"))
+        .filter(|g| g.reason == Some(SkipKind::Uncertain))
     {
         outln!(
             "  uncertain {} frames {}–{}: expected error {:.1} mm (left unfilled)",
