@@ -22,6 +22,7 @@
 //! ```
 
 pub mod analysis_group;
+pub mod annotate;
 pub mod axes;
 pub mod batch;
 pub mod cycles;

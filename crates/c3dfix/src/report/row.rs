@@ -344,13 +344,18 @@ fn events(c: &c3d::C3d, path: &Path, r: &mut TrialRow) -> Vec<pictures::Mark> {
     match crate::detect_events(c, &EventOptions::default(), path) {
         Ok(d) => {
             for e in &d.events {
-                *r.events.entry(e.source.to_string()).or_default() += 1;
-                marks.push(pictures::Mark::new(e.context, e.label, e.time, true));
+                *r.events.entry(e.source.name().to_string()).or_default() += 1;
+                marks.push(pictures::Mark::new(
+                    e.side.context(),
+                    e.kind.label(),
+                    e.time,
+                    true,
+                ));
             }
         }
         Err(e) => r.events_note = Some(strip_path(&e.to_string(), path)),
     }
-    if !crate::gait_params::file_events(c).is_empty() {
+    if !crate::event_labels::file_gait_events(c).is_empty() {
         match crate::gait_parameters(c, &GaitOptions::default(), path) {
             Ok(g) => {
                 r.gait = g
