@@ -5,6 +5,7 @@
 
 use super::{c3dfix, s, sample, stderr, stdout};
 use c3dfix::events::TrialEvent;
+use c3dfix::gait::{Kind, Side, Source};
 use serde_json::Value as Json;
 use std::path::{Path, PathBuf};
 
@@ -202,16 +203,16 @@ fn detected_events_in_place_with_a_backup_and_csv_of_several_files() {
 }
 
 /// A trial whose EVENT group holds `events` (written as `c3dfix events` writes them).
-fn with_events(dir: &Path, name: &str, events: &[(&'static str, &'static str, f64)]) -> PathBuf {
+fn with_events(dir: &Path, name: &str, events: &[(Side, Kind, f64)]) -> PathBuf {
     let mut c = c3dfix::open(sample("walk_truth.c3d")).unwrap();
     let ev: Vec<TrialEvent> = events
         .iter()
-        .map(|&(context, label, time)| TrialEvent {
-            context,
-            label,
+        .map(|&(side, kind, time)| TrialEvent {
+            side,
+            kind,
             time,
             frame: 0,
-            source: "kinematics",
+            source: Source::Kinematics,
             plate: None,
         })
         .collect();
@@ -224,13 +225,14 @@ fn with_events(dir: &Path, name: &str, events: &[(&'static str, &'static str, f6
 #[test]
 fn bad_input_gets_a_clear_message_and_exit_2() {
     let dir = tempfile::tempdir().unwrap();
-    let (fs, fo) = ("Foot Strike", "Foot Off");
+    let (fs, fo) = (Kind::FootStrike, Kind::FootOff);
+    let (left, right) = (Side::Left, Side::Right);
     let left_only = [
-        ("Left", fs, 1.0),
-        ("Right", fo, 1.1),
-        ("Right", fs, 1.55),
-        ("Left", fo, 1.65),
-        ("Left", fs, 2.1),
+        (left, fs, 1.0),
+        (right, fo, 1.1),
+        (right, fs, 1.55),
+        (left, fo, 1.65),
+        (left, fs, 2.1),
     ];
     // One side only: what can be is reported, the other side named.
     let p = with_events(dir.path(), "left_only.c3d", &left_only);
@@ -244,7 +246,7 @@ fn bad_input_gets_a_clear_message_and_exit_2() {
         "{v}"
     );
     let mut late = left_only.to_vec();
-    late.push(("Right", fs, 99.0));
+    late.push((right, fs, 99.0));
     let cases: Vec<(PathBuf, &str)> = vec![
         (
             with_events(dir.path(), "outside.c3d", &late),
@@ -258,7 +260,7 @@ fn bad_input_gets_a_clear_message_and_exit_2() {
             with_events(
                 dir.path(),
                 "strikes.c3d",
-                &[("Left", fs, 1.0), ("Left", fs, 2.1)],
+                &[(left, fs, 1.0), (left, fs, 2.1)],
             ),
             "Left: no complete cycle",
         ),

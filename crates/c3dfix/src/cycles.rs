@@ -38,9 +38,8 @@ pub struct CycleOptions {
 /// the file's time base and in its frame numbering.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CycleInfo {
-    /// "Left" or "Right".
-    pub context: &'static str,
-    #[serde(skip)]
+    /// The foot, written as the EVENT group's context: "Left" or "Right".
+    #[serde(rename = "context")]
     pub side: Side,
     pub number: usize,
     /// The foot strike that opens the cycle (s).
@@ -82,43 +81,28 @@ fn trial_error(path: &Path, what: impl std::fmt::Display) -> Error {
     }
 }
 
-/// Which side an EVENT:CONTEXTS entry names ("Left", "Right", any case).
-fn side_of(context: &str) -> Option<Side> {
-    match context.trim().to_ascii_lowercase().as_str() {
-        "left" => Some(Side::Left),
-        "right" => Some(Side::Right),
-        _ => None,
-    }
-}
-
 /// The foot strike times (s, on the file's base) of each side: the file's own, or detected.
 fn strikes(
     c: &c3d::C3d,
     opts: &CycleOptions,
     path: &Path,
 ) -> Result<(Vec<(Side, f64)>, &'static str)> {
-    let strike = gait::Kind::FootStrike.label();
     match &opts.detect {
         Some(e) => {
             let d = detect_events(c, e, path)?;
             let s = d
                 .events
                 .iter()
-                .filter(|e| e.label == strike)
-                .filter_map(|e| side_of(e.context).map(|s| (s, e.time)))
+                .filter(|e| e.kind == gait::Kind::FootStrike)
+                .map(|e| (e.side, e.time))
                 .collect();
             Ok((s, "detected"))
         }
         None => {
-            let s = c
-                .events()
-                .iter()
-                .filter_map(
-                    |e| match crate::event_labels::gait_event(&e.context, &e.label) {
-                        Some((s, gait::Kind::FootStrike)) => Some((s, e.time)),
-                        _ => None,
-                    },
-                )
+            let s = crate::event_labels::file_gait_events(c)
+                .into_iter()
+                .filter(|e| e.kind == gait::Kind::FootStrike)
+                .map(|e| (e.side, e.time))
                 .collect();
             Ok((s, "file"))
         }
@@ -373,7 +357,6 @@ pub fn cycles(c: &c3d::C3d, opts: &CycleOptions, path: &Path) -> Result<Cycles> 
             number += 1;
             out.data.push(normalise_all(&sources, &cy, path)?);
             out.cycles.push(CycleInfo {
-                context: side.context(),
                 side,
                 number,
                 start_time: cy.start,
@@ -442,7 +425,7 @@ impl Cycles {
                 let _ = write!(
                     s,
                     "{},{},{k},{:.6},{},{:.6},{},{:.6}",
-                    info.context,
+                    info.side.context(),
                     info.number,
                     cy.time_at(k as f64),
                     info.start_frame,
@@ -520,7 +503,7 @@ mod tests {
         let cy = cycles(&c, &opts, Path::new("t.c3d")).unwrap();
         assert_eq!(cy.cycles.len(), 1);
         let info = &cy.cycles[0];
-        assert_eq!((info.context, info.number), ("Left", 1));
+        assert_eq!((info.side, info.number), (Side::Left, 1));
         assert_eq!((info.start_frame, info.end_frame), (11, 51));
         let units: Vec<&str> = cy.columns.iter().map(|c| c.unit.as_str()).collect();
         assert_eq!(units, ["mm", "mm", "mm", "deg", "deg", "deg"]);

@@ -153,10 +153,10 @@ pub fn write_events(c: &mut C3d, events: &[TrialEvent], replace: bool) -> Result
         .unwrap_or_default();
     for e in events {
         let minutes = (e.time / 60.0).floor().max(0.0);
-        let strike = e.label == gait::Kind::FootStrike.label();
+        let strike = e.kind == gait::Kind::FootStrike;
         rows.push(Row {
-            context: e.context.to_string(),
-            label: e.label.to_string(),
+            context: e.side.context().to_string(),
+            label: e.kind.label().to_string(),
             description: if strike {
                 STRIKE_DESCRIPTION
             } else {

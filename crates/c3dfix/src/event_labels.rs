@@ -7,7 +7,25 @@
 //! event. One reading for every command (`info`, `gait`, `cycles`, the session
 //! calibration); the file's events are never renamed: a rewrite keeps them as they are.
 
+use gait::params::TimedEvent;
 use gait::{Kind, Side};
+
+/// The file's own gait events (their foot, kind and time in seconds on the EVENT group's
+/// base), in the group's order: the one reading of a file's events into feet and kinds
+/// (see [`gait_event`]) that every command uses; its other events are left out.
+pub fn file_gait_events(c: &c3d::C3d) -> Vec<TimedEvent> {
+    c.events()
+        .iter()
+        .filter_map(|e| {
+            let (side, kind) = gait_event(&e.context, &e.label)?;
+            Some(TimedEvent {
+                side,
+                kind,
+                time: e.time,
+            })
+        })
+        .collect()
+}
 
 /// The side and kind of one EVENT entry (`context`, `label`), if it is a gait event.
 pub fn gait_event(context: &str, label: &str) -> Option<(Side, Kind)> {
@@ -24,6 +42,20 @@ pub fn gait_event(context: &str, label: &str) -> Option<(Side, Kind)> {
         None if l.is_empty() => coded(c),
         None => None,
     }
+}
+
+/// What a lab's own gait label (`LHS` in General, `Foot Strike1`) is read as, for showing
+/// beside it: `None` for Nexus' own words (`Foot Strike`, `Foot Off`, any case), which say
+/// it themselves, and for an entry that is no gait event.
+pub fn read_as(context: &str, label: &str) -> Option<(Side, Kind)> {
+    let l = label.trim();
+    let nexus = [Kind::FootStrike, Kind::FootOff]
+        .iter()
+        .any(|k| l.eq_ignore_ascii_case(k.label()));
+    if nexus {
+        return None;
+    }
+    gait_event(context, label)
 }
 
 /// "Left" / "Right", any case.

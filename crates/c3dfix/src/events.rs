@@ -8,7 +8,9 @@
 
 use crate::error::{Error, Result, Setting};
 use crate::platforms::{force_platforms, ForceOptions};
-use gait::{Feet, KinematicOptions, MarkerChoice, MarkerNames, PlateInput, PlateOptions};
+use gait::{
+    Feet, Kind, KinematicOptions, MarkerChoice, MarkerNames, PlateInput, PlateOptions, Side, Source,
+};
 use serde::Serialize;
 use std::path::Path;
 
@@ -67,19 +69,26 @@ pub struct EventOptions {
 /// One detected event, as printed and written.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TrialEvent {
-    /// "Left" or "Right".
-    pub context: &'static str,
-    /// "Foot Strike" or "Foot Off".
-    pub label: &'static str,
+    /// The foot, written as the EVENT group's context: "Left" or "Right".
+    #[serde(rename = "context")]
+    pub side: Side,
+    /// What the foot did, written as Nexus' label: "Foot Strike" or "Foot Off".
+    #[serde(rename = "label", serialize_with = "nexus_label")]
+    pub kind: Kind,
     /// Seconds on the EVENT group's time base.
     pub time: f64,
     /// The nearest frame, in the file's numbering.
     pub frame: usize,
-    /// "plate" or "kinematics".
-    pub source: &'static str,
+    /// Where it was found: "plate" or "kinematics".
+    pub source: Source,
     /// The 1-based plate, for plate events.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub plate: Option<usize>,
+}
+
+/// A kind of event as Nexus labels it ("Foot Strike", "Foot Off").
+fn nexus_label<S: serde::Serializer>(kind: &Kind, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.serialize_str(kind.label())
 }
 
 /// The events of a trial and what was used to find them.
@@ -342,11 +351,11 @@ pub fn to_trial_event(c: &c3d::C3d, e: &gait::Event) -> TrialEvent {
         0.0
     };
     TrialEvent {
-        context: e.side.context(),
-        label: e.kind.label(),
+        side: e.side,
+        kind: e.kind,
         time,
         frame: c.frame_number(e.index.round().max(0.0) as usize),
-        source: e.source.name(),
+        source: e.source,
         plate: e.plate,
     }
 }

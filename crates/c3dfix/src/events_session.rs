@@ -67,14 +67,13 @@ pub fn lab_events(c: &c3d::C3d) -> Vec<Event> {
         return Vec::new();
     }
     let t0 = c.frame_time(0);
-    c.events()
-        .iter()
+    crate::event_labels::file_gait_events(c)
+        .into_iter()
         .filter_map(|e| {
-            let (side, kind) = crate::event_labels::gait_event(&e.context, &e.label)?;
             let index = (e.time - t0) * rate;
             index.is_finite().then_some(Event {
-                side,
-                kind,
+                side: e.side,
+                kind: e.kind,
                 index,
                 source: Source::Plate,
                 plate: None,

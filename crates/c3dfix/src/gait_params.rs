@@ -6,7 +6,6 @@
 use crate::error::{Error, Result};
 use crate::events::{detect_events, EventOptions};
 use gait::params::{GaitParameters, Parameter, TimedEvent, Toes};
-use gait::{Kind, Side};
 use serde::Serialize;
 use std::path::Path;
 
@@ -41,42 +40,6 @@ fn trial_error(path: &Path, e: impl std::fmt::Display) -> Error {
         path: path.to_path_buf(),
         what: e.to_string(),
     }
-}
-
-fn side_of(context: &str) -> Option<Side> {
-    match context.trim().to_ascii_lowercase().as_str() {
-        "left" => Some(Side::Left),
-        "right" => Some(Side::Right),
-        _ => None,
-    }
-}
-
-fn kind_of(label: &str) -> Option<Kind> {
-    let l = label.trim();
-    if l.eq_ignore_ascii_case("Foot Strike") {
-        Some(Kind::FootStrike)
-    } else if l.eq_ignore_ascii_case("Foot Off") {
-        Some(Kind::FootOff)
-    } else {
-        None
-    }
-}
-
-/// The file's gait events: Foot Strike and Foot Off of the Left and Right contexts, and the
-/// labs' own codes ([`crate::event_labels::gait_event`]: `LHS` in General, …); other
-/// events (a generic `Event`, General milestones) are not gait events.
-pub fn file_events(c: &c3d::C3d) -> Vec<TimedEvent> {
-    c.events()
-        .iter()
-        .filter_map(|e| {
-            let (side, kind) = crate::event_labels::gait_event(&e.context, &e.label)?;
-            Some(TimedEvent {
-                side,
-                kind,
-                time: e.time,
-            })
-        })
-        .collect()
 }
 
 /// What a treadmill trial's markers cannot give without the belt's speed.
@@ -169,17 +132,15 @@ pub fn gait_parameters(c: &c3d::C3d, opts: &GaitOptions, path: &Path) -> Result<
             let ev = d
                 .events
                 .iter()
-                .filter_map(|e| {
-                    Some(TimedEvent {
-                        side: side_of(e.context)?,
-                        kind: kind_of(e.label)?,
-                        time: e.time,
-                    })
+                .map(|e| TimedEvent {
+                    side: e.side,
+                    kind: e.kind,
+                    time: e.time,
                 })
                 .collect();
             (ev, "detected", d.warnings)
         }
-        None => (file_events(c), "file", Vec::new()),
+        None => (crate::event_labels::file_gait_events(c), "file", Vec::new()),
     };
     if events.is_empty() {
         return Err(trial_error(

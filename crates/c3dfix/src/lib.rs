@@ -22,7 +22,9 @@
 //! ```
 
 pub mod analysis_group;
+pub mod annotate;
 pub mod axes;
+pub mod batch;
 pub mod cycles;
 mod error;
 pub mod evaluate;
@@ -49,6 +51,7 @@ pub mod save;
 mod session_calibration;
 pub mod swap_stage;
 mod swaps;
+mod tally;
 pub mod targets;
 pub mod trial;
 pub mod units;
@@ -76,9 +79,13 @@ pub use platforms::{
     PlateWarning, Platform,
 };
 pub use reclaim_stage::{reclaim, Reclaim};
-pub use repair::{repair, GapBrief, Repaired, Summary, UnlabelledBrief};
-pub use repair_lib::{FillMethod, FilterSpec, ParseError, SpikeMode, SpikeSpec};
+pub use repair::{
+    repair, GapBrief, GapRow, MarkerChange, Repaired, SegmentRow, SpikeRow, Summary,
+    UnlabelledBrief,
+};
+pub use repair_lib::{FillMethod, FilterSpec, ParseError, SkipKind, SpikeMode, SpikeSpec};
 pub use swaps::{swaps, SwapFind, Swaps};
+pub use tally::Tally;
 pub use trial::{open, open_mapped};
 
 use std::path::{Path, PathBuf};

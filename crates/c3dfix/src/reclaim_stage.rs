@@ -236,28 +236,19 @@ fn move_samples(c: &mut c3d::C3d, moved: &[Reclaimed]) -> c3d::Result<usize> {
     if moved.is_empty() {
         return Ok(0);
     }
-    type Sample = (usize, usize, [f32; 3], f32, u8);
-    let states = vec![(); c.point_chunks()];
-    let samples: Vec<Vec<Sample>> = c.map_point_chunks(states, |(), view| {
-        let mut out = Vec::new();
-        for f in 0..view.frames {
-            let frame = view.first_frame + f;
-            for m in moved {
-                if (m.first..=m.last).contains(&frame)
-                    && m.point < view.count
-                    && m.source < view.count
-                {
-                    let (p, r, k) = view.sample(f, m.source);
-                    out.push((frame, m.point, p, r, k));
-                    let (xyz, r, k) = c3d::Mark::Missing.stored();
-                    out.push((frame, m.source, xyz, r, k));
-                }
+    let samples = crate::trial::gather_samples(c, |view, frame, f, out| {
+        for m in moved {
+            if (m.first..=m.last).contains(&frame) && m.point < view.count && m.source < view.count
+            {
+                let (p, r, k) = view.sample(f, m.source);
+                out.push((frame, m.point, p, r, k));
+                let (xyz, r, k) = c3d::Mark::Missing.stored();
+                out.push((frame, m.source, xyz, r, k));
             }
         }
-        out
     });
-    let n: usize = samples.iter().map(|s| s.len() / 2).sum();
-    c.patch_points(samples.into_iter().flatten())?;
+    let n = samples.len() / 2;
+    c.patch_points(samples)?;
     Ok(n)
 }
 

@@ -8,10 +8,10 @@ use crate::options::RepairOptions;
 use crate::reclaim_stage::{self, Reclaim, ReclaimAction, ReclaimBrief, UnsettledBrief};
 use crate::rerun;
 use crate::swap_stage::{self, SwapAction, SwapBrief};
+use crate::tally::Tally;
 use crate::trial::{to_trial, write_back};
-use repair::FillOutcome;
+use repair::{FillMethod, FillOutcome, SkipKind};
 use serde::Serialize;
-use std::collections::BTreeMap;
 use std::path::Path;
 
 /// What one repair did, in numbers: what `c3dfix repair` prints and `batch` emits per file.
@@ -30,10 +30,10 @@ pub struct Summary {
     pub gaps: usize,
     pub filled: usize,
     /// Gaps filled per method (for `auto`, the method it chose).
-    pub filled_by: BTreeMap<String, usize>,
+    pub filled_by: Tally<FillMethod>,
     pub left: usize,
     /// Gaps left per reason (`too_long`, `no_donors`, …).
-    pub left_because: BTreeMap<String, usize>,
+    pub left_because: Tally<SkipKind>,
     pub spikes: usize,
     pub segments_filtered: usize,
     pub segments_too_short: usize,
@@ -125,9 +125,9 @@ pub struct GapBrief {
     pub at_trial_end: bool,
     /// The method that filled it (`auto`: the one it chose), or why it was left.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub method: Option<String>,
+    pub method: Option<FillMethod>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub reason: Option<String>,
+    pub reason: Option<SkipKind>,
     /// Expected mean 3D error of the fill, mm (for `uncertain` gaps: of the fill withheld).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub expected_error_mm: Option<f64>,
@@ -137,14 +137,74 @@ pub struct GapBrief {
 #[derive(Debug, Clone)]
 pub struct Repaired {
     pub summary: Summary,
-    config: serde_json::Value,
-    swaps: Vec<SwapBrief>,
-    reclaim: Reclaim,
-    gaps: Vec<serde_json::Value>,
-    spikes: Vec<serde_json::Value>,
-    spike_mode: serde_json::Value,
-    segments: Vec<serde_json::Value>,
-    markers: Vec<serde_json::Value>,
+    /// The configuration the trial was repaired with, in the file's units.
+    pub config: repair::RepairConfig,
+    /// Every label swap and jump found, with what was done with it.
+    pub swaps: Vec<SwapBrief>,
+    /// What the reclaim stage found and moved.
+    pub reclaim: Reclaim,
+    /// Every gap of the markers in scope, with its outcome.
+    pub gaps: Vec<GapRow>,
+    /// Every spike of the markers in scope.
+    pub spikes: Vec<SpikeRow>,
+    /// What became of the spikes (`gap` or `median`), when spikes were looked for.
+    pub spike_mode: Option<repair::SpikeMode>,
+    /// Every continuous segment at the filter step, filtered or too short.
+    pub segments: Vec<SegmentRow>,
+    /// The samples changed per marker in scope.
+    pub markers: Vec<MarkerChange>,
+}
+
+/// One gap of the full report: repair's record of it with its marker's label, frames in
+/// the file's numbering.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct GapRow {
+    pub label: String,
+    /// The marker's row among the repaired markers.
+    pub marker: usize,
+    /// First and last missing frame, in the file's numbering.
+    pub first: usize,
+    pub last: usize,
+    pub len: usize,
+    pub at_start: bool,
+    pub at_end: bool,
+    pub outcome: FillOutcome,
+    /// Expected mean 3D error of the fill, mm (for `uncertain` gaps: of the fill withheld).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub expected_error_mm: Option<f64>,
+}
+
+/// One spike of the full report, its frame in the file's numbering.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct SpikeRow {
+    pub label: String,
+    pub marker: usize,
+    pub frame: usize,
+    /// Which coordinates (x, y, z) were outliers.
+    pub axes: [bool; 3],
+    /// What the `median` mode writes (see [`repair::Spike`]).
+    pub median: [f64; 3],
+}
+
+/// One continuous valid segment at the filter step, frames in the file's numbering.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct SegmentRow {
+    pub label: String,
+    pub marker: usize,
+    pub first: usize,
+    pub last: usize,
+    pub len: usize,
+    pub filtered: bool,
+    /// Set when skipped: the filter needs more than `padlen` samples.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub padlen: Option<usize>,
+}
+
+/// How many samples of one marker the repair changed.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct MarkerChange {
+    pub label: String,
+    pub samples_changed: usize,
 }
 
 impl Repaired {
@@ -153,41 +213,27 @@ impl Repaired {
     /// gap (with its outcome), spike and filtered segment, and the samples
     /// changed per marker. Gaps and segments name their marker by label and by its row in
     /// `markers`; frames are the file's own frame numbers ([`c3d::C3d::frame_number`]).
+    /// Every object's keys are in alphabetical order, as a JSON value keeps them.
     pub fn report(&self) -> serde_json::Value {
         serde_json::json!({
             "file": self.summary.file,
             "output": self.summary.output,
-            "config": self.config,
-            "summary": self.summary,
-            "swaps": self.swaps,
-            "reclaim": self.reclaim,
-            "gaps": self.gaps,
-            "spikes": self.spikes,
-            "spike_mode": self.spike_mode,
-            "segments": self.segments,
-            "markers": self.markers,
+            "config": value(&self.config),
+            "summary": value(&self.summary),
+            "swaps": value(&self.swaps),
+            "reclaim": value(&self.reclaim),
+            "gaps": value(&self.gaps),
+            "spikes": value(&self.spikes),
+            "spike_mode": value(&self.spike_mode),
+            "segments": value(&self.segments),
+            "markers": value(&self.markers),
         })
     }
 }
 
-/// `x` as JSON with its marker's label, and the frame indices under `frames` turned into the
-/// file's own frame numbers ([`c3d::C3d::frame_number`]), as every output speaks them.
-fn labelled<T: Serialize>(
-    x: &T,
-    label: String,
-    c: &c3d::C3d,
-    frames: &[&str],
-) -> serde_json::Value {
-    let mut v = serde_json::to_value(x).unwrap_or_default();
-    if v.is_object() {
-        v["label"] = label.into();
-        for k in frames {
-            if let Some(i) = v[*k].as_u64() {
-                v[*k] = c.frame_number(i as usize).into();
-            }
-        }
-    }
-    v
+/// `x` as a JSON value (whose objects keep their keys in alphabetical order).
+fn value<T: Serialize>(x: &T) -> serde_json::Value {
+    serde_json::to_value(x).unwrap_or_default()
 }
 
 /// Repair the markers of `c` in place as `opts` says. `name` is the trial's file, for
@@ -313,10 +359,10 @@ pub(crate) fn repair_configured(
         swaps: stage.briefs,
         reclaim,
         summary: s,
-        config: serde_json::to_value(&cfg).unwrap_or_default(),
+        config: cfg,
         gaps,
         spikes,
-        spike_mode: serde_json::to_value(report.spike_mode).unwrap_or_default(),
+        spike_mode: report.spike_mode,
         segments,
         markers,
     })
@@ -330,7 +376,7 @@ fn gap_summary(
     in_scope: &dyn Fn(usize) -> bool,
     row_label: &dyn Fn(usize) -> String,
     s: &mut Summary,
-) -> Vec<serde_json::Value> {
+) -> Vec<GapRow> {
     let mut gaps = Vec::new();
     let mm = mm_per_unit(&c.point_units());
     let mut expected = Vec::new();
@@ -354,25 +400,31 @@ fn gap_summary(
                 ..
             } => {
                 s.filled += 1;
-                *s.filled_by.entry(method.to_string()).or_default() += 1;
-                brief.method = Some(method.to_string());
+                s.filled_by.add(method, 1);
+                brief.method = Some(method);
                 brief.expected_error_mm = expected_error.map(|e| e * mm);
                 expected.extend(brief.expected_error_mm);
             }
             FillOutcome::Skipped(reason) => {
                 s.left += 1;
-                *s.left_because.entry(reason.name().to_string()).or_default() += 1;
-                brief.reason = Some(reason.name().to_string());
+                s.left_because.add(reason.kind(), 1);
+                brief.reason = Some(reason.kind());
                 if let repair::SkipReason::Uncertain { expected_error, .. } = reason {
                     brief.expected_error_mm = Some(expected_error * mm);
                 }
             }
         }
-        let mut v = labelled(g, row_label(g.gap.marker), c, &["first", "last"]);
-        if let Some(e) = brief.expected_error_mm {
-            v["expected_error_mm"] = e.into();
-        }
-        gaps.push(v);
+        gaps.push(GapRow {
+            label: brief.label.clone(),
+            marker: g.gap.marker,
+            first: brief.first_frame,
+            last: brief.last_frame,
+            len: g.gap.len,
+            at_start: g.gap.at_start,
+            at_end: g.gap.at_end,
+            outcome: g.outcome,
+            expected_error_mm: brief.expected_error_mm,
+        });
         s.gap_list.push(brief);
     }
     if !expected.is_empty() {
@@ -476,15 +528,21 @@ fn spike_and_segment_rows(
     in_scope: &dyn Fn(usize) -> bool,
     row_label: &dyn Fn(usize) -> String,
     s: &mut Summary,
-) -> (Vec<serde_json::Value>, Vec<serde_json::Value>) {
-    let spikes: Vec<serde_json::Value> = report
+) -> (Vec<SpikeRow>, Vec<SegmentRow>) {
+    let spikes: Vec<SpikeRow> = report
         .spikes
         .iter()
         .filter(|sp| in_scope(sp.marker))
-        .map(|sp| labelled(sp, row_label(sp.marker), c, &["frame"]))
+        .map(|sp| SpikeRow {
+            label: row_label(sp.marker),
+            marker: sp.marker,
+            frame: c.frame_number(sp.frame),
+            axes: sp.axes,
+            median: sp.median,
+        })
         .collect();
     s.spikes = spikes.len();
-    let segments: Vec<serde_json::Value> = report
+    let segments: Vec<SegmentRow> = report
         .segments
         .iter()
         .filter(|x| in_scope(x.marker))
@@ -494,7 +552,15 @@ fn spike_and_segment_rows(
             } else {
                 s.segments_too_short += 1;
             }
-            labelled(x, row_label(x.marker), c, &["first", "last"])
+            SegmentRow {
+                label: row_label(x.marker),
+                marker: x.marker,
+                first: c.frame_number(x.first),
+                last: c.frame_number(x.last),
+                len: x.len,
+                filtered: x.filtered,
+                padlen: x.padlen,
+            }
         })
         .collect();
     (spikes, segments)
@@ -508,7 +574,7 @@ fn marker_changes(
     stage: &swap_stage::Stage,
     reclaim: &Reclaim,
     row_label: &dyn Fn(usize) -> String,
-) -> (usize, Vec<serde_json::Value>) {
+) -> (usize, Vec<MarkerChange>) {
     let (points, in_scope) = (rows.points, rows.in_scope);
     let exchanged: Vec<usize> = stage
         .briefs
@@ -525,7 +591,7 @@ fn marker_changes(
                     || moved_into(points[r]))
         })
         .count();
-    let markers: Vec<serde_json::Value> = (0..points.len())
+    let markers: Vec<MarkerChange> = (0..points.len())
         .filter(|&r| in_scope(r))
         .map(|r| {
             let swapped = stage
@@ -540,7 +606,10 @@ fn marker_changes(
                 .filter(|b| b.action == ReclaimAction::Moved && b.point == points[r])
                 .map(|b| b.samples)
                 .sum::<usize>();
-            serde_json::json!({"label": row_label(r), "samples_changed": report.changed_per_marker[r] + swapped + reclaimed})
+            MarkerChange {
+                label: row_label(r),
+                samples_changed: report.changed_per_marker[r] + swapped + reclaimed,
+            }
         })
         .collect();
     (markers_changed, markers)

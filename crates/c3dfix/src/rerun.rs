@@ -265,10 +265,9 @@ impl Record {
         }
     }
 
-    /// Write the record into `c`'s parameters. A parameter whose value is unchanged keeps its
-    /// bytes, so a rerun that changes nothing writes the file it read.
-    pub fn write(&self, c: &mut c3d::C3d) -> c3d::Result<()> {
-        let first_frame = c.first_frame() as f32;
+    /// The record's stretches as the file stores them, row after row: points numbered from
+    /// 1, frames in the file's numbering (from `first_frame`).
+    fn tables(&self, first_frame: f32) -> Tables {
         let filled: Vec<[f32; 3]> = self
             .filled
             .iter()
@@ -320,6 +319,23 @@ impl Record {
                 ]
             })
             .collect();
+        Tables {
+            filled: filled.concat(),
+            left: left.concat(),
+            undone: undone.concat(),
+            reclaimed: reclaimed.concat(),
+        }
+    }
+
+    /// Write the record into `c`'s parameters. A parameter whose value is unchanged keeps its
+    /// bytes, so a rerun that changes nothing writes the file it read.
+    pub fn write(&self, c: &mut c3d::C3d) -> c3d::Result<()> {
+        let Tables {
+            filled,
+            left,
+            undone,
+            reclaimed,
+        } = self.tables(c.first_frame() as f32);
         let ps = &mut c.parameters;
         if reclaimed.is_empty() {
             remove_rows(ps, "RECLAIMED");
@@ -327,7 +343,7 @@ impl Record {
             set_rows(
                 ps,
                 "RECLAIMED",
-                &reclaimed.concat(),
+                &reclaimed,
                 4,
                 "recorded samples moved from unlabelled points: marker point number, unlabelled point number, first frame, last frame",
             )?;
@@ -344,7 +360,7 @@ impl Record {
             set_rows(
                 ps,
                 "UNDONE",
-                &undone.concat(),
+                &undone,
                 4,
                 "label swaps undone: point numbers (second 0 for a jump), first frame, last frame",
             )?;
@@ -352,14 +368,14 @@ impl Record {
         set_rows(
             ps,
             "FILLED",
-            &filled.concat(),
+            &filled,
             3,
             "stretches c3dfix filled: point number, first frame, last frame",
         )?;
         set_rows(
             ps,
             "LEFT",
-            &left.concat(),
+            &left,
             6,
             "gaps c3dfix left: point number, first frame, last frame, reason code, values",
         )?;
@@ -396,6 +412,14 @@ impl Record {
         }
         Ok(())
     }
+}
+
+/// A record's stretches as the rows of its parameters, one row after another.
+struct Tables {
+    filled: Vec<f32>,
+    left: Vec<f32>,
+    undone: Vec<f32>,
+    reclaimed: Vec<f32>,
 }
 
 /// The dimensions of `rows` rows of `cols`: `[cols, rows]`, or further dimensions of 255

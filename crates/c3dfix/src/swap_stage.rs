@@ -159,22 +159,15 @@ pub fn exchange(c: &mut c3d::C3d, pairs: &[(usize, usize, usize, usize)]) -> c3d
     if pairs.is_empty() {
         return Ok(0);
     }
-    type Sample = (usize, usize, [f32; 3], f32, u8);
-    let states = vec![(); c.point_chunks()];
-    let samples: Vec<Vec<Sample>> = c.map_point_chunks(states, |(), view| {
-        let mut out = Vec::new();
-        for f in 0..view.frames {
-            let frame = view.first_frame + f;
-            for &(a, b, first, last) in pairs {
-                if (first..=last).contains(&frame) && a < view.count && b < view.count {
-                    let (pa, ra, ma) = view.sample(f, a);
-                    let (pb, rb, mb) = view.sample(f, b);
-                    out.push((frame, a, pb, rb, mb));
-                    out.push((frame, b, pa, ra, ma));
-                }
+    let samples = crate::trial::gather_samples(c, |view, frame, f, out| {
+        for &(a, b, first, last) in pairs {
+            if (first..=last).contains(&frame) && a < view.count && b < view.count {
+                let (pa, ra, ma) = view.sample(f, a);
+                let (pb, rb, mb) = view.sample(f, b);
+                out.push((frame, a, pb, rb, mb));
+                out.push((frame, b, pa, ra, ma));
             }
         }
-        out
     });
-    c.patch_points(samples.into_iter().flatten())
+    c.patch_points(samples)
 }

@@ -180,3 +180,27 @@ pub fn write_back(
         clamped: clamped.get(),
     })
 }
+
+/// One stored point sample as [`c3d::C3d::patch_points`] takes it: frame (0-based), point,
+/// coordinates, residual word and camera mask.
+pub(crate) type StoredSample = (usize, usize, [f32; 3], f32, u8);
+
+/// The stored samples `each` makes of every frame of `c` (its 0-based index in the trial
+/// and in the chunk's view, pushing what to write), gathered chunk by chunk as the trial is
+/// stored, in parallel and without decoding the whole trial: how samples move between
+/// points in the file (swaps exchanged back, unlabelled samples reclaimed) with every bit
+/// they carry.
+pub(crate) fn gather_samples<F>(c: &c3d::C3d, each: F) -> Vec<StoredSample>
+where
+    F: Fn(&c3d::PointsView<'_>, usize, usize, &mut Vec<StoredSample>) + Sync,
+{
+    let states = vec![(); c.point_chunks()];
+    let chunks: Vec<Vec<StoredSample>> = c.map_point_chunks(states, |(), view| {
+        let mut out = Vec::new();
+        for f in 0..view.frames {
+            each(&view, view.first_frame + f, f, &mut out);
+        }
+        out
+    });
+    chunks.into_iter().flatten().collect()
+}

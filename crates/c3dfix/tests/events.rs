@@ -52,7 +52,10 @@ fn the_event_group_holds_minutes_and_seconds_and_keeps_or_replaces_the_files_eve
         &c,
         &ev(Side::Right, Kind::FootOff, 7549.5, Source::Kinematics),
     );
-    assert_eq!((e.frame, e.context, e.label), (7551, "Right", "Foot Off"));
+    assert_eq!(
+        (e.frame, e.side, e.kind),
+        (7551, Side::Right, Kind::FootOff)
+    );
     assert!((e.time - 75.495).abs() < 1e-9);
     let new: Vec<TrialEvent> = vec![e];
     let w = c3dfix::event_group::write_events(&mut c, &new, false).unwrap();
@@ -111,7 +114,7 @@ fn distances(lab: &[(Side, Kind, f64)], found: &[TrialEvent]) -> Vec<f64> {
         .map(|(side, kind, t)| {
             found
                 .iter()
-                .filter(|e| e.context == side.context() && e.label == kind.label())
+                .filter(|e| e.side == *side && e.kind == *kind)
                 .map(|e| (e.time - t).abs())
                 .fold(f64::INFINITY, f64::min)
         })
@@ -204,15 +207,8 @@ fn foot_clusters_give_heel_and_toe_by_position_and_their_strikes_meet_the_plates
     let strikes: Vec<(Side, Kind, f64)> = plates
         .events
         .iter()
-        .filter(|e| e.label == "Foot Strike")
-        .map(|e| {
-            let side = if e.context == "Left" {
-                Side::Left
-            } else {
-                Side::Right
-            };
-            (side, Kind::FootStrike, e.time)
-        })
+        .filter(|e| e.kind == Kind::FootStrike)
+        .map(|e| (e.side, Kind::FootStrike, e.time))
         .collect();
     assert_eq!(strikes.len(), 2, "{strikes:?}");
     assert!((strikes[0].2 - 0.361).abs() < 0.002, "{strikes:?}");
@@ -235,7 +231,7 @@ fn a_set_marking_one_leg_gives_that_legs_events_and_says_so() {
     };
     let d = detect_events(&c, &opts, &path).unwrap();
     assert!(
-        d.events.iter().all(|e| e.context == "Right"),
+        d.events.iter().all(|e| e.side == Side::Right),
         "{:?}",
         d.events
     );
@@ -287,19 +283,7 @@ fn an_event_next_to_the_trials_start_or_a_gap_is_found() {
         let d = detect_events(c, &o, path).unwrap();
         d.events
             .iter()
-            .map(|e| {
-                let side = if e.context == "Left" {
-                    Side::Left
-                } else {
-                    Side::Right
-                };
-                let kind = if e.label == "Foot Strike" {
-                    Kind::FootStrike
-                } else {
-                    Kind::FootOff
-                };
-                (side, kind, e.time)
-            })
+            .map(|e| (e.side, e.kind, e.time))
             .collect::<Vec<_>>()
     };
     // pyomeca's Qualisys trial (held out, 200 Hz) starts 0.07 s before its left foot lands
@@ -348,7 +332,7 @@ fn matching_the_plate_steps_moves_an_event_only_to_a_match_inside_its_search() {
             .unwrap()
             .events
             .iter()
-            .filter(|e| e.label == "Foot Strike" && e.source == "kinematics")
+            .filter(|e| e.kind == Kind::FootStrike && e.source == Source::Kinematics)
             .map(|e| e.time)
             .collect()
     };
@@ -393,7 +377,7 @@ fn a_plate_loaded_after_the_heel_landed_off_it_gives_no_strike() {
     let got: Vec<(&str, &str, f64)> = plates
         .events
         .iter()
-        .map(|e| (e.context, e.label, e.time))
+        .map(|e| (e.side.context(), e.kind.label(), e.time))
         .collect();
     let want = [
         ("Right", "Foot Strike", 2.6719),
@@ -411,9 +395,11 @@ fn a_plate_loaded_after_the_heel_landed_off_it_gives_no_strike() {
     let left: Vec<&TrialEvent> = auto
         .events
         .iter()
-        .filter(|e| e.context == "Left" && e.label == "Foot Strike" && (e.time - 2.2).abs() < 0.1)
+        .filter(|e| {
+            e.side == Side::Left && e.kind == Kind::FootStrike && (e.time - 2.2).abs() < 0.1
+        })
         .collect();
     assert_eq!(left.len(), 1, "{:?}", auto.events);
-    assert_eq!(left[0].source, "kinematics");
+    assert_eq!(left[0].source, Source::Kinematics);
     assert!((left[0].time - 2.17).abs() < 0.025, "{:?}", left[0]);
 }

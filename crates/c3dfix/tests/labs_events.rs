@@ -3,6 +3,7 @@
 //! trials that have no feet to give events.
 
 use c3dfix::events::{detect_events, is_treadmill, Detected, EventOptions, EventSource};
+use gait::{Kind, Side};
 use std::path::PathBuf;
 
 fn labs(name: &str) -> Option<PathBuf> {
@@ -29,7 +30,7 @@ fn role<'a>(d: &'a Detected, r: &str) -> Vec<&'a str> {
 fn count(d: &Detected, context: &str, label: &str) -> usize {
     d.events
         .iter()
-        .filter(|e| e.context == context && e.label == label)
+        .filter(|e| e.side.context() == context && e.kind.label() == label)
         .count()
 }
 
@@ -48,7 +49,7 @@ fn an_ior_anatomical_set_gives_events_from_the_calcaneus_and_first_metatarsal_he
     let t = |label: &str, near: f64| {
         d.events
             .iter()
-            .filter(|e| e.context == "Left" && e.label == label)
+            .filter(|e| e.side == Side::Left && e.kind.label() == label)
             .map(|e| e.time - near)
             .min_by(|a, b| a.abs().total_cmp(&b.abs()))
             .unwrap()
@@ -159,7 +160,7 @@ fn treadmill_running_strikes_from_the_markers_match_the_instrumented_belt() {
     let strikes: Vec<_> = plates
         .events
         .iter()
-        .filter(|e| e.label == "Foot Strike")
+        .filter(|e| e.kind == Kind::FootStrike)
         .collect();
     assert_eq!(strikes.len(), 85);
     let mut err: Vec<f64> = strikes
@@ -167,7 +168,7 @@ fn treadmill_running_strikes_from_the_markers_match_the_instrumented_belt() {
         .map(|p| {
             kin.events
                 .iter()
-                .filter(|k| k.label == p.label && k.context == p.context)
+                .filter(|k| k.kind == p.kind && k.side == p.side)
                 .map(|k| (k.time - p.time).abs())
                 .fold(f64::INFINITY, f64::min)
         })
@@ -185,7 +186,7 @@ fn a_labs_own_codes_in_the_general_context_are_read_as_gait_events() {
         return;
     };
     let c = c3dfix::open(&path).unwrap();
-    let ev = c3dfix::gait_params::file_events(&c);
+    let ev = c3dfix::event_labels::file_gait_events(&c);
     assert_eq!(ev.len(), 7);
     let r = c3dfix::gait_parameters(&c, &c3dfix::GaitOptions::default(), &path).unwrap();
     let cadence = r

@@ -20,7 +20,7 @@ fn fast_walk_speaks_of_its_51_labelled_markers_and_leaves_29_unlabelled_as_recor
     assert_eq!((s.markers, s.gaps, s.filled, s.left), (51, 98, 6, 92));
     let u = s.unlabelled.as_ref().unwrap();
     assert_eq!((u.points, u.samples), (29, 12590));
-    assert_eq!(s.left_because.get("implausible"), None);
+    assert_eq!(s.left_because.get(c3dfix::SkipKind::Implausible), 0);
     assert!(s.gap_list.iter().all(|g| !g.label.starts_with('*')));
     assert!(s
         .swap_list

@@ -10,7 +10,7 @@ use crate::{err, lib_err, PyC3d};
 use c3dfix::events::{EventOptions, EventSource};
 use c3dfix::events_session::{session_from, CalibrationTruth, SessionReport};
 use c3dfix::gait::session::SessionOptions;
-use c3dfix::gait::{cycles::SAMPLES, MarkerNames};
+use c3dfix::gait::{cycles::SAMPLES, Kind, MarkerNames, Side, Source};
 
 /// Each warning as a Python `UserWarning` naming the file.
 fn warn_all(py: Python<'_>, name: &str, warnings: &[String]) -> PyResult<()> {
@@ -90,11 +90,11 @@ pub fn detect_events(
     let out = PyList::empty(py);
     for e in &d.events {
         let dict = PyDict::new(py);
-        dict.set_item("context", e.context)?;
-        dict.set_item("label", e.label)?;
+        dict.set_item("context", e.side.context())?;
+        dict.set_item("label", e.kind.label())?;
         dict.set_item("time", e.time)?;
         dict.set_item("frame", e.frame)?;
-        dict.set_item("source", e.source)?;
+        dict.set_item("source", e.source.name())?;
         dict.set_item("plate", e.plate)?;
         if let Some(r) = &d.session_calibration {
             dict.set_item("shift_ms", shift_ms(r, e))?;
@@ -106,21 +106,19 @@ pub fn detect_events(
 
 /// The session offset added to one detected event, as the report says it was used.
 fn shift_ms(r: &SessionReport, e: &c3dfix::events::TrialEvent) -> Option<f64> {
-    if e.source != "kinematics" {
+    if e.source != Source::Kinematics {
         return None;
     }
-    let kind = if e.label == "Foot Strike" {
-        &r.strike
-    } else {
-        &r.off
+    let kind = match e.kind {
+        Kind::FootStrike => &r.strike,
+        Kind::FootOff => &r.off,
     };
     if !kind.used {
         return None;
     }
-    if e.context == "Left" {
-        kind.left_ms
-    } else {
-        kind.right_ms
+    match e.side {
+        Side::Left => kind.left_ms,
+        Side::Right => kind.right_ms,
     }
 }
 
@@ -198,7 +196,10 @@ pub fn cycles(
     )?;
     out.set_item(
         "side",
-        cy.cycles.iter().map(|c| c.context).collect::<Vec<_>>(),
+        cy.cycles
+            .iter()
+            .map(|c| c.side.context())
+            .collect::<Vec<_>>(),
     )?;
     out.set_item(
         "number",

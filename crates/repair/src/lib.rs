@@ -55,7 +55,7 @@ pub use error::{RepairError, Result};
 pub use evaluate::{
     calibration, evaluate, Calibration, EvalConfig, Evaluation, GapScore, MethodScore,
 };
-pub use fill::{FillMethod, FillOptions, FillOutcome, SkipReason, Storage};
+pub use fill::{FillMethod, FillOptions, FillOutcome, SkipKind, SkipReason, Storage};
 pub use filter::{FilterSpec, Iir};
 pub use gaps::{find_gaps, Gap};
 pub use names::{ParseError, SpikeSpec};

@@ -75,7 +75,7 @@ pub fn detected(c: &c3d::C3d, path: &Path) -> Result<Vec<Mark>, c3dfix::Error> {
     let d = c3dfix::detect_events(c, &c3dfix::EventOptions::default(), path)?;
     Ok(d.events
         .iter()
-        .map(|e| mark(e.context, e.label, e.time, true))
+        .map(|e| mark(e.side.context(), e.kind.label(), e.time, true))
         .collect())
 }
 

@@ -5,7 +5,9 @@ use super::pictures::{self, Fill, Pictures};
 use crate::gaps::gaps;
 use crate::markers::split_unlabelled;
 use crate::rerun::Record;
+use crate::tally::Tally;
 use crate::{Direction, EventOptions, ForceOptions, ForcePlatforms, GaitOptions, Summary};
+use repair::SkipKind;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -68,7 +70,7 @@ pub struct TrialRow {
     pub filled: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub left: Option<usize>,
-    pub left_because: BTreeMap<String, usize>,
+    pub left_because: Tally<SkipKind>,
     /// Of the gaps left, those at the trial's first or last frame.
     pub left_at_trial_end: usize,
     /// Largest expected error of a fill, mm (the repair's summary; a file records none).
@@ -271,9 +273,7 @@ fn from_record(c: &c3d::C3d, r: &mut TrialRow) {
     r.left = Some(rec.left.len());
     let last = c.frames().saturating_sub(1);
     for l in &rec.left {
-        *r.left_because
-            .entry(l.reason.name().to_string())
-            .or_default() += 1;
+        r.left_because.add(l.reason.kind(), 1);
         if l.first_index == 0 || l.last_index == last {
             r.left_at_trial_end += 1;
         }
@@ -344,13 +344,18 @@ fn events(c: &c3d::C3d, path: &Path, r: &mut TrialRow) -> Vec<pictures::Mark> {
     match crate::detect_events(c, &EventOptions::default(), path) {
         Ok(d) => {
             for e in &d.events {
-                *r.events.entry(e.source.to_string()).or_default() += 1;
-                marks.push(pictures::Mark::new(e.context, e.label, e.time, true));
+                *r.events.entry(e.source.name().to_string()).or_default() += 1;
+                marks.push(pictures::Mark::new(
+                    e.side.context(),
+                    e.kind.label(),
+                    e.time,
+                    true,
+                ));
             }
         }
         Err(e) => r.events_note = Some(strip_path(&e.to_string(), path)),
     }
-    if !crate::gait_params::file_events(c).is_empty() {
+    if !crate::event_labels::file_gait_events(c).is_empty() {
         match crate::gait_parameters(c, &GaitOptions::default(), path) {
             Ok(g) => {
                 r.gait = g
@@ -387,9 +392,9 @@ fn first_problem(r: &TrialRow) -> Option<String> {
     if let Some(e) = &r.repaired_error {
         return Some(format!("repaired copy: {e}"));
     }
-    let reasons = |m: &BTreeMap<String, usize>| {
+    let reasons = |m: &Tally<SkipKind>| {
         m.iter()
-            .map(|(k, n)| format!("{n} {}", k.replace('_', " ")))
+            .map(|(k, n)| format!("{n} {}", k.name().replace('_', " ")))
             .collect::<Vec<_>>()
             .join(", ")
     };

@@ -1,6 +1,8 @@
 //! The session's summary: totals over the trials and the ones to look at first.
 
 use super::row::TrialRow;
+use crate::tally::Tally;
+use repair::SkipKind;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -32,7 +34,7 @@ pub struct SessionSummary {
     pub gaps_before: usize,
     pub filled: usize,
     pub left: usize,
-    pub left_because: BTreeMap<String, usize>,
+    pub left_because: Tally<SkipKind>,
     pub left_at_trial_end: usize,
     pub expected_error_mm_max: Option<f64>,
     pub swaps_found: usize,
@@ -73,9 +75,7 @@ pub(super) fn summarise(rows: &[TrialRow]) -> SessionSummary {
         s.gaps_before += r.gaps_before;
         s.filled += r.filled.unwrap_or(0);
         s.left += r.left.unwrap_or(0);
-        for (k, n) in &r.left_because {
-            *s.left_because.entry(k.clone()).or_default() += n;
-        }
+        s.left_because.add_all(&r.left_because);
         s.left_at_trial_end += r.left_at_trial_end;
         if let Some(e) = r.expected_error_mm_max {
             s.expected_error_mm_max = Some(s.expected_error_mm_max.map_or(e, |m| m.max(e)));

@@ -1,10 +1,10 @@
 //! `c3dfix events`: foot strikes and foot offs of walking trials, from the force plates,
 //! from the markers, or both (see `docs/events.md`).
 
-use crate::commands::info::read_c3d;
 use crate::console::{errln, outln};
 use anyhow::Result;
-use c3dfix::events::{detect_events, Detected, EventOptions, EventSource};
+use c3dfix::annotate::Annotate;
+use c3dfix::events::{Detected, EventOptions, EventSource};
 use c3dfix::events_session::{session_from, CalibrationTruth, SessionLags};
 use c3dfix::gait::session::SessionOptions;
 use c3dfix::gait::MarkerNames;
@@ -67,19 +67,12 @@ pub struct Args {
     pub calibrate_truth: String,
 }
 
-/// Where the events go, besides standard output.
-enum Write<'a> {
-    Nowhere,
-    To(&'a std::path::Path),
-    InPlace { backup: bool },
-}
-
 fn one(
     path: &std::path::Path,
     opts: &EventOptions,
     session: Option<&SessionLags>,
-    write: &Write,
-    a: &Args,
+    dest: Annotate<'_>,
+    replace: bool,
 ) -> Result<Detected> {
     let with_session;
     let opts = match session {
@@ -92,33 +85,7 @@ fn one(
         }
         None => opts,
     };
-    if let Write::Nowhere = write {
-        let c = read_c3d(path)?;
-        return Ok(detect_events(&c, opts, path)?);
-    }
-    // A file to be written is read into memory, not mapped: it may be the file replaced.
-    let mut c = c3dfix::open(path)?;
-    let d = detect_events(&c, opts, path)?;
-    c3dfix::event_group::write_events(&mut c, &d.events, a.replace)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    let (dest, save) = match write {
-        Write::To(out) => (
-            *out,
-            c3dfix::SaveOptions {
-                force: a.force,
-                backup: false,
-            },
-        ),
-        _ => (
-            path,
-            c3dfix::SaveOptions {
-                force: true,
-                backup: matches!(write, Write::InPlace { backup: true }),
-            },
-        ),
-    };
-    c3dfix::save(&c, dest, &save)?;
-    Ok(d)
+    Ok(c3dfix::annotate::events_file(path, opts, replace, dest)?)
 }
 
 fn as_json(path: &std::path::Path, d: &Detected) -> serde_json::Value {
@@ -168,23 +135,26 @@ pub fn run(mut a: Args) -> Result<i32> {
         Some(s)
     };
     let session = session.as_ref();
-    let write = match (&a.output, a.in_place) {
+    let dest = match (&a.output, a.in_place) {
         (Some(out), _) => {
             if a.files.len() != 1 {
                 anyhow::bail!("-o takes one input file; use --in-place for several");
             }
-            Write::To(out.as_path())
+            Annotate::To {
+                output: out.as_path(),
+                force: a.force,
+            }
         }
-        (None, true) => Write::InPlace { backup: a.backup },
+        (None, true) => Annotate::InPlace { backup: a.backup },
         (None, false) => {
             if a.replace || a.force {
                 anyhow::bail!("--replace and --force apply to writing: add -o OUT or --in-place");
             }
-            Write::Nowhere
+            Annotate::Report
         }
     };
     if named_one_file {
-        let d = one(&a.files[0], &opts, session, &write, &a)?;
+        let d = one(&a.files[0], &opts, session, dest, a.replace)?;
         if a.json {
             outln!(
                 "{}",
@@ -199,8 +169,9 @@ pub fn run(mut a: Args) -> Result<i32> {
     // others go on; the exit code says whether any failed.
     let mut failed = 0;
     let mut docs = Vec::new();
-    let results =
-        crate::commands::each::each(&a.files, a.jobs, |f| one(f, &opts, session, &write, &a))?;
+    let results = crate::commands::each::each(&a.files, a.jobs, |f| {
+        one(f, &opts, session, dest, a.replace)
+    })?;
     for (f, r) in a.files.iter().zip(results) {
         match r {
             Ok(d) if a.json => docs.push(as_json(f, &d)),
@@ -262,9 +233,9 @@ fn print_text(path: &std::path::Path, d: &Detected) -> Result<()> {
             "  {:>9.4} s  frame {:>6}  {:<5} {:<11} {}{plate}",
             e.time,
             e.frame,
-            e.context,
-            e.label,
-            e.source
+            e.side.context(),
+            e.kind.label(),
+            e.source.name()
         )?;
     }
     Ok(())

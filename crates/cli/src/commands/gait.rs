@@ -1,12 +1,12 @@
 //! `c3dfix gait`: the gait-cycle parameters of walking trials per side, as Vicon Nexus'
 //! "Generate Gait Cycle Parameters" defines them (see `docs/gait-parameters.md`).
 
-use crate::commands::info::read_c3d;
 use crate::console::{errln, outln};
 use anyhow::Result;
+use c3dfix::annotate::Annotate;
 use c3dfix::events::{EventOptions, EventSource};
 use c3dfix::gait::MarkerNames;
-use c3dfix::{gait_parameters, GaitOptions, GaitReport};
+use c3dfix::{GaitOptions, GaitReport};
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
@@ -48,39 +48,6 @@ pub struct Args {
     /// Replace an existing output file.
     #[arg(long)]
     pub force: bool,
-}
-
-fn one(path: &Path, opts: &GaitOptions, a: &Args) -> Result<GaitReport> {
-    if !a.write {
-        let c = read_c3d(path)?;
-        return Ok(gait_parameters(&c, opts, path)?);
-    }
-    // A file to be written is read into memory, not mapped: it may be the file replaced.
-    let mut c = c3dfix::open(path)?;
-    let r = gait_parameters(&c, opts, path)?;
-    c3dfix::analysis_group::write_parameters(&mut c, &r.parameters)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    let (dest, save) = match &a.output {
-        Some(out) => {
-            c3dfix::save::refuse_own_input(path, out)?;
-            (
-                out.as_path(),
-                c3dfix::SaveOptions {
-                    force: a.force,
-                    backup: false,
-                },
-            )
-        }
-        None => (
-            path,
-            c3dfix::SaveOptions {
-                force: true,
-                backup: a.backup,
-            },
-        ),
-    };
-    c3dfix::save(&c, dest, &save)?;
-    Ok(r)
 }
 
 fn as_json(path: &Path, r: &GaitReport) -> serde_json::Value {
@@ -146,7 +113,17 @@ pub fn run(mut a: Args) -> Result<i32> {
     let mut docs = Vec::new();
     let mut csv = String::from(c3dfix::export::PARAMETERS_HEADER);
     let several = !named_one_file;
-    let results = crate::commands::each::each(&a.files, a.jobs, |f| one(f, &opts, &a))?;
+    let dest = match (&a.output, a.in_place) {
+        _ if !a.write => Annotate::Report,
+        (Some(out), _) => Annotate::To {
+            output: out.as_path(),
+            force: a.force,
+        },
+        (None, _) => Annotate::InPlace { backup: a.backup },
+    };
+    let results = crate::commands::each::each(&a.files, a.jobs, |f| {
+        Ok(c3dfix::annotate::gait_file(f, &opts, dest)?)
+    })?;
     for (f, r) in a.files.iter().zip(results) {
         let r = match r {
             Ok(r) => r,

@@ -40,6 +40,24 @@ pub fn run(a: Args) -> Result<i32> {
 }
 
 fn print_text(r: &Report) -> Result<()> {
+    print_layout(r)?;
+    print_markers(r)?;
+    print_groups(r)?;
+    print_plates(r)?;
+    print_events(r)?;
+    if r.warnings.is_empty() {
+        outln!("  warnings     none")?;
+    } else {
+        outln!("  warnings")?;
+        for w in &r.warnings {
+            outln!("    - {w}")?;
+        }
+    }
+    Ok(())
+}
+
+/// The file's format, frames, points, up and travel, analog channels and header.
+fn print_layout(r: &Report) -> Result<()> {
     outln!("{}  ({} bytes)", r.file, r.bytes)?;
     outln!(
         "  format       {} processor, {} data",
@@ -82,6 +100,12 @@ fn print_text(r: &Report) -> Result<()> {
         r.header.data_start,
         r.header.max_gap
     )?;
+    Ok(())
+}
+
+/// The markers with gaps, and per point its valid frames, gaps and longest gap (model
+/// outputs under their own heading).
+fn print_markers(r: &Report) -> Result<()> {
     // Counted as `gaps` counts them: markers only, model outputs apart.
     let markers: Vec<_> = r.markers.iter().filter(|m| !m.model_output).collect();
     let with_gaps = markers.iter().filter(|m| m.gaps > 0).count();
@@ -126,6 +150,11 @@ fn print_text(r: &Report) -> Result<()> {
             )?;
         }
     }
+    Ok(())
+}
+
+/// The parameter groups.
+fn print_groups(r: &Report) -> Result<()> {
     outln!("  groups")?;
     for g in &r.groups {
         outln!(
@@ -140,6 +169,12 @@ fn print_text(r: &Report) -> Result<()> {
             }
         )?;
     }
+    Ok(())
+}
+
+/// The force plates with their channels, centre, peak push and contacts, and what was
+/// wrong with them.
+fn print_plates(r: &Report) -> Result<()> {
     if !r.force_platforms.is_empty() || !r.force_platform_warnings.is_empty() {
         outln!(
             "  plates       {} force platform{} (COP where |Fz| >= {} N)",
@@ -171,6 +206,12 @@ fn print_text(r: &Report) -> Result<()> {
             outln!("    - {w}")?;
         }
     }
+    Ok(())
+}
+
+/// The header's events and the EVENT group's, each lab's own gait label with what it is
+/// read as.
+fn print_events(r: &Report) -> Result<()> {
     if !r.header_events.is_empty() || !r.events.is_empty() {
         outln!("  events")?;
         for e in &r.header_events {
@@ -178,10 +219,8 @@ fn print_text(r: &Report) -> Result<()> {
         }
         for e in &r.events {
             // A lab's own gait label (`LHS` in General) says what it is read as.
-            let nexus = e.label.trim().eq_ignore_ascii_case("Foot Strike")
-                || e.label.trim().eq_ignore_ascii_case("Foot Off");
-            match c3dfix::event_labels::gait_event(&e.context, &e.label) {
-                Some((side, kind)) if !nexus => outln!(
+            match c3dfix::event_labels::read_as(&e.context, &e.label) {
+                Some((side, kind)) => outln!(
                     "    {:<7} {:<16} {:>9.3} s  (read as {} {})",
                     e.context,
                     e.label,
@@ -189,16 +228,8 @@ fn print_text(r: &Report) -> Result<()> {
                     side.context(),
                     kind.label()
                 )?,
-                _ => outln!("    {:<7} {:<16} {:>9.3} s", e.context, e.label, e.time)?,
+                None => outln!("    {:<7} {:<16} {:>9.3} s", e.context, e.label, e.time)?,
             }
-        }
-    }
-    if r.warnings.is_empty() {
-        outln!("  warnings     none")?;
-    } else {
-        outln!("  warnings")?;
-        for w in &r.warnings {
-            outln!("    - {w}")?;
         }
     }
     Ok(())

@@ -7,7 +7,7 @@ use anyhow::Result;
 use c3dfix::files::Destination;
 use c3dfix::reclaim_stage::ReclaimAction;
 use c3dfix::swap_stage::SwapAction;
-use c3dfix::Summary;
+use c3dfix::{SkipKind, Summary};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -65,6 +65,15 @@ pub fn run(a: Args) -> Result<i32> {
 /// The few lines a person reads after a repair.
 pub fn print_summary(s: &Summary) -> Result<()> {
     outln!("repaired {} -> {}", s.file, s.output)?;
+    print_gaps(s)?;
+    print_swaps(s)?;
+    print_reclaim(s)?;
+    print_changes(s)
+}
+
+/// The gaps found, filled and left (by method and reason), the unlabelled points and the
+/// fills' expected error, and each gap left as uncertain.
+fn print_gaps(s: &Summary) -> Result<()> {
     let by: Vec<String> = s
         .filled_by
         .iter()
@@ -105,7 +114,7 @@ pub fn print_summary(s: &Summary) -> Result<()> {
     for g in s
         .gap_list
         .iter()
-        .filter(|g| g.reason.as_deref() == Some("uncertain"))
+        .filter(|g| g.reason == Some(SkipKind::Uncertain))
     {
         outln!(
             "  uncertain {} frames {}–{}: expected error {:.1} mm (left unfilled)",
@@ -115,6 +124,11 @@ pub fn print_summary(s: &Summary) -> Result<()> {
             g.expected_error_mm.unwrap_or(f64::NAN)
         )?;
     }
+    Ok(())
+}
+
+/// Every label swap and jump found, and what was done with it (or why none was looked for).
+fn print_swaps(s: &Summary) -> Result<()> {
     if let Some(note) = &s.swaps_note {
         outln!("  swaps    not checked: {note}")?;
     }
@@ -144,6 +158,12 @@ pub fn print_summary(s: &Summary) -> Result<()> {
             x.confidence
         )?;
     }
+    Ok(())
+}
+
+/// Every piece of unlabelled samples settled into a marker's gap, and how many fit one
+/// without being settled.
+fn print_reclaim(s: &Summary) -> Result<()> {
     for b in &s.reclaim_list {
         let action = match b.action {
             ReclaimAction::Moved => "moved",
@@ -166,6 +186,12 @@ pub fn print_summary(s: &Summary) -> Result<()> {
             s.reclaim_unsettled.len()
         )?;
     }
+    Ok(())
+}
+
+/// The steps an earlier repair did, the spikes and filtered segments, the samples changed,
+/// what was kept as recorded, and the backup.
+fn print_changes(s: &Summary) -> Result<()> {
     for done in &s.already_applied {
         outln!("  skipped  {done}: the file records it as done by an earlier repair")?;
     }

@@ -46,7 +46,7 @@ pub(crate) use data::{dist, Data, Span, Target};
 pub(crate) use dispatch::Vetting;
 pub use method::FillMethod;
 pub use options::{FillOptions, Storage};
-pub use outcome::{FillOutcome, SkipReason};
+pub use outcome::{FillOutcome, SkipKind, SkipReason};
 pub(crate) use plan::Plan;
 pub(crate) use refill::fill_gaps;
 pub use step::STEP_FACTOR;

@@ -32,18 +32,60 @@ pub enum SkipReason {
 }
 
 impl SkipReason {
+    /// The reason's kind, without its figures: what reports count gaps left by.
+    pub fn kind(self) -> SkipKind {
+        match self {
+            SkipReason::MethodNone => SkipKind::MethodNone,
+            SkipReason::TooLong { .. } => SkipKind::TooLong,
+            SkipReason::TouchesEdge => SkipKind::TouchesEdge,
+            SkipReason::NoDonors => SkipKind::NoDonors,
+            SkipReason::NoContext => SkipKind::NoContext,
+            SkipReason::Degenerate => SkipKind::Degenerate,
+            SkipReason::Implausible { .. } => SkipKind::Implausible,
+            SkipReason::Uncertain { .. } => SkipKind::Uncertain,
+        }
+    }
+
     /// The reason's name as reports spell it (`no_donors`, `too_long`, …).
     pub fn name(self) -> &'static str {
+        self.kind().name()
+    }
+}
+
+/// Why a gap was left, as a kind: [`SkipReason`] without the figures each reason carries,
+/// so that reports can count and compare reasons. Serialized as its name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SkipKind {
+    MethodNone,
+    TooLong,
+    TouchesEdge,
+    NoDonors,
+    NoContext,
+    Degenerate,
+    Implausible,
+    Uncertain,
+}
+
+impl SkipKind {
+    /// The kind's name as reports spell it (`no_donors`, `too_long`, …).
+    pub fn name(self) -> &'static str {
         match self {
-            SkipReason::MethodNone => "method_none",
-            SkipReason::TooLong { .. } => "too_long",
-            SkipReason::TouchesEdge => "touches_edge",
-            SkipReason::NoDonors => "no_donors",
-            SkipReason::NoContext => "no_context",
-            SkipReason::Degenerate => "degenerate",
-            SkipReason::Implausible { .. } => "implausible",
-            SkipReason::Uncertain { .. } => "uncertain",
+            SkipKind::MethodNone => "method_none",
+            SkipKind::TooLong => "too_long",
+            SkipKind::TouchesEdge => "touches_edge",
+            SkipKind::NoDonors => "no_donors",
+            SkipKind::NoContext => "no_context",
+            SkipKind::Degenerate => "degenerate",
+            SkipKind::Implausible => "implausible",
+            SkipKind::Uncertain => "uncertain",
         }
+    }
+}
+
+impl std::fmt::Display for SkipKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
     }
 }
 
@@ -151,6 +193,7 @@ mod tests {
         ] {
             let v = serde_json::to_value(r).unwrap();
             assert_eq!(v["reason"], r.name());
+            assert_eq!(serde_json::to_value(r.kind()).unwrap(), r.name());
         }
     }
 }
