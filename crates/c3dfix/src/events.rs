@@ -466,8 +466,11 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
     let mut kinematic = true;
     let events = match opts.from {
         EventSource::Kinematics => {
-            let k = gait::kinematic_events(&feet, rate, &opts.kinematic)
+            let (k, running) = gait::kinematic::kinematic_gait(&feet, rate, &opts.kinematic)
                 .map_err(|e| trial_error(path, e))?;
+            if running {
+                notes.push(RUNNING_NOTE.to_string());
+            }
             match &opts.session {
                 Some(s) => gait::session::apply(&k, &s.offsets, rate),
                 None => k,
@@ -492,7 +495,11 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
                 warnings.extend(crate::plate_silence::silent_plates(c, &p, &opts.plate)?);
                 p
             };
-            match gait::kinematic_events(&feet, rate, &opts.kinematic) {
+            let k = gait::kinematic::kinematic_gait(&feet, rate, &opts.kinematic);
+            if k.as_ref().is_ok_and(|(_, running)| *running) {
+                notes.push(RUNNING_NOTE.to_string());
+            }
+            match k.map(|(k, _)| k) {
                 Ok(k) if opts.no_calibrate => merge_auto(&plates, &k, rate),
                 Ok(k) => {
                     own = own_calibration(&plates, &k, rate);
@@ -540,6 +547,10 @@ pub fn is_treadmill(c: &c3d::C3d, path: &Path) -> bool {
 /// What a trial where the pelvis stays while the feet cycle is called, and what that means
 /// for its events.
 pub const TREADMILL_NOTE: &str = "treadmill: the pelvis stays while the feet swing back and forth under it; the walking direction is the feet's, and events come from the feet relative to the pelvis (as Zeni defined them)";
+
+/// What a trial whose feet show flight phases is called, and what that means for its offs
+/// ([`gait::running`]).
+pub const RUNNING_NOTE: &str = "running: each foot leaves the floor before the other lands; foot offs from the markers are where the toe rises from its stance level (the toe's backward extreme comes late in a run's flight)";
 
 /// One sentence per side whose heel and toe were told apart by position.
 fn position_notes(choice: &MarkerChoice, labels: &[String]) -> Vec<String> {

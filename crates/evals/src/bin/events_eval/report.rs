@@ -59,8 +59,10 @@ pub fn print(run: &Run, s: &Settings) {
             println!("{}", t.line(&name, *truth == "lab"));
             let g = if lab.starts_with("c3d-samples") {
                 "ALL tuning (c3d-samples)"
+            } else if lab.starts_with("c3d-labs") {
+                "ALL c3d-labs"
             } else {
-                "ALL held out (other corpora)"
+                "ALL held out (more, extra, fullbody)"
             };
             groups.entry(g).or_default().merge(t);
         }
