@@ -7,7 +7,8 @@ Run by hand, never in CI (docs/events.md, "Side by side with the peers"):
     target/peers/venv/bin/pip install gaitkit gaitalytics ezc3d onnxruntime
     target/release/events_eval --list target/peers/trials.tsv
     target/peers/venv/bin/python scripts/events_peers.py target/peers/trials.tsv target/peers/peers.json
-    target/release/events_eval --peers target/peers/peers.json
+    target/release/events_eval --peers target/peers/peers.json > target/peers/eval.txt
+    python3 scripts/events_peers.py --table target/peers/eval.txt   # docs/events.md's tables
 
 Each trial is read by the peers themselves (gaitkit through ezc3d, gaitalytics through its own
 reader). Both are told the foot and pelvis markers c3dfix chose (the list's columns), so the
@@ -124,7 +125,74 @@ def gaitalytics_run(path, roles, labels):
         os.unlink(cfg_path)
 
 
+def side_by_side(path):
+    """The side-by-side tables of an `events_eval --peers` output: {truth: {detector: {lab: cells}}}."""
+    out = {}
+    for block in open(path).read().split("\n== ")[1:]:
+        lines = block.split("\n")
+        head = lines[0]
+        if "(side by side)" not in head:
+            continue
+        detector, truth = head.split(" against ")
+        truth = truth.split(" (side by side)")[0]
+        rows = out.setdefault(truth, {}).setdefault(detector, {})
+        for line in lines[2:]:
+            if "|" not in line:
+                break
+            cells = [c.split() for c in line.split("|")]
+            lab = " ".join(cells[0][:-1]).split(" (")[0]
+            fs, fo = cells[1], cells[2]
+            extra = cells[3][0] if len(cells) > 3 and cells[3] and cells[3][0] != "-" else "-"
+            rows[lab] = {"trials": cells[0][-1], "fs": fs, "fo": fo, "extra": extra}
+    return out
+
+
+def cell(k):
+    """'found/total median p95' of one kind's cells (n, found %, median, p95, signed)."""
+    n, pct, med, p95 = int(k[0]), float(k[1].rstrip("%")), k[2], k[3]
+    found = round(n * pct / 100.0)
+    if med == "NaN":
+        return f"{found}/{n}"
+    return f"{found}/{n} {float(med):.0f} / {float(p95):.0f}"
+
+
+def best_peer(rows, lab):
+    """The peer finding most events on `lab` (then the lower median |error| of strikes)."""
+    def key(item):
+        name, labs = item
+        r = labs.get(lab)
+        if r is None:
+            return (-1, 0)
+        found = sum(int(k[0]) * float(k[1].rstrip("%")) / 100 for k in (r["fs"], r["fo"]))
+        med = float(r["fs"][2]) if r["fs"][2] != "NaN" else 1e9
+        return (round(found), -med)
+    peers = [(n, l) for n, l in rows.items() if not n.startswith("c3dfix")]
+    return max(peers, key=key)[0] if peers else None
+
+
+def table(path):
+    for truth, rows in side_by_side(path).items():
+        print(f"\nAgainst {truth} events (found/total, median / 95th percentile of |error| in ms; extras):\n")
+        print("| lab | c3dfix strikes | c3dfix offs | extras | best peer | its strikes | its offs | extras |")
+        print("|---|---|---|---|---|---|---|---|")
+        ours = rows["c3dfix (markers alone)"]
+        for lab, r in ours.items():
+            peer = best_peer(rows, lab)
+            p = rows[peer][lab]
+            print(f"| {lab} | {cell(r['fs'])} | {cell(r['fo'])} | {r['extra']} | {peer} | {cell(p['fs'])} | {cell(p['fo'])} | {p['extra']} |")
+        print("\nPooled (ALL pooled), every detector:\n")
+        print("| detector | strikes | offs | extras |")
+        print("|---|---|---|---|")
+        for name, labs in rows.items():
+            r = labs.get("ALL pooled")
+            if r:
+                print(f"| {name} | {cell(r['fs'])} | {cell(r['fo'])} | {r['extra']} |")
+
+
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == "--table":
+        table(sys.argv[2])
+        return
     if len(sys.argv) != 3:
         sys.exit("usage: events_peers.py TRIALS.tsv OUT.json")
     import ezc3d
