@@ -534,14 +534,20 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
 /// while the feet swing back and forth under it ([`gait::treadmill`]). False where the
 /// markers cannot tell (no foot or pelvis markers, walking overground, standing).
 pub fn is_treadmill(c: &c3d::C3d, path: &Path) -> bool {
-    let Ok(mut choice) = choose_markers(c, &MarkerNames::default(), path) else {
-        return false;
-    };
-    let Ok(feet) = feet(c, &mut choice, path) else {
-        return false;
-    };
+    treadmill_direction(c, path).is_some()
+}
+
+/// The direction a treadmill trial's subject faces (unit, horizontal, in the lab's axes:
+/// the belt carries the feet the other way), when `c` is one ([`is_treadmill`]).
+pub fn treadmill_direction(c: &c3d::C3d, path: &Path) -> Option<[f64; 3]> {
+    let mut choice = choose_markers(c, &MarkerNames::default(), path).ok()?;
+    let feet = feet(c, &mut choice, path).ok()?;
     let rate = c.point_rate() as f64;
-    gait::kinematic::prepare(&feet, rate, &KinematicOptions::default()).is_ok_and(|p| p.treadmill)
+    let p = gait::kinematic::prepare(&feet, rate, &KinematicOptions::default()).ok()?;
+    if !p.treadmill {
+        return None;
+    }
+    p.dir.into_iter().find(|d| d.iter().all(|v| v.is_finite()))
 }
 
 /// What a trial where the pelvis stays while the feet cycle is called, and what that means

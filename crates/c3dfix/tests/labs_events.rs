@@ -303,3 +303,40 @@ fn treadmill_gait_parameters_leave_out_what_needs_the_belt_speed() {
         .warnings
         .contains(&c3dfix::gait_params::TREADMILL_WARNING.to_string()));
 }
+
+#[test]
+fn a_belt_speed_given_measures_the_walk_over_the_belt() {
+    // RBDS001runT35 runs at 3.5 m/s (its lab's description; the file stores no belt speed).
+    // Given that speed, the toes carried into the belt's frame give 3.47 and 3.49 m/s and
+    // strides of 2.45 and 2.53 m (0.71 and 0.72 s); without it they are left out.
+    let Some(path) = labs("regifukuchi__BMC-RIC-running-biomechanics__RBDS001runT35") else {
+        return;
+    };
+    let c = c3dfix::open(&path).unwrap();
+    let mut opts = c3dfix::GaitOptions {
+        detect: Some(EventOptions::default()),
+        belt_speed_m_s: Some(3.5),
+        ..c3dfix::GaitOptions::default()
+    };
+    let r = c3dfix::gait_parameters(&c, &opts, &path).unwrap();
+    let value = |r: &c3dfix::GaitReport, side: &str, name: &str| {
+        r.parameters
+            .iter()
+            .find(|p| p.context == side && p.name == name)
+            .map(|p| p.value)
+    };
+    for side in ["Left", "Right"] {
+        let v = value(&r, side, "Walking Speed").unwrap();
+        assert!((v - 3.5).abs() < 0.05, "{side}: {v}");
+        let stride = value(&r, side, "Stride Length").unwrap();
+        let time = value(&r, side, "Stride Time").unwrap();
+        assert!((stride / time - v).abs() < 1e-9);
+    }
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    opts.belt_speed_m_s = Some(-1.0);
+    let e = c3dfix::gait_parameters(&c, &opts, &path).unwrap_err();
+    assert!(e.to_string().contains("belt speed -1 m/s"), "{e}");
+    opts.belt_speed_m_s = None;
+    let r = c3dfix::gait_parameters(&c, &opts, &path).unwrap();
+    assert_eq!(value(&r, "Left", "Walking Speed"), None);
+}
