@@ -269,15 +269,16 @@ pub fn kinematic_gait(
     };
     let strikes = combined(&mut found, &opts.strike, Kind::FootStrike, 0.0);
     let walking_offs = combined(&mut found, &opts.off, Kind::FootOff, off_shift);
-    // Judged with the walking offs: they come late on a run (so a flight they show is
-    // there), and a toe marker that rises early in a walk's roll-over cannot make one.
-    let running =
-        !opts.running_off.is_empty() && crate::running::is_running(&strikes, &walking_offs, rate);
-    let offs = if running {
-        combined(&mut found, &opts.running_off, Kind::FootOff, 0.0)
-    } else {
-        walking_offs
-    };
+    // A flight both offs show: the walking offs come late on a run (so a flight they show
+    // is there), and a walking toe marker that rises early in the roll-over cannot make one
+    // alone; the running offs must show it too (the synthetic walk of sample_c3d, whose toe
+    // rises 150 ms after Zeni's off, shows it in Zeni's alone).
+    let running_offs = (!opts.running_off.is_empty()
+        && crate::running::is_running(&strikes, &walking_offs, rate))
+    .then(|| combined(&mut found, &opts.running_off, Kind::FootOff, 0.0))
+    .filter(|offs| crate::running::is_running(&strikes, offs, rate));
+    let running = running_offs.is_some();
+    let offs = running_offs.unwrap_or(walking_offs);
     let mut out = Vec::new();
     for (s, side) in Side::BOTH.into_iter().enumerate() {
         for (kind, times) in [(Kind::FootStrike, &strikes[s]), (Kind::FootOff, &offs[s])] {
