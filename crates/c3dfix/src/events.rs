@@ -475,8 +475,11 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
     let mut kinematic = true;
     let events = match opts.from {
         EventSource::Kinematics => {
-            let k = gait::kinematic_events(&feet, rate, &opts.kinematic)
+            let (k, running) = gait::kinematic::kinematic_gait(&feet, rate, &opts.kinematic)
                 .map_err(|e| trial_error(path, e))?;
+            if running {
+                notes.push(RUNNING_NOTE.to_string());
+            }
             match &opts.session {
                 Some(s) => gait::session::apply(&k, &s.offsets, rate),
                 None => k,
@@ -501,7 +504,11 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
                 warnings.extend(crate::plate_silence::silent_plates(c, &p, &opts.plate)?);
                 p
             };
-            match gait::kinematic_events(&feet, rate, &opts.kinematic) {
+            let k = gait::kinematic::kinematic_gait(&feet, rate, &opts.kinematic);
+            if k.as_ref().is_ok_and(|(_, running)| *running) {
+                notes.push(RUNNING_NOTE.to_string());
+            }
+            match k.map(|(k, _)| k) {
                 Ok(k) if opts.no_calibrate => merge_auto(&plates, &k, rate),
                 Ok(k) => {
                     own = own_calibration(&plates, &k, rate);
@@ -536,19 +543,29 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
 /// while the feet swing back and forth under it ([`gait::treadmill`]). False where the
 /// markers cannot tell (no foot or pelvis markers, walking overground, standing).
 pub fn is_treadmill(c: &c3d::C3d, path: &Path) -> bool {
-    let Ok(mut choice) = choose_markers(c, &MarkerNames::default(), path) else {
-        return false;
-    };
-    let Ok(feet) = feet(c, &mut choice, path) else {
-        return false;
-    };
+    treadmill_direction(c, path).is_some()
+}
+
+/// The direction a treadmill trial's subject faces (unit, horizontal, in the lab's axes:
+/// the belt carries the feet the other way), when `c` is one ([`is_treadmill`]).
+pub fn treadmill_direction(c: &c3d::C3d, path: &Path) -> Option<[f64; 3]> {
+    let mut choice = choose_markers(c, &MarkerNames::default(), path).ok()?;
+    let feet = feet(c, &mut choice, path).ok()?;
     let rate = c.point_rate() as f64;
-    gait::kinematic::prepare(&feet, rate, &KinematicOptions::default()).is_ok_and(|p| p.treadmill)
+    let p = gait::kinematic::prepare(&feet, rate, &KinematicOptions::default()).ok()?;
+    if !p.treadmill {
+        return None;
+    }
+    p.dir.into_iter().find(|d| d.iter().all(|v| v.is_finite()))
 }
 
 /// What a trial where the pelvis stays while the feet cycle is called, and what that means
 /// for its events.
 pub const TREADMILL_NOTE: &str = "treadmill: the pelvis stays while the feet swing back and forth under it; the walking direction is the feet's, and events come from the feet relative to the pelvis (as Zeni defined them)";
+
+/// What a trial whose feet show flight phases is called, and what that means for its offs
+/// ([`gait::running`]).
+pub const RUNNING_NOTE: &str = "running: each foot leaves the floor before the other lands; foot offs from the markers are where the toe rises from its stance level (the toe's backward extreme comes late in a run's flight)";
 
 /// One sentence per side whose heel and toe were told apart by position.
 fn position_notes(choice: &MarkerChoice, labels: &[String]) -> Vec<String> {

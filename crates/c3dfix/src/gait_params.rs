@@ -17,6 +17,14 @@ pub struct GaitOptions {
     /// Marker names given by a person, for the toes (and, with `detect`, ignored: its own
     /// names are used).
     pub markers: gait::MarkerNames,
+    /// A treadmill's belt speed (m/s, constant), given by a person: on a treadmill trial the
+    /// toes are carried into the belt's frame (moved forward by the belt's travel since the
+    /// first frame), so the lengths and the walking speed are those of the walk over the
+    /// belt. Without it a treadmill trial's Walking Speed, Stride Length and Step Length are
+    /// left out: no corpus treadmill trial stores its belt speed (c3d-labs' rtosim,
+    /// RBDS001runT35 and 20140515T133244_run have no such parameter), so none is read from
+    /// the file. Ignored on a trial that is no treadmill.
+    pub belt_speed_m_s: Option<f64>,
 }
 
 /// A trial's gait-cycle parameters and what they were computed from.
@@ -164,18 +172,52 @@ pub fn gait_parameters(c: &c3d::C3d, opts: &GaitOptions, path: &Path) -> Result<
         }
     };
     let rate = c.point_rate() as f64;
-    let toes_in = toe_data.as_ref().map(|t| Toes {
-        left: &t.left,
-        right: &t.right,
-        start: c.frame_time(0),
-        rate,
-        vertical: t.vertical,
+    let treadmill = toe_data
+        .as_ref()
+        .and_then(|_| crate::events::treadmill_direction(c, path));
+    let belt = match (treadmill, opts.belt_speed_m_s) {
+        (Some(dir), Some(v)) => {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(trial_error(
+                    path,
+                    format!("belt speed {v} m/s: expected a positive number of metres per second"),
+                ));
+            }
+            Some((dir, v))
+        }
+        _ => None,
+    };
+    let belt_frame = |t: &[[f64; 3]], (dir, v): ([f64; 3], f64)| -> Vec<[f64; 3]> {
+        t.iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let travel = v * 1000.0 * i as f64 / rate;
+                [0, 1, 2].map(|k| p[k] + travel * dir[k])
+            })
+            .collect()
+    };
+    let on_belt = toe_data
+        .as_ref()
+        .zip(belt)
+        .map(|(t, b)| (belt_frame(&t.left, b), belt_frame(&t.right, b)));
+    let toes_in = toe_data.as_ref().map(|t| {
+        let (left, right) = match &on_belt {
+            Some((l, r)) => (l.as_slice(), r.as_slice()),
+            None => (t.left.as_slice(), t.right.as_slice()),
+        };
+        Toes {
+            left,
+            right,
+            start: c.frame_time(0),
+            rate,
+            vertical: t.vertical,
+        }
     });
     let detail =
         gait::gait_parameters(&events, toes_in.as_ref()).map_err(|e| trial_error(path, e))?;
     warnings.extend(detail.warnings.iter().cloned());
     let mut parameters = detail.parameters();
-    if toe_data.is_some() && crate::events::is_treadmill(c, path) {
+    if treadmill.is_some() && belt.is_none() {
         // The feet travel with the belt, not over the floor: the lengths and the speed the
         // markers give are the pelvis' drift, not the walk's.
         parameters.retain(|p| !TREADMILL_LENGTHS.contains(&p.name));

@@ -7,7 +7,7 @@ use std::path::Path;
 /// The lab of an event evaluation's trial `path` of corpus `corpus` (the corpus's folder
 /// name) under `root`: each `sample_NN` folder of `c3d-samples`; each `owner` of
 /// `c3d-more`'s `owner__repository__trial` names (and the trial's first word for
-/// `tsalemink`'s three labs); CMU or numediart in `c3d-fullbody`; BTK for `c3d-extra`.
+/// `tsalemink`'s three labs); each owner of `c3d-labs`' names likewise; CMU or numediart in `c3d-fullbody`; BTK for `c3d-extra`.
 /// Prefixed by the corpus, as `c3d-samples/sample_00`.
 pub fn of_trial(corpus: &str, path: &Path, root: &Path) -> String {
     let rel = path.strip_prefix(root).unwrap_or(path);
@@ -26,6 +26,10 @@ pub fn of_trial(corpus: &str, path: &Path, root: &Path) -> String {
             } else {
                 format!("c3d-more/{}", parts.first().copied().unwrap_or(""))
             }
+        }
+        "c3d-labs" => {
+            let owner = first.split("__").next().unwrap_or("");
+            format!("c3d-labs/{owner}")
         }
         "c3d-fullbody" => {
             if first.starts_with("03_") {

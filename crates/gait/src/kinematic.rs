@@ -220,12 +220,20 @@ pub fn prepare(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Result<Prepar
 }
 
 /// Foot strikes and foot offs of both feet (sorted by time), each kind by the estimates
-/// [`KinematicOptions`] names for it.
+/// [`KinematicOptions`] names for it; on a run ([`crate::running::is_running`], judged with
+/// the walking offs) the offs are [`KinematicOptions::running_off`]'s.
 pub fn kinematic_events(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Result<Vec<Event>> {
+    Ok(kinematic_gait(feet, rate, opts)?.0)
+}
+
+/// [`kinematic_events`] and whether the trial was read as a run.
+pub fn kinematic_gait(
+    feet: &Feet,
+    rate: f64,
+    opts: &KinematicOptions,
+) -> Result<(Vec<Event>, bool)> {
     let prep = prepare(feet, rate, opts)?;
     let n = feet.frames();
-    let window = opts.combine_window_s * rate;
-    let mut out = Vec::new();
     let mut found = [Found::default(), Found::default()];
     // The trial's stride, both feet's intervals pooled: one shift for every off of the
     // trial, so a calibration on the trial's own plates (one median shift) undoes it exactly.
@@ -254,42 +262,27 @@ pub fn kinematic_events(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Resu
     } else {
         0.0
     };
+    let combined = |found: &mut [Found; 2], estimates: &[Estimate], kind: Kind, shift: f64| {
+        let [l, r] = found;
+        [(l, Side::Left), (r, Side::Right)]
+            .map(|(f, side)| combine(f, estimates, kind, feet, side, &prep, opts, shift))
+    };
+    let strikes = combined(&mut found, &opts.strike, Kind::FootStrike, 0.0);
+    let walking_offs = combined(&mut found, &opts.off, Kind::FootOff, off_shift);
+    // A flight both offs show: the walking offs come late on a run (so a flight they show
+    // is there), and a walking toe marker that rises early in the roll-over cannot make one
+    // alone; the running offs must show it too (the synthetic walk of sample_c3d, whose toe
+    // rises 150 ms after Zeni's off, shows it in Zeni's alone).
+    let running_offs = (!opts.running_off.is_empty()
+        && crate::running::is_running(&strikes, &walking_offs, rate))
+    .then(|| combined(&mut found, &opts.running_off, Kind::FootOff, 0.0))
+    .filter(|offs| crate::running::is_running(&strikes, offs, rate));
+    let running = running_offs.is_some();
+    let offs = running_offs.unwrap_or(walking_offs);
+    let mut out = Vec::new();
     for (s, side) in Side::BOTH.into_iter().enumerate() {
-        let found = &mut found[s];
-        for (kind, estimates) in [(Kind::FootStrike, &opts.strike), (Kind::FootOff, &opts.off)] {
-            let mut each = estimates.iter().map(|e| {
-                let shift = e.offset_s * rate;
-                let v: Vec<f64> = found
-                    .get(e.method, kind, feet, side, &prep, opts)
-                    .iter()
-                    .map(|i| i + shift)
-                    .collect();
-                v
-            });
-            let Some(primary) = each.next() else {
-                continue;
-            };
-            let others: Vec<Vec<f64>> = each.collect();
-            for i in primary {
-                let mut sum = i;
-                let mut count = 1.0;
-                for o in &others {
-                    if let Some(j) = o
-                        .iter()
-                        .copied()
-                        .filter(|j| (j - i).abs() <= window)
-                        .min_by(|a, b| (a - i).abs().total_cmp(&(b - i).abs()))
-                    {
-                        sum += j;
-                        count += 1.0;
-                    }
-                }
-                let index = sum / count
-                    + if kind == Kind::FootOff {
-                        off_shift
-                    } else {
-                        0.0
-                    };
+        for (kind, times) in [(Kind::FootStrike, &strikes[s]), (Kind::FootOff, &offs[s])] {
+            for &index in times {
                 if index >= 0.0 && index <= (n - 1) as f64 {
                     out.push(Event {
                         side,
@@ -303,7 +296,56 @@ pub fn kinematic_events(feet: &Feet, rate: f64, opts: &KinematicOptions) -> Resu
         }
     }
     crate::sort_events(&mut out);
-    Ok(out)
+    Ok((out, running))
+}
+
+/// One foot's events of one kind from `estimates`: the first decides which events exist;
+/// each event's index is the mean of the estimates (offsets added) that have an event
+/// within [`KinematicOptions::combine_window_s`] of it, plus `shift` (frames).
+#[allow(clippy::too_many_arguments)]
+fn combine(
+    found: &mut Found,
+    estimates: &[Estimate],
+    kind: Kind,
+    feet: &Feet,
+    side: Side,
+    prep: &Prepared,
+    opts: &KinematicOptions,
+    shift: f64,
+) -> Vec<f64> {
+    let window = opts.combine_window_s * prep.rate;
+    let mut each = estimates.iter().map(|e| {
+        let offset = e.offset_s * prep.rate;
+        let v: Vec<f64> = found
+            .get(e.method, kind, feet, side, prep, opts)
+            .iter()
+            .map(|i| i + offset)
+            .collect();
+        v
+    });
+    let Some(primary) = each.next() else {
+        return Vec::new();
+    };
+    let others: Vec<Vec<f64>> = each.collect();
+    primary
+        .into_iter()
+        .map(|i| {
+            let mut sum = i;
+            let mut count = 1.0;
+            for o in &others {
+                if let Some(j) = o
+                    .iter()
+                    .copied()
+                    .filter(|j| (j - i).abs() <= window)
+                    .min_by(|a, b| (a - i).abs().total_cmp(&(b - i).abs()))
+                {
+                    sum += j;
+                    count += 1.0;
+                }
+            }
+            sum / count + shift
+        })
+        .collect()
 }
 
 /// Each method's (strikes, offs) of one foot, computed once when first asked for.

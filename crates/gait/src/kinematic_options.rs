@@ -84,6 +84,13 @@ pub struct KinematicOptions {
     /// How foot offs are found, likewise (Zeni's alone: no combination gained on the
     /// tuning labs' 95th percentile).
     pub off: Vec<Estimate>,
+    /// How foot offs are found on a run ([`crate::running`]; empty: as [`KinematicOptions::off`]
+    /// on every trial). The trial is a run when the offs of [`KinematicOptions::off`],
+    /// against the strikes, show flight phases. The toe leaving its stance level
+    /// ([`Method::ZeniLift`]) came 5 ms before the plates' and the lab's offs on c3d-more's
+    /// run (JA1Gait35), which its offset undoes; the runs of c3d-labs are reported
+    /// (docs/events.md, "Running").
+    pub running_off: Vec<Estimate>,
     /// Half the window (s) within which the other estimates' events join the first's: less
     /// than half the shortest stride, so only the same step's estimates join, and wide
     /// enough that one method going astray by 100 ms still counts as one vote of three
@@ -199,6 +206,7 @@ impl Default for KinematicOptions {
             ],
             // Zeni's off at the tuning labs' median stride; `off_stride_slope` for others.
             off: vec![est(Method::Zeni, -0.0098)],
+            running_off: vec![est(Method::ZeniLift, 0.005)],
             combine_window_s: 0.2,
             oconnor_lowpass_hz: 10.0,
             desailly_cutoff_ratio: 0.3,

@@ -33,6 +33,7 @@ pub mod markers;
 pub mod oconnor;
 pub mod params;
 pub mod plates;
+pub mod running;
 pub mod session;
 mod signal;
 pub mod touchdown;

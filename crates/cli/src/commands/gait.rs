@@ -35,6 +35,10 @@ pub struct Args {
     /// ltoe, rtoe, pelvis (the toes measure the lengths).
     #[arg(long, value_name = "ROLE=NAME")]
     pub markers: Vec<String>,
+    /// A treadmill's belt speed (m/s): on a treadmill trial, lengths and walking speed are
+    /// measured over the belt (left out without it; the files do not store it).
+    #[arg(long, value_name = "M_S")]
+    pub belt_speed: Option<f64>,
     /// Write the parameters into the ANALYSIS group as Nexus writes it: to -o OUT, or
     /// with --in-place into each file.
     #[arg(long)]
@@ -94,7 +98,11 @@ pub fn run(mut a: Args) -> Result<i32> {
     } else {
         None
     };
-    let opts = GaitOptions { detect, markers };
+    let opts = GaitOptions {
+        detect,
+        markers,
+        belt_speed_m_s: a.belt_speed,
+    };
     if a.write && a.output.is_none() && !a.in_place {
         anyhow::bail!("--write needs -o OUT (one input file) or --in-place");
     }

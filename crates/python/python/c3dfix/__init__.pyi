@@ -208,7 +208,9 @@ def lab_up(c3d: C3d) -> Optional[Tuple[str, str]]:
     """The lab's up as `c3dfix info` reports it: ("+z", "plates") from the force plates'
     corners, else from the markers; None when neither tells."""
 
-def gait_parameters(c3d: C3d, detect: bool = False) -> List[Dict[str, Any]]:
+def gait_parameters(
+    c3d: C3d, detect: bool = False, belt_speed: Optional[float] = None
+) -> List[Dict[str, Any]]:
     """The gait-cycle parameters per side as Vicon Nexus names them (`c3dfix gait --json`):
     dicts with context ("Left"/"Right"), name, value and unit; from the file's own Foot
     Strike / Foot Off events, or detected ones with detect=True. Lengths come from the toe

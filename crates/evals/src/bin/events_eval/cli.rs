@@ -98,6 +98,9 @@ pub struct Cli {
     /// Off estimates, `METHOD[:OFFSET_S],…`.
     #[arg(long, value_name = "SPEC")]
     off: Option<String>,
+    /// Off estimates on runs, `METHOD[:OFFSET_S],…` (`none`: as on walks).
+    #[arg(long, value_name = "SPEC")]
+    running_off: Option<String>,
     /// The kinematics not calibrated on the trial's own plates.
     #[arg(long)]
     no_calibrate: bool,
@@ -143,6 +146,12 @@ pub struct Cli {
     /// One CSV row per truth event with each method's signed error (s).
     #[arg(long, value_name = "FILE")]
     dump: Option<PathBuf>,
+    /// The trials counted and c3dfix's markers for them, one per line (for the peers).
+    #[arg(long, value_name = "FILE")]
+    list: Option<PathBuf>,
+    /// The peers' events (`scripts/events_peers.py`), scored beside c3dfix's.
+    #[arg(long, value_name = "FILE")]
+    peers: Option<PathBuf>,
 }
 
 /// What a run detects with and prints.
@@ -155,6 +164,8 @@ pub struct Settings {
     pub truth_check: bool,
     pub without_contradicted: bool,
     pub dump: Option<PathBuf>,
+    pub list: Option<PathBuf>,
+    pub peers: Option<PathBuf>,
 }
 
 /// `METHOD[:OFFSET_S],…`, e.g. `zeni-landing:-0.0012,zeni:0.0225,desailly:0.021`.
@@ -218,7 +229,12 @@ impl Cli {
         for (flag, spec, slot) in [
             ("--strike", &self.strike, &mut k.strike),
             ("--off", &self.off, &mut k.off),
+            ("--running-off", &self.running_off, &mut k.running_off),
         ] {
+            if spec.as_deref() == Some("none") {
+                slot.clear();
+                continue;
+            }
             if let Some(spec) = spec {
                 *slot = estimates(spec).map_err(|e| format!("{flag} {spec}: {e}"))?;
             }
@@ -264,6 +280,8 @@ impl Cli {
             truth_check: self.truth_check,
             without_contradicted: self.without_contradicted,
             dump: self.dump,
+            list: self.list,
+            peers: self.peers,
         })
     }
 }

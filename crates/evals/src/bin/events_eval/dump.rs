@@ -36,6 +36,7 @@ pub fn rows(f: &mut std::fs::File, t: &Detected, lab_events: &[Timed], opts: &Ev
         let o = gait::KinematicOptions {
             strike: vec![e],
             off: vec![e],
+            running_off: Vec::new(),
             desailly_cutoff_ratio: ratio,
             oconnor_lowpass_hz: 10.0,
             ankle_strike_offset_s: 0.0,

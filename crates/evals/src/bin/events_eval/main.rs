@@ -49,6 +49,7 @@
 mod cli;
 mod dump;
 mod misses;
+mod peers;
 mod report;
 mod session;
 mod tally;
@@ -83,6 +84,14 @@ pub struct Run {
     /// Each lab's point rates (Hz).
     rates: BTreeMap<String, BTreeSet<i64>>,
     session_trials: Vec<SessionTrial>,
+    /// Trials whose markers show flight phases (offs as on runs).
+    running: Vec<String>,
+    /// `--list`'s file, `--peers`' answers and where they gave none.
+    list: Option<std::fs::File>,
+    peers: Option<peers::Peers>,
+    failures: peers::Failures,
+    /// The peers' names as the tables key them.
+    detectors: BTreeMap<String, &'static str>,
 }
 
 /// One trial read and its events found, as every table judges them.
@@ -134,8 +143,25 @@ fn main() {
         ("c3d-more", testkit::c3d_more()),
         ("c3d-extra", testkit::c3d_extra()),
         ("c3d-fullbody", testkit::c3d_fullbody()),
+        ("c3d-labs", testkit::c3d_labs()),
     ];
     let mut run = Run::default();
+    let opened = s
+        .list
+        .as_deref()
+        .map(|p| std::fs::File::create(p).map_err(|e| format!("--list {}: {e}", p.display())))
+        .transpose()
+        .and_then(|l| {
+            let p = s.peers.as_deref().map(peers::Peers::read).transpose()?;
+            Ok((l, p))
+        });
+    match opened {
+        Ok((l, p)) => (run.list, run.peers) = (l, p),
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(2);
+        }
+    }
     for (corpus, root) in &corpora {
         let Some(root) = root else { continue };
         for path in testkit::files_with_ext(root, "c3d") {
@@ -146,6 +172,9 @@ fn main() {
     }
     let offsets_used = session::score(&mut run, &s);
     report::print(&run, &s);
+    run.failures.print();
+    println!();
+    println!("read as runs: {}", run.running.join(", "));
     if s.verbose {
         println!();
         for o in &offsets_used {
@@ -182,6 +211,19 @@ impl Run {
             }
         };
         let feet = events::feet(&c, &mut choice, path).ok()?;
+        let labels = c.point_labels();
+        let names = |r: &[usize]| -> Vec<String> {
+            r.iter()
+                .filter_map(|&i| labels.get(i).map(|l| l.trim().to_string()))
+                .collect()
+        };
+        let roles = [
+            names(&choice.left_heel),
+            names(&choice.left_toe),
+            names(&choice.right_heel),
+            names(&choice.right_toe),
+            names(&choice.pelvis),
+        ];
         let key = (
             c.frames(),
             feet.left_heel
@@ -197,10 +239,18 @@ impl Run {
             return None;
         }
         self.seen.push(key);
+        if let Some(out) = self.list.as_mut() {
+            peers::list_line(out, path, roles);
+        }
         let lab = evals::labs::of_trial(corpus, path, root);
         let rate = c.point_rate() as f64;
-        let kin_raw = match gait::kinematic_events(&feet, rate, &opts.kinematic) {
-            Ok(k) => Some(k),
+        let kin_raw = match gait::kinematic::kinematic_gait(&feet, rate, &opts.kinematic) {
+            Ok((k, running)) => {
+                if running {
+                    self.running.push(name.clone());
+                }
+                Some(k)
+            }
             Err(e) => {
                 self.skipped.push(format!("{name}: kinematics: {e}"));
                 None
@@ -272,7 +322,9 @@ impl Run {
         let mut lab_events: Vec<Timed> = c
             .events()
             .iter()
-            .filter_map(|e| side_kind(&e.context, &e.label).map(|(s, k)| (s, k, e.time)))
+            .filter_map(|e| {
+                c3dfix::event_labels::gait_event(&e.context, &e.label).map(|(s, k)| (s, k, e.time))
+            })
             .collect();
         if s.truth_check && !t.plates.is_empty() {
             truth::truth_state(&t.name, lab, c, &t.feet, &lab_events, &t.plates, rate);
@@ -310,6 +362,49 @@ impl Run {
             misses::print(t, &lab_events);
         }
         self.tally(t, &lab_events);
+        self.side_by_side(t, path, &lab_events);
+    }
+
+    /// `--peers`: c3dfix's markers-alone events and each peer's, on the same trial against
+    /// the same truth, a trial a detector could not read counting its truth as missed.
+    fn side_by_side(&mut self, t: &Detected, path: &Path, lab_events: &[Timed]) {
+        let Some(p) = &self.peers else { return };
+        let mut rows: Vec<(String, Vec<Timed>)> = vec![(
+            "c3dfix (markers alone)".to_string(),
+            t.kin.clone().unwrap_or_default(),
+        )];
+        for (name, got) in p.of(t, path) {
+            match got {
+                Ok(v) => rows.push((name, v)),
+                Err(e) => {
+                    self.failures.add(&name, &e, &t.name);
+                    rows.push((name, Vec::new()));
+                }
+            }
+        }
+        for (name, found) in rows {
+            let name: &'static str = match self.detectors.get(&name) {
+                Some(n) => n,
+                None => {
+                    let leaked: &'static str = Box::leak(name.clone().into_boxed_str());
+                    self.detectors.insert(name, leaked);
+                    leaked
+                }
+            };
+            for (truth, events, extra) in [
+                ("lab (side by side)", lab_events, true),
+                ("plate (side by side)", &t.plates[..], false),
+            ] {
+                if !events.is_empty() {
+                    self.table
+                        .entry((truth, name))
+                        .or_default()
+                        .entry(t.lab.clone())
+                        .or_default()
+                        .add(events, &found, extra);
+                }
+            }
+        }
     }
 
     /// Trial `t`'s events added to the tables: the kinematics, the plates and `auto` against
@@ -446,20 +541,4 @@ fn print_trial(t: &Detected, lab_events: &[Timed]) {
     for (src, (s, k, t)) in show {
         println!("    {t:8.3} {src:<6} {:?} {:?}", s, k);
     }
-}
-
-/// The side and kind of a file's event by its context and label (`Left`/`Right`, `Foot
-/// Strike`/`Foot Off`); None for any other event.
-fn side_kind(context: &str, label: &str) -> Option<(Side, Kind)> {
-    let side = match context.trim().to_ascii_lowercase().as_str() {
-        "left" => Side::Left,
-        "right" => Side::Right,
-        _ => return None,
-    };
-    let kind = match label.trim().to_ascii_lowercase().as_str() {
-        "foot strike" => Kind::FootStrike,
-        "foot off" => Kind::FootOff,
-        _ => return None,
-    };
-    Some((side, kind))
 }

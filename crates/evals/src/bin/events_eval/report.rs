@@ -56,16 +56,19 @@ pub fn print(run: &Run, s: &Settings) {
                 .map(|r| r.iter().map(|v| v.to_string()).collect())
                 .unwrap_or_default();
             let name = format!("{lab} ({} Hz)", hz.join("/"));
-            println!("{}", t.line(&name, *truth == "lab"));
+            println!("{}", t.line(&name, truth.starts_with("lab")));
             let g = if lab.starts_with("c3d-samples") {
                 "ALL tuning (c3d-samples)"
+            } else if lab.starts_with("c3d-labs") {
+                "ALL c3d-labs"
             } else {
-                "ALL held out (other corpora)"
+                "ALL held out (more, extra, fullbody)"
             };
             groups.entry(g).or_default().merge(t);
+            groups.entry("ALL pooled").or_default().merge(t);
         }
         for (g, t) in &groups {
-            println!("{}", t.line(g, *truth == "lab"));
+            println!("{}", t.line(g, truth.starts_with("lab")));
         }
     }
 }
