@@ -39,6 +39,8 @@ pub mod gait_params;
 mod gaps;
 pub mod info;
 pub mod keyframes;
+pub mod label_stage;
+mod label_write;
 pub mod markers;
 mod options;
 pub mod plate_silence;
@@ -70,6 +72,7 @@ pub use feet::Feet;
 pub use gait_params::{gait_parameters, GaitOptions, GaitReport};
 pub use gaps::{gaps, GapInfo};
 pub use keyframes::{keyframes, KeyMethod, KeyframeOptions, KeyframeReport, Keyframed};
+pub use label_stage::{label, LabelReport, LabelSettings};
 pub use options::{
     max_expected_error, ReclaimMode, RepairOptions, SwapsMode, DEFAULT_MAX_EXPECTED_ERROR_MM,
     DEFAULT_RECLAIM, DEFAULT_SWAPS,

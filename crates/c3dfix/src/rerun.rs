@@ -435,7 +435,7 @@ fn dims_for(cols: usize, rows: usize) -> Vec<u8> {
     dims
 }
 
-fn set_rows(
+pub(crate) fn set_rows(
     ps: &mut c3d::Parameters,
     name: &str,
     values: &[f32],

@@ -38,6 +38,9 @@ enum Command {
     /// Find the unlabelled samples that are a labelled marker's, in its gaps (reported; repair
     /// --reclaim on moves them).
     Reclaim(commands::reclaim::Args),
+    /// Label a trial's unlabelled trajectories from a labelled trial of the same marker set
+    /// (--template), written as an ordinary labelled C3D.
+    Label(commands::label::Args),
     /// Force platforms: ground reaction force, moment, centre of pressure, free moment and
     /// contact intervals of every plate.
     Forces(commands::forces::Args),
@@ -96,6 +99,7 @@ fn main() {
         Command::Gaps(a) => commands::gaps::run(a),
         Command::Swaps(a) => commands::swaps::run(a),
         Command::Reclaim(a) => commands::reclaim::run(a),
+        Command::Label(a) => commands::label::run(a),
         Command::Forces(a) => commands::forces::run(a),
         Command::Events(a) => commands::events::run(a),
         Command::Gait(a) => commands::gait::run(a),

@@ -36,6 +36,7 @@ pub mod evaluate;
 pub mod fill;
 pub mod filter;
 pub mod gaps;
+pub mod label;
 mod linalg;
 pub mod names;
 pub mod pipeline;

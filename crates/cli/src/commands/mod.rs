@@ -14,6 +14,7 @@ pub mod gait;
 pub mod gaps;
 pub mod info;
 pub mod keyframes;
+pub mod label;
 pub mod parallel;
 pub mod plot;
 pub mod reclaim;

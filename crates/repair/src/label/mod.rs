@@ -1,0 +1,477 @@
+//! Labelling a trial from a template (issue 47 item 2): which template marker each of a
+//! trial's trajectory fragments is, from one labelled trial of the same marker set.
+//!
+//! The template says which markers keep which distances (its segments, found from its own
+//! frames: no marker set is written into the code) and which quadruples keep their
+//! handedness (what tells left from right: a mirror labelling keeps every distance). The
+//! trial's trajectories are cut into fragments ([`Fragment`]: runs of recorded samples,
+//! cut again where a trajectory leaps further in a frame than a marker moves). Then:
+//!
+//! 1. **Seed.** Where nothing is labelled yet, a few frames with the most points are
+//!    matched to the template from nothing (a beam search over the markers, each placed on
+//!    the point that keeps its distances to those placed before it); their fragments take
+//!    those labels.
+//! 2. **Votes.** In every frame read, each recorded fragment is matched to the marker whose
+//!    distances it keeps best to the fragments labelled so far (one marker per fragment and
+//!    one fragment per marker in a frame, lowest costs first); each match is a vote, and a
+//!    fragment takes the label most of its frames vote for. Passes repeat until no label
+//!    changes, so labels spread from fragment to overlapping fragment over the whole trial.
+//! 3. **One fragment per label at a time.** Fragments of one label that overlap in time
+//!    keep the one with the most votes; the others stay unlabelled.
+//!
+//! A fragment the votes do not settle (too few frames, too few votes, a rival label close)
+//! stays unlabelled with its reason ([`Reason`]): extra points (reflections, ghosts) keep
+//! no marker's distances and stay so. A fragment the trial already labels keeps its label
+//! unless nearly all its frames vote for one other marker and almost none for its own
+//! ([`Outcome::Relabelled`]). Deterministic: the same input gives the same answer.
+
+mod cost;
+mod fragments;
+mod model;
+mod seed;
+mod vote;
+
+pub use fragments::Fragment;
+
+use crate::Trial;
+use serde::Serialize;
+
+/// The constants of the labelling, in mm where they are lengths. Chosen on the corpora
+/// named in docs/label.md with the `label_eval` benchmark.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LabelOptions {
+    /// A pair's tolerance is its spread over the template plus `floor_mm` plus
+    /// `floor_share` of its distance (the trial's skin moves more than the template shows).
+    pub floor_mm: f64,
+    pub floor_share: f64,
+    /// Pairs used per marker (its most closely kept).
+    pub neighbours: usize,
+    /// Largest squared departure one pair adds (in tolerances²).
+    pub cap: f64,
+    /// Largest mean squared departure of a match (in tolerances²).
+    pub accept: f64,
+    /// Cost of leaving a marker out of a seed, per placed pair.
+    pub absent: f64,
+    /// Pairs that must be checked for a match to count.
+    pub min_neighbours: usize,
+    /// States kept by the seed's beam search.
+    pub beam: usize,
+    /// Frames matched from nothing when the trial labels nothing.
+    pub seed_frames: usize,
+    /// Frames read per pass: every `step`-th (0: chosen from the trial's length).
+    pub step: usize,
+    /// Frames a fragment must be read in to get a label.
+    pub min_checked: usize,
+    /// Share of its frames that must vote for a fragment's label.
+    pub min_share: f64,
+    /// The label's votes must be this many times a rival's.
+    pub margin: f64,
+    /// Share of its frames that must vote for another marker to change a label the trial
+    /// gave (and at most a tenth for its own).
+    pub relabel_share: f64,
+    /// Fastest a marker moves (mm/s): a longer step in one frame starts a new fragment.
+    pub max_speed_mm_s: f64,
+    /// Largest number of vote passes.
+    pub passes: usize,
+}
+
+impl Default for LabelOptions {
+    fn default() -> Self {
+        LabelOptions {
+            floor_mm: 3.0,
+            floor_share: 0.02,
+            neighbours: 8,
+            cap: 16.0,
+            accept: 4.0,
+            absent: 6.0,
+            min_neighbours: 2,
+            beam: 200,
+            seed_frames: 8,
+            step: 0,
+            min_checked: 3,
+            min_share: 0.5,
+            margin: 3.0,
+            relabel_share: 0.8,
+            max_speed_mm_s: 20_000.0,
+            passes: 8,
+        }
+    }
+}
+
+/// What became of a fragment.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "outcome", rename_all = "snake_case")]
+pub enum Outcome {
+    /// An unlabelled fragment got a label.
+    Labelled,
+    /// The trial's label was kept.
+    Kept,
+    /// The trial's label was changed: nearly all its frames match another marker.
+    Relabelled { from: usize },
+    /// Left unlabelled.
+    Unlabelled {
+        #[serde(flatten)]
+        reason: Reason,
+    },
+}
+
+/// Why a fragment stays unlabelled.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "reason", rename_all = "snake_case")]
+pub enum Reason {
+    /// Read in too few frames to judge.
+    Short { checked: usize },
+    /// No frame matched it to any marker (a reflection, a ghost, or a marker the template
+    /// lacks).
+    NoMatch { checked: usize },
+    /// Too few of its frames agree on a marker.
+    Weak {
+        marker: usize,
+        votes: usize,
+        checked: usize,
+    },
+    /// Two markers get close votes.
+    Contested {
+        marker: usize,
+        votes: usize,
+        rival: usize,
+        rival_votes: usize,
+    },
+    /// Another fragment of the same marker at the same time had more votes.
+    Overlap { marker: usize, with: Fragment },
+}
+
+/// One fragment's answer. `label` and `given` are template marker indices.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FragmentLabel {
+    #[serde(flatten)]
+    pub fragment: Fragment,
+    pub label: Option<usize>,
+    /// The label the trial gave it, if any.
+    pub given: Option<usize>,
+    #[serde(flatten)]
+    pub outcome: Outcome,
+    /// Frames read and frames that voted for its label.
+    pub checked: usize,
+    pub votes: usize,
+}
+
+/// Every fragment of the trial, by row and frame, with its answer.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Labelling {
+    pub fragments: Vec<FragmentLabel>,
+    /// Whether the labels were seeded from nothing (the trial labelled nothing the
+    /// template knows).
+    pub seeded: bool,
+    /// Vote passes run.
+    pub passes: usize,
+}
+
+/// Input the labelling cannot work on.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum LabelError {
+    #[error("the template records none of its {0} markers")]
+    EmptyTemplate(usize),
+    #[error("{what}: {got} entries, expected {expected}")]
+    Shape {
+        what: &'static str,
+        got: usize,
+        expected: usize,
+    },
+    #[error("trial row {row} is given label {label}, beyond the template's {markers} markers")]
+    Given {
+        row: usize,
+        label: usize,
+        markers: usize,
+    },
+    #[error("sample rate {0} Hz must be finite and above 0")]
+    Rate(f64),
+    #[error("{what} of {value} must be finite and above 0")]
+    Scale { what: &'static str, value: f64 },
+}
+
+pub(crate) fn dist(p: &[f64; 3], q: &[f64; 3]) -> f64 {
+    ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+}
+
+/// `t` in millimetres, with samples whose coordinates are not finite marked missing.
+fn in_mm(t: &Trial, mm_per_unit: f64) -> Trial {
+    let xyz: Vec<Vec<[f64; 3]>> = t
+        .xyz
+        .iter()
+        .map(|r| r.iter().map(|p| p.map(|v| v * mm_per_unit)).collect())
+        .collect();
+    let valid = xyz
+        .iter()
+        .zip(&t.valid)
+        .map(|(r, v)| {
+            r.iter()
+                .zip(v)
+                .map(|(p, &ok)| ok && p.iter().all(|c| c.is_finite()))
+                .collect()
+        })
+        .collect();
+    Trial {
+        rate_hz: t.rate_hz,
+        xyz,
+        valid,
+    }
+}
+
+/// Label the fragments of `trial` from `template`. `given[row]` is the template marker a
+/// trial row is already labelled as (`None`: unlabelled). Each trial's `mm_per_unit`
+/// converts its coordinates to millimetres. Samples with a coordinate that is not finite
+/// count as missing.
+pub fn label(
+    template: &Trial,
+    template_mm_per_unit: f64,
+    trial: &Trial,
+    trial_mm_per_unit: f64,
+    given: &[Option<usize>],
+    opts: &LabelOptions,
+) -> Result<Labelling, LabelError> {
+    for (what, value) in [
+        ("the template's millimetres per unit", template_mm_per_unit),
+        ("the trial's millimetres per unit", trial_mm_per_unit),
+    ] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(LabelError::Scale { what, value });
+        }
+    }
+    for (what, t) in [("template", template), ("trial", trial)] {
+        t.check().map_err(|_| LabelError::Shape {
+            what: if what == "template" {
+                "the template's masks"
+            } else {
+                "the trial's masks"
+            },
+            got: t.valid.len(),
+            expected: t.xyz.len(),
+        })?;
+    }
+    if given.len() != trial.markers() {
+        return Err(LabelError::Shape {
+            what: "given labels",
+            got: given.len(),
+            expected: trial.markers(),
+        });
+    }
+    let k = template.markers();
+    if let Some((row, &Some(label))) = given
+        .iter()
+        .enumerate()
+        .find(|(_, g)| g.is_some_and(|l| l >= k))
+    {
+        return Err(LabelError::Given {
+            row,
+            label,
+            markers: k,
+        });
+    }
+    if !(trial.rate_hz.is_finite() && trial.rate_hz > 0.0) {
+        return Err(LabelError::Rate(trial.rate_hz));
+    }
+    let tm = in_mm(template, template_mm_per_unit);
+    let model = model::Model::learn(&tm, opts);
+    if !model.present.iter().any(|&p| p) {
+        return Err(LabelError::EmptyTemplate(k));
+    }
+    let t = in_mm(trial, trial_mm_per_unit);
+    let frags = fragments::fragments(&t, opts.max_speed_mm_s / trial.rate_hz);
+    let active = fragments::by_frame(&frags, t.frames());
+    let given_of: Vec<Option<usize>> = frags.iter().map(|g| given[g.row]).collect();
+    let seeded = !given_of.iter().any(|g| g.is_some_and(|m| model.present[m]));
+    let mut labels = if seeded {
+        seed_labels(&model, &t, &frags, &active, opts)
+    } else {
+        given_of.clone()
+    };
+    let step = if opts.step > 0 {
+        opts.step
+    } else {
+        (t.frames() / 2500).clamp(1, 4)
+    };
+    let mut answers = Vec::new();
+    let mut passes = 0;
+    while passes < opts.passes.max(1) {
+        passes += 1;
+        let v = vote::vote(&model, &t, &frags, &active, &labels, step, opts);
+        answers = decide(&frags, &given_of, &v, opts);
+        let next: Vec<Option<usize>> = answers.iter().map(|a: &FragmentLabel| a.label).collect();
+        if next == labels {
+            break;
+        }
+        labels = next;
+    }
+    Ok(Labelling {
+        fragments: answers,
+        seeded,
+        passes,
+    })
+}
+
+/// First labels from the frames with the most points, one such frame in each of
+/// `opts.seed_frames` stretches of the trial: each fragment takes the marker most of those
+/// frames give it.
+fn seed_labels(
+    model: &model::Model,
+    t: &Trial,
+    frags: &[Fragment],
+    active: &[Vec<u32>],
+    opts: &LabelOptions,
+) -> Vec<Option<usize>> {
+    let n = active.len();
+    let parts = opts.seed_frames.max(1);
+    let mut frames: Vec<usize> = (0..parts)
+        .filter_map(|i| {
+            let (a, b) = (i * n / parts, ((i + 1) * n / parts).min(n));
+            (a..b).max_by(|&x, &y| active[x].len().cmp(&active[y].len()).then(y.cmp(&x)))
+        })
+        .collect();
+    frames.dedup();
+    use rayon::prelude::*;
+    let found: Vec<(usize, Vec<Option<usize>>)> = frames
+        .par_iter()
+        .map(|&f| {
+            let points: Vec<[f64; 3]> = active[f]
+                .iter()
+                .map(|&g| t.xyz[frags[g as usize].row][f])
+                .collect();
+            (f, seed::seed(model, &points, opts))
+        })
+        .collect();
+    let mut votes: Vec<Vec<(usize, u32)>> = vec![Vec::new(); frags.len()];
+    for (f, at) in found {
+        for (m, p) in at.iter().enumerate() {
+            if let Some(p) = p {
+                let g = active[f][*p] as usize;
+                match votes[g].iter_mut().find(|(x, _)| *x == m) {
+                    Some(e) => e.1 += 1,
+                    None => votes[g].push((m, 1)),
+                }
+            }
+        }
+    }
+    votes
+        .iter()
+        .map(|v| {
+            v.iter()
+                .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
+                .map(|&(m, _)| m)
+        })
+        .collect()
+}
+
+/// Each fragment's answer from one pass's votes, then one fragment per label at a time.
+fn decide(
+    frags: &[Fragment],
+    given: &[Option<usize>],
+    v: &vote::Votes,
+    opts: &LabelOptions,
+) -> Vec<FragmentLabel> {
+    let mut out: Vec<FragmentLabel> = frags
+        .iter()
+        .enumerate()
+        .map(|(i, &fragment)| {
+            let checked = v.checked[i] as usize;
+            let mut vs = v.votes[i].clone();
+            vs.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+            let best = vs.first().map(|&(m, c)| (m, c as usize));
+            let second = vs.get(1).map(|&(m, c)| (m, c as usize));
+            let judged = judge(checked, best, second, opts);
+            let votes_for = |m: usize| vs.iter().find(|x| x.0 == m).map_or(0, |x| x.1 as usize);
+            let (label, outcome) = match (given[i], judged) {
+                (None, Ok(m)) => (Some(m), Outcome::Labelled),
+                (None, Err(reason)) => (None, Outcome::Unlabelled { reason }),
+                (Some(g), Ok(m))
+                    if m != g
+                        && votes_for(m) as f64 >= opts.relabel_share * checked as f64
+                        && votes_for(g) * 10 <= checked =>
+                {
+                    (Some(m), Outcome::Relabelled { from: g })
+                }
+                (Some(g), _) => (Some(g), Outcome::Kept),
+            };
+            let votes = label.map_or(best.map_or(0, |b| b.1), votes_for);
+            FragmentLabel {
+                fragment,
+                label,
+                given: given[i],
+                outcome,
+                checked,
+                votes,
+            }
+        })
+        .collect();
+    one_per_label(&mut out);
+    out
+}
+
+/// The label a fragment's votes settle, or why none.
+fn judge(
+    checked: usize,
+    best: Option<(usize, usize)>,
+    second: Option<(usize, usize)>,
+    opts: &LabelOptions,
+) -> Result<usize, Reason> {
+    if checked < opts.min_checked {
+        return Err(Reason::Short { checked });
+    }
+    let Some((marker, votes)) = best else {
+        return Err(Reason::NoMatch { checked });
+    };
+    if (votes as f64) < opts.min_share * checked as f64 || votes < opts.min_checked {
+        return Err(Reason::Weak {
+            marker,
+            votes,
+            checked,
+        });
+    }
+    if let Some((rival, rival_votes)) = second {
+        if (rival_votes as f64) * opts.margin > votes as f64 {
+            return Err(Reason::Contested {
+                marker,
+                votes,
+                rival,
+                rival_votes,
+            });
+        }
+    }
+    Ok(marker)
+}
+
+/// Fragments of one label that overlap in time: the trial's own labels first, then the
+/// most votes, keep it; the others stay unlabelled.
+fn one_per_label(out: &mut [FragmentLabel]) {
+    let mut order: Vec<usize> = (0..out.len()).filter(|&i| out[i].label.is_some()).collect();
+    order.sort_by(|&a, &b| {
+        let (x, y) = (&out[a], &out[b]);
+        x.label
+            .cmp(&y.label)
+            .then((y.outcome == Outcome::Kept).cmp(&(x.outcome == Outcome::Kept)))
+            .then(y.votes.cmp(&x.votes))
+            .then(a.cmp(&b))
+    });
+    let mut kept: Vec<usize> = Vec::new();
+    for i in order {
+        let m = out[i].label;
+        let rival = kept
+            .iter()
+            .copied()
+            .find(|&j| out[j].label == m && out[j].fragment.overlaps(&out[i].fragment));
+        match (rival, m) {
+            (Some(j), Some(marker)) => {
+                let with = out[j].fragment;
+                out[i].label = None;
+                out[i].outcome = Outcome::Unlabelled {
+                    reason: Reason::Overlap { marker, with },
+                };
+            }
+            _ => kept.push(i),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
