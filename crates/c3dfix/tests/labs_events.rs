@@ -180,18 +180,18 @@ fn treadmill_running_strikes_from_the_markers_match_the_instrumented_belt() {
     assert!((err[err.len() / 2] - 0.0116).abs() < 0.002, "{err:?}");
 }
 
-/// Each `truth` event of `label` against the nearest `found` event of the same foot and
-/// label (s, signed: found − truth), sorted by size.
-fn errors(truth: &Detected, found: &Detected, label: &str) -> Vec<f64> {
+/// Each `truth` event of `kind` against the nearest `found` event of the same foot and
+/// kind (s, signed: found − truth), sorted by size.
+fn errors(truth: &Detected, found: &Detected, kind: Kind) -> Vec<f64> {
     let mut err: Vec<f64> = truth
         .events
         .iter()
-        .filter(|e| e.label == label)
+        .filter(|e| e.kind == kind)
         .filter_map(|p| {
             found
                 .events
                 .iter()
-                .filter(|k| k.label == p.label && k.context == p.context)
+                .filter(|k| k.kind == p.kind && k.side == p.side)
                 .map(|k| k.time - p.time)
                 .min_by(|a, b| a.abs().total_cmp(&b.abs()))
         })
@@ -217,7 +217,7 @@ fn running_foot_offs_from_the_markers_come_where_the_toe_leaves_the_belt() {
         "{:?}",
         kin.notes
     );
-    let err: Vec<f64> = errors(&plates, &kin, "Foot Off")
+    let err: Vec<f64> = errors(&plates, &kin, Kind::FootOff)
         .into_iter()
         .filter(|e| e.abs() <= 0.15)
         .collect();
@@ -231,7 +231,7 @@ fn running_foot_offs_from_the_markers_come_where_the_toe_leaves_the_belt() {
     };
     let plates = detect(&path, EventSource::Plates).unwrap();
     let kin = detect(&path, EventSource::Kinematics).unwrap();
-    let err: Vec<f64> = errors(&plates, &kin, "Foot Off")
+    let err: Vec<f64> = errors(&plates, &kin, Kind::FootOff)
         .into_iter()
         .filter(|e| e.abs() <= 0.15)
         .collect();
