@@ -218,8 +218,9 @@ pub fn segment_links(m: &Trial, opts: &ReclaimOptions) -> Vec<Vec<crate::swaps::
                 continue;
             }
             let k = (dev.len() * 95 / 100).min(dev.len() - 1);
-            let (_, q95, _) = dev.select_nth_unstable_by(k, f64::total_cmp);
-            l.tol_mm = l.tol_mm.max(*q95);
+            if let Some(q95) = signal::order::at_rank(&mut dev, k) {
+                l.tol_mm = l.tol_mm.max(q95);
+            }
         }
         ls.retain(|l| l.tol_mm <= max_tol_mm);
     }

@@ -356,8 +356,7 @@ impl Ctx<'_> {
         if z.len() < 2 {
             return None;
         }
-        z.sort_by(f64::total_cmp);
-        Some(z[(z.len() - 1) / 2])
+        signal::order::lower_median(&mut z)
     }
 
     /// Links of `m` with both ends seen at `f`.
@@ -1063,15 +1062,9 @@ fn norm(v: &[f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
-/// The upper median (the element at half the length once sorted), 0 for none. Selected,
-/// not sorted: the element of that rank in [`f64::total_cmp`]'s order is one number,
-/// however the others are arranged.
+/// The upper median (the element at half the length once sorted), 0 for none.
 fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    let mid = v.len() / 2;
-    *v.select_nth_unstable_by(mid, f64::total_cmp).1
+    signal::order::upper_median(&mut v).unwrap_or(0.0)
 }
 
 fn swap_find(
