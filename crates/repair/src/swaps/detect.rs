@@ -11,8 +11,9 @@ use rayon::prelude::*;
 use std::collections::BTreeMap;
 
 use crate::error::Result;
+use crate::swaps::links::dist;
 use crate::Trial;
-use context::Ctx;
+use context::{Ctx, Verdict};
 use jump::{jump_find, leap_jump_find};
 use runs::{episodes, swap_runs};
 use swap::swap_find;

@@ -4,6 +4,7 @@
 //! its steps and leaps), with the medians those answers take.
 
 use rayon::prelude::*;
+use std::collections::BTreeMap;
 
 use super::finds::SwapOptions;
 use crate::swaps::links::{dist, finite, learn_links, Link};
@@ -79,7 +80,12 @@ impl Ctx<'_> {
     }
 
     #[inline(always)]
-    pub(super) fn scores(&self, m: usize, f: usize, sw: Option<(usize, usize)>) -> Option<(f64, f64)> {
+    pub(super) fn scores(
+        &self,
+        m: usize,
+        f: usize,
+        sw: Option<(usize, usize)>,
+    ) -> Option<(f64, f64)> {
         if sw.is_none() {
             if let Some(&[lo, hi]) = self.labelled.get(f * self.links.len() + m) {
                 return (lo >= 0.0 || lo.is_nan()).then_some((lo, hi));
@@ -89,7 +95,12 @@ impl Ctx<'_> {
     }
 
     /// [`Ctx::scores`] computed from the links.
-    pub(super) fn link_scores(&self, m: usize, f: usize, sw: Option<(usize, usize)>) -> Option<(f64, f64)> {
+    pub(super) fn link_scores(
+        &self,
+        m: usize,
+        f: usize,
+        sw: Option<(usize, usize)>,
+    ) -> Option<(f64, f64)> {
         let p = self.pos(m, f, sw)?;
         let mut z = [0.0f64; 32];
         let mut k = 0;

@@ -26,7 +26,7 @@ pub struct SwapOptions {
     /// Finds below this confidence are dropped: evidence this weak is what a trial's
     /// own noise gives.
     pub min_report: f64,
-    /// Finds at or above this confidence are settled: [`super::undo()`] acts on them; the
+    /// Finds at or above this confidence are settled: [`crate::swaps::undo()`] acts on them; the
     /// others are only reported.
     pub min_confidence: f64,
 }

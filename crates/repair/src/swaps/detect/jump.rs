@@ -4,7 +4,6 @@
 
 use super::context::{median, norm, Ctx};
 use super::finds::{Evidence, Find, FindKind, SwapOptions};
-use super::offset;
 
 /// Confidence of a jump found by continuity alone whose second leap takes back the first
 /// exactly.
@@ -33,6 +32,9 @@ const EDGE_SEARCH: usize = 3;
 /// becomes 0.65 with a full witness: reported, not settled).
 const OFFSET_WEIGHT: f64 = 0.5;
 
+/// The jump of `a` over the span `s..=e` of broken frames (`decided` those the links
+/// decided): its edges at its leaps, its links' evidence, the continuity at its edges, the
+/// steady-offset witness and its confidence.
 pub(super) fn jump_find(
     cx: &Ctx,
     a: usize,
@@ -47,58 +49,13 @@ pub(super) fn jump_find(
             .filter_map(|&f| cx.score(a, f, None))
             .collect(),
     );
+    let (s, e) = jump_edges(cx, a, s, e);
     // The steps at the edges against the marker's usual steps.
-    let nf = cx.t.frames();
-    // Each edge moved to the largest leap within a few frames, when that is a break: the
-    // frames a link decides can stop short of the edge (an offset along a link changes its
-    // length little), and the jump's samples are the ones between the two leaps.
-    let near = |edge: usize, lo: usize, hi: usize| -> usize {
-        (edge.saturating_sub(EDGE_SEARCH).max(lo)..=(edge + EDGE_SEARCH).min(hi))
-            .filter_map(|f| Some((cx.leap(a, f)?, f)))
-            .filter(|&(l, _)| l > cx.break_mm(a))
-            .max_by(|x, y| x.0.total_cmp(&y.0))
-            .map_or(edge, |(_, f)| f)
-    };
-    let s = near(s, 1, e);
-    let e = if e + 1 < nf {
-        near(e + 1, s + 1, nf - 1) - 1
-    } else {
-        e
-    };
-
-    let (mut smoother, mut checked, mut edge_step) = (0, 0, 0.0f64);
-    for f in [s, e + 1] {
-        if f >= nf {
-            continue;
-        }
-        if let Some(st) = cx.step(a, f, (a, a), (0, 0), false) {
-            checked += 1;
-            edge_step = edge_step.max(st);
-            if st > cx.break_mm(a) {
-                smoother += 1;
-            }
-        }
-    }
+    let (smoother, checked, edge_step) = edge_leaps(cx, a, s, e);
     // The links' change across the edges (the larger of the two that can be measured):
     // the links must break at the edge, not only be broken, for the break to be the
     // jump's ([`Ctx::link_change`]).
-    let w = EDGE_WINDOW;
-    let change = [
-        (s > 0).then(|| cx.link_change(a, s..(s + w).min(e + 1), s.saturating_sub(w)..s)),
-        (e + 1 < nf).then(|| {
-            cx.link_change(
-                a,
-                (e + 1).saturating_sub(w).max(s)..e + 1,
-                e + 1..(e + 1 + w).min(nf),
-            )
-        }),
-    ]
-    .into_iter()
-    .flatten()
-    .flatten()
-    .fold(None, |acc: Option<f64>, c| {
-        Some(acc.map_or(c, |x| x.max(c)))
-    });
+    let change = link_change_at_edges(cx, a, s, e);
     let at_edge = change.map_or(1.0, |c| {
         ((c - LINK_CHANGE_FLOOR) / LINK_CHANGE_FLOOR).clamp(0.0, 1.0)
     });
@@ -152,6 +109,70 @@ pub(super) fn jump_find(
             offset_share: witness,
         },
     }
+}
+
+/// Each edge of the jump `s..=e` moved to the largest leap within a few frames, when that
+/// is a break: the frames a link decides can stop short of the edge (an offset along a link
+/// changes its length little), and the jump's samples are the ones between the two leaps.
+fn jump_edges(cx: &Ctx, a: usize, s: usize, e: usize) -> (usize, usize) {
+    let nf = cx.t.frames();
+    let near = |edge: usize, lo: usize, hi: usize| -> usize {
+        (edge.saturating_sub(EDGE_SEARCH).max(lo)..=(edge + EDGE_SEARCH).min(hi))
+            .filter_map(|f| Some((cx.leap(a, f)?, f)))
+            .filter(|&(l, _)| l > cx.break_mm(a))
+            .max_by(|x, y| x.0.total_cmp(&y.0))
+            .map_or(edge, |(_, f)| f)
+    };
+    let s = near(s, 1, e);
+    let e = if e + 1 < nf {
+        near(e + 1, s + 1, nf - 1) - 1
+    } else {
+        e
+    };
+    (s, e)
+}
+
+/// The marker's steps at the jump's edges: (edges that break, edges checked, the largest
+/// step).
+fn edge_leaps(cx: &Ctx, a: usize, s: usize, e: usize) -> (usize, usize, f64) {
+    let nf = cx.t.frames();
+    let (mut smoother, mut checked, mut edge_step) = (0, 0, 0.0f64);
+    for f in [s, e + 1] {
+        if f >= nf {
+            continue;
+        }
+        if let Some(st) = cx.step(a, f, (a, a), (0, 0), false) {
+            checked += 1;
+            edge_step = edge_step.max(st);
+            if st > cx.break_mm(a) {
+                smoother += 1;
+            }
+        }
+    }
+    (smoother, checked, edge_step)
+}
+
+/// The links' change across the jump's edges, the larger of the two that can be measured
+/// ([`Ctx::link_change`] over [`EDGE_WINDOW`] frames either side).
+fn link_change_at_edges(cx: &Ctx, a: usize, s: usize, e: usize) -> Option<f64> {
+    let nf = cx.t.frames();
+    let w = EDGE_WINDOW;
+    [
+        (s > 0).then(|| cx.link_change(a, s..(s + w).min(e + 1), s.saturating_sub(w)..s)),
+        (e + 1 < nf).then(|| {
+            cx.link_change(
+                a,
+                (e + 1).saturating_sub(w).max(s)..e + 1,
+                e + 1..(e + 1 + w).min(nf),
+            )
+        }),
+    ]
+    .into_iter()
+    .flatten()
+    .flatten()
+    .fold(None, |acc: Option<f64>, c| {
+        Some(acc.map_or(c, |x| x.max(c)))
+    })
 }
 
 /// A jump of a marker with fewer than two links, found by continuity alone between two

@@ -1,7 +1,7 @@
 //! A pair's runs of exchanged frames: the cheapest sequence of states (labelled or
 //! exchanged) over the trial, and the episodes a marker's broken frames make.
 
-use super::context::{verdict, Ctx, Verdict};
+use super::context::{Ctx, Verdict};
 
 /// Cost of switching between labelled and exchanged, in units of link tolerance: a swap
 /// must mend more than this at its two edges together to be worth a run.
@@ -18,7 +18,12 @@ const CONT_CLIP: f64 = 6.0;
 /// either way, so runs pass through them. Returns (first, last, frames decided) of each
 /// run of exchanged frames that holds a decided frame, its edges widened over undecided
 /// frames for [`swap_find`] to place by continuity.
-pub(super) fn swap_runs(cx: &Ctx, a: usize, b: usize, hole: usize) -> Vec<(usize, usize, Vec<usize>)> {
+pub(super) fn swap_runs(
+    cx: &Ctx,
+    a: usize,
+    b: usize,
+    hole: usize,
+) -> Vec<(usize, usize, Vec<usize>)> {
     let nf = cx.t.frames();
     let cost: Vec<(f64, f64)> = (0..nf)
         .map(|f| match cx.pair_scores(a, b, f) {

@@ -12,6 +12,9 @@ const EDGE_RANGE: usize = 64;
 /// an independent witness): half, so that it cannot settle a swap whose links say little.
 const EDGE_WEIGHT: f64 = 0.5;
 
+/// The swap of `a` and `b` over the run `s0..=e0` whose frames `decided` the links decided:
+/// its edges, its link errors labelled and undone, the continuity at its edges and its
+/// confidence.
 pub(super) fn swap_find(
     cx: &Ctx,
     a: usize,
@@ -21,8 +24,46 @@ pub(super) fn swap_find(
     decided: Vec<usize>,
     opts: &SwapOptions,
 ) -> Find {
-    // Undecided frames at the edges (both markers missing or passing close): the edge is
-    // placed where the exchanged trajectories run smoothest.
+    let (s, e) = swap_edges(cx, a, b, s0, e0, &decided);
+    let (before, after) = link_errors(cx, a, b, &decided);
+    let edges = edges_checked(cx, a, b, s, e);
+    let Edges {
+        smoother,
+        checked,
+        edge_step,
+        ..
+    } = edges;
+    let confidence = swap_confidence(cx, (a, b), (s, e), &decided, (before, after), &edges);
+    Find {
+        kind: FindKind::Swap,
+        markers: vec![a, b],
+        first: s,
+        last: e,
+        confidence,
+        settled: confidence >= opts.min_confidence,
+        evidence: Evidence {
+            links: cx.links[a].len() + cx.links[b].len(),
+            frames_decided: decided.len(),
+            link_error: before,
+            link_error_undone: after,
+            edges_smoother: smoother,
+            edges_checked: checked,
+            edge_step_mm: edge_step,
+            offset_share: None,
+        },
+    }
+}
+
+/// The swap's first and last frames: undecided frames at the edges (both markers missing
+/// or passing close) are given to the side where the exchanged trajectories run smoothest.
+fn swap_edges(
+    cx: &Ctx,
+    a: usize,
+    b: usize,
+    s0: usize,
+    e0: usize,
+    decided: &[usize],
+) -> (usize, usize) {
     let (first_dec, last_dec) = match (decided.first(), decided.last()) {
         (Some(&x), Some(&y)) => (x, y),
         _ => (s0, e0),
@@ -75,7 +116,11 @@ pub(super) fn swap_find(
         ends.min_by(by_cost)
     }
     .unwrap_or(last_dec);
+    (s, e)
+}
 
+/// The pair's link errors over the decided frames, labelled and undone (upper medians).
+fn link_errors(cx: &Ctx, a: usize, b: usize, decided: &[usize]) -> (f64, f64) {
     // Frames where one marker is missing weigh as both (the sums are of two markers').
     let full = if cx.has_links(a) && cx.has_links(b) {
         2.0
@@ -83,17 +128,30 @@ pub(super) fn swap_find(
         1.0
     };
     let (mut before, mut after) = (Vec::new(), Vec::new());
-    for &f in &decided {
+    for &f in decided {
         if let Some((x, y, n)) = cx.pair_scores(a, b, f) {
             before.push(x * full / n);
             after.push(y * full / n);
         }
     }
-    let (before, after) = (median(before), median(after));
-    // Continuity at each edge: labelled against undone.
+    (median(before), median(after))
+}
+
+/// Continuity at each edge of `s..=e`, labelled against undone.
+struct Edges {
+    /// Edges where undoing makes the steps smaller, of those checked.
+    smoother: usize,
+    checked: usize,
+    /// The largest labelled step at an edge.
+    edge_step: f64,
+    /// The least share of the labelled steps that undoing removes at an edge, where both
+    /// markers leap there (the labelled steps above both breaks); 0 otherwise.
+    leap_gain: f64,
+}
+
+fn edges_checked(cx: &Ctx, a: usize, b: usize, s: usize, e: usize) -> Edges {
+    let nf = cx.t.frames();
     let (mut smoother, mut checked, mut edge_step) = (0, 0, 0.0f64);
-    // The least share of the labelled steps that undoing removes at an edge, where both
-    // markers leap there (the labelled steps above both breaks); 0 otherwise.
     let mut leap_gain = 1.0f64;
     for f in [s, e + 1] {
         if f == 0 || f >= nf || (f == e + 1 && e + 1 >= nf) {
@@ -128,6 +186,31 @@ pub(super) fn swap_find(
     if checked == 0 {
         leap_gain = 0.0;
     }
+    Edges {
+        smoother,
+        checked,
+        edge_step,
+        leap_gain,
+    }
+}
+
+/// The swap's confidence: the link evidence (its strength, the share of the judged frames
+/// it decided, the edges' agreement) and the edges' leaps as a second witness; without
+/// decided frames, continuity alone.
+fn swap_confidence(
+    cx: &Ctx,
+    (a, b): (usize, usize),
+    (s, e): (usize, usize),
+    decided: &[usize],
+    (before, after): (f64, f64),
+    edges: &Edges,
+) -> f64 {
+    let Edges {
+        smoother,
+        checked,
+        leap_gain,
+        ..
+    } = *edges;
     let strength = (before - after).max(0.0);
     let p_link = 1.0 - (-strength / 2.0).exp();
     // The share of the frames the links could judge (both markers, or one, seen with a
@@ -139,7 +222,7 @@ pub(super) fn swap_find(
     let share = (decided.len() as f64 / judged.max(1) as f64)
         .min(1.0)
         .sqrt();
-    let confidence = if decided.is_empty() {
+    if decided.is_empty() {
         // Continuity alone: two trajectories leaping into each other's places at every
         // edge is a swap a person would call, but one with no link to confirm it.
         if checked > 0 && smoother == checked {
@@ -162,23 +245,5 @@ pub(super) fn swap_find(
         let p_edges = EDGE_WEIGHT * leap_gain.max(0.0);
         1.0 - (1.0 - p_link * share * p_cont) * (1.0 - p_edges)
     }
-    .clamp(0.0, 1.0);
-    Find {
-        kind: FindKind::Swap,
-        markers: vec![a, b],
-        first: s,
-        last: e,
-        confidence,
-        settled: confidence >= opts.min_confidence,
-        evidence: Evidence {
-            links: cx.links[a].len() + cx.links[b].len(),
-            frames_decided: decided.len(),
-            link_error: before,
-            link_error_undone: after,
-            edges_smoother: smoother,
-            edges_checked: checked,
-            edge_step_mm: edge_step,
-            offset_share: None,
-        },
-    }
+    .clamp(0.0, 1.0)
 }
