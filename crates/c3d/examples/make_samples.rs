@@ -13,6 +13,8 @@ use std::f64::consts::PI;
 const RATE: f64 = 100.0;
 const FRAMES: usize = 400;
 const ANALOG_SPF: usize = 10;
+/// The EMG-like analog channels of every trial.
+const EMG_CHANNELS: usize = 4;
 
 #[path = "common/rng.rs"]
 mod rng;
@@ -143,9 +145,32 @@ const SPIKES: &[(&str, usize, V3)] = &[
 
 fn build(defects: bool, scale: f32, processor: Processor) -> Result<C3d, c3d::Error> {
     let names: Vec<String> = markers(0).into_iter().map(|(n, _)| n).collect();
+    let mut rng = Rng(0x00C3_DF1C);
+    let pts = points(&names, defects, scale, &mut rng)?;
+    let analog = analog(&mut rng);
+    let ps = parameters(&names, scale, EMG_CHANNELS)?;
+    let stride = 1.0 / 0.9;
+    let mut c = C3d::new(pts, analog, ps, processor, scale);
+    c.header.frame_rate = RATE as f32;
+    c.header.first_frame = 1;
+    c.header.event_count = 2;
+    c.header.event_times[0] = 0.3;
+    c.header.event_labels[0] = *b"RFS ";
+    c.header.event_times[1] = 0.3 + (stride / 2.0) as f32;
+    c.header.event_labels[1] = *b"LFS ";
+    Ok(c)
+}
+
+/// The markers' samples: the motion, with noise, gaps and spikes in a defect trial, stored
+/// as a file of `scale` holds them.
+fn points(
+    names: &[String],
+    defects: bool,
+    scale: f32,
+    rng: &mut Rng,
+) -> Result<Points, c3d::Error> {
     let n = names.len();
     let mut pts = Points::new(FRAMES, n);
-    let mut rng = Rng(0x00C3_DF1C);
     for f in 0..FRAMES {
         for (i, (_, p)) in markers(f).into_iter().enumerate() {
             let k = pts.index(f, i);
@@ -205,9 +230,12 @@ fn build(defects: bool, scale: f32, processor: Processor) -> Result<C3d, c3d::Er
             }
         }
     }
+    Ok(pts)
+}
 
-    // Four EMG-like channels at 1000 Hz: bursts timed with the gait cycle, in raw ADC counts.
-    let channels = 4;
+/// Four EMG-like channels at 1000 Hz: bursts timed with the gait cycle, in raw ADC counts.
+fn analog(rng: &mut Rng) -> Analog {
+    let channels = EMG_CHANNELS;
     let mut analog = Analog::new(FRAMES, channels, ANALOG_SPF);
     for s in 0..FRAMES * ANALOG_SPF {
         let time = s as f64 / (RATE * ANALOG_SPF as f64);
@@ -218,14 +246,19 @@ fn build(defects: bool, scale: f32, processor: Processor) -> Result<C3d, c3d::Er
             analog.raw[s * channels + c] = v.round().clamp(-32768.0, 32767.0) as f32;
         }
     }
+    analog
+}
 
+/// The parameters: points, analog channels, trial range, subject, foot strikes, maker.
+fn parameters(names: &[String], scale: f32, channels: usize) -> Result<Parameters, c3d::Error> {
+    let n = names.len();
     let mut ps = Parameters::new();
     ps.set_i16("POINT", "USED", n as i16)?;
     ps.set_f32("POINT", "SCALE", scale)?;
     ps.set_f32("POINT", "RATE", RATE as f32)?;
     ps.set_i16("POINT", "DATA_START", 0)?;
     ps.set_i16("POINT", "FRAMES", FRAMES as i16)?;
-    ps.set_strings("POINT", "LABELS", &names)?;
+    ps.set_strings("POINT", "LABELS", names)?;
     let desc: Vec<String> = names
         .iter()
         .map(|m| format!("Plug-in Gait marker {m}"))
@@ -292,16 +325,7 @@ fn build(defects: bool, scale: f32, processor: Processor) -> Result<C3d, c3d::Er
     ps.set_strings("EVENT", "LABELS", &vec!["Foot Strike".to_string(); ne])?;
     ps.set_strings("MANUFACTURER", "COMPANY", &["c3dfix".into()])?;
     ps.set_strings("MANUFACTURER", "SOFTWARE", &["c3dfix make_samples".into()])?;
-
-    let mut c = C3d::new(pts, analog, ps, processor, scale);
-    c.header.frame_rate = RATE as f32;
-    c.header.first_frame = 1;
-    c.header.event_count = 2;
-    c.header.event_times[0] = 0.3;
-    c.header.event_labels[0] = *b"RFS ";
-    c.header.event_times[1] = 0.3 + (stride / 2.0) as f32;
-    c.header.event_labels[1] = *b"LFS ";
-    Ok(c)
+    Ok(ps)
 }
 
 /// The trials: (file name, with defects, POINT:SCALE, processor).

@@ -112,78 +112,18 @@ pub fn platform_params(ps: &Parameters, analog_channels: usize) -> PlatformParam
             cal_matrix: None,
             cop_poly: None,
         };
+        let problems = &mut out.problems;
         match channel {
-            None => out
-                .problems
-                .push(problem(index, "CHANNEL", "is missing".into())),
+            None => problems.push(problem(index, "CHANNEL", "is missing".into())),
             Some(_) => {
                 let col = channels.get(k * rows..(k + 1) * rows).unwrap_or(&[]);
-                let mut col: Vec<i32> = col.to_vec();
-                while col.last() == Some(&0) {
-                    col.pop();
-                }
-                if col.is_empty() {
-                    out.problems.push(problem(
-                        index,
-                        "CHANNEL",
-                        format!("has no channels for plate {index}"),
-                    ));
-                } else if let Some(bad) =
-                    col.iter().find(|&&c| c < 1 || c as usize > analog_channels)
-                {
-                    out.problems.push(problem(
-                        index,
-                        "CHANNEL",
-                        format!(
-                            "names analog channel {bad}, but the file has {analog_channels} analog channels"
-                        ),
-                    ));
-                } else {
-                    plate.channels = col.iter().map(|&c| c as usize).collect();
+                if let Some(c) = plate_channels(col, index, analog_channels, problems) {
+                    plate.channels = c;
                 }
             }
         }
-        plate.corners = match corners {
-            None => {
-                out.problems
-                    .push(problem(index, "CORNERS", "is missing".into()));
-                None
-            }
-            Some(p) => match slice_of(p, &[3, 4], k) {
-                Some(v) => Some([
-                    [v[0], v[1], v[2]],
-                    [v[3], v[4], v[5]],
-                    [v[6], v[7], v[8]],
-                    [v[9], v[10], v[11]],
-                ]),
-                None => {
-                    out.problems.push(problem(
-                        index,
-                        "CORNERS",
-                        format!("has dimensions {:?}; (3, 4, {used}) expected", p.dims),
-                    ));
-                    None
-                }
-            },
-        };
-        plate.origin = match origins {
-            None => {
-                out.problems
-                    .push(problem(index, "ORIGIN", "is missing".into()));
-                None
-            }
-            Some(p) => match slice_of(p, &[3], k) {
-                Some(v) => Some([v[0], v[1], v[2]]),
-                None => {
-                    out.problems.push(problem(
-                        index,
-                        "ORIGIN",
-                        format!("has dimensions {:?}; (3, {used}) expected", p.dims),
-                    ));
-                    None
-                }
-            },
-        };
+        plate.corners = plate_corners(corners, k, used, problems);
+        plate.origin = plate_origin(origins, k, used, problems);
         if let Some(p) = cal {
             plate.cal_matrix = cal_matrix_of(p, k);
         }
@@ -196,16 +136,115 @@ pub fn platform_params(ps: &Parameters, analog_channels: usize) -> PlatformParam
         }
         out.plates.push(plate);
     }
-    out.zero = ps
-        .get("FORCE_PLATFORM", "ZERO")
+    out.zero = zero_frames(ps);
+    out
+}
+
+/// Plate `index`'s column of CHANNEL (trailing zeros dropped), each an analog channel of the
+/// file's `analog_channels`; None, with the problem said, for an empty column or a channel
+/// the file does not have.
+fn plate_channels(
+    col: &[i32],
+    index: usize,
+    analog_channels: usize,
+    problems: &mut Vec<PlateProblem>,
+) -> Option<Vec<usize>> {
+    let mut col: Vec<i32> = col.to_vec();
+    while col.last() == Some(&0) {
+        col.pop();
+    }
+    if col.is_empty() {
+        problems.push(problem(
+            index,
+            "CHANNEL",
+            format!("has no channels for plate {index}"),
+        ));
+        None
+    } else if let Some(bad) = col.iter().find(|&&c| c < 1 || c as usize > analog_channels) {
+        problems.push(problem(
+            index,
+            "CHANNEL",
+            format!(
+                "names analog channel {bad}, but the file has {analog_channels} analog channels"
+            ),
+        ));
+        None
+    } else {
+        Some(col.iter().map(|&c| c as usize).collect())
+    }
+}
+
+/// Plate `k`'s four corners from CORNERS (3 × 4 × `used`); None, with the problem said,
+/// when the parameter is missing or shaped otherwise.
+fn plate_corners(
+    corners: Option<&Parameter>,
+    k: usize,
+    used: usize,
+    problems: &mut Vec<PlateProblem>,
+) -> Option<[[f64; 3]; 4]> {
+    let index = k + 1;
+    match corners {
+        None => {
+            problems.push(problem(index, "CORNERS", "is missing".into()));
+            None
+        }
+        Some(p) => match slice_of(p, &[3, 4], k) {
+            Some(v) => Some([
+                [v[0], v[1], v[2]],
+                [v[3], v[4], v[5]],
+                [v[6], v[7], v[8]],
+                [v[9], v[10], v[11]],
+            ]),
+            None => {
+                problems.push(problem(
+                    index,
+                    "CORNERS",
+                    format!("has dimensions {:?}; (3, 4, {used}) expected", p.dims),
+                ));
+                None
+            }
+        },
+    }
+}
+
+/// Plate `k`'s ORIGIN (3 × `used`); None, with the problem said, when the parameter is
+/// missing or shaped otherwise.
+fn plate_origin(
+    origins: Option<&Parameter>,
+    k: usize,
+    used: usize,
+    problems: &mut Vec<PlateProblem>,
+) -> Option<[f64; 3]> {
+    let index = k + 1;
+    match origins {
+        None => {
+            problems.push(problem(index, "ORIGIN", "is missing".into()));
+            None
+        }
+        Some(p) => match slice_of(p, &[3], k) {
+            Some(v) => Some([v[0], v[1], v[2]]),
+            None => {
+                problems.push(problem(
+                    index,
+                    "ORIGIN",
+                    format!("has dimensions {:?}; (3, {used}) expected", p.dims),
+                ));
+                None
+            }
+        },
+    }
+}
+
+/// FORCE_PLATFORM:ZERO as a range of frames, from 1.
+fn zero_frames(ps: &Parameters) -> Option<[usize; 2]> {
+    ps.get("FORCE_PLATFORM", "ZERO")
         .map(|p| p.as_i32s())
         .and_then(|z| match z.as_slice() {
             // [0, 0] is none; a first frame of 0 means the first frame (files write [0, 10]
             // for the first ten frames); a last frame before the first is none.
             [a, b, ..] if *b >= 1 && *b >= (*a).max(1) => Some([(*a).max(1) as usize, *b as usize]),
             _ => None,
-        });
-    out
+        })
 }
 
 fn problem(plate: usize, name: &str, message: String) -> PlateProblem {

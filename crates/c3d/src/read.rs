@@ -118,8 +118,50 @@ pub fn read(bytes: Vec<u8>) -> Result<C3d> {
     read_bytes(Bytes::Owned(bytes))
 }
 
+/// The sections in order, each checked against the bytes present before it is read: the
+/// header and the processor it is written for, the parameter section's extent and records,
+/// the data section's start and layout; then one light pass over the samples and the
+/// format's rules over the whole.
 fn read_bytes(bytes: Bytes) -> Result<C3d> {
     let mut warnings = Vec::new();
+    let (pb, param_start, processor, header) = header_of(&bytes)?;
+    let hdr_data_start = header.data_start as usize;
+    let end = parameters_end(&bytes, pb, param_start, hdr_data_start, &mut warnings);
+    let (parameters, param_end) = parameters::parse(
+        &bytes,
+        SectionBounds {
+            start: param_start,
+            end,
+            reach: if hdr_data_start > pb {
+                end.max((hdr_data_start - 1) * BLOCK)
+            } else {
+                end
+            },
+        },
+        processor,
+        &mut warnings,
+    )?;
+    let (data_offset, layout) =
+        data_section(&bytes, &header, &parameters, (pb, param_end), &mut warnings)?;
+    let source = Source {
+        header: header.clone(),
+        processor,
+        param_start,
+        param_end,
+        data_offset,
+        layout,
+        bytes,
+    };
+    let mut c = C3d::from_parts(header, parameters, layout, processor, Vec::new(), source);
+    scan_notes(&c, &layout, data_offset, &mut warnings);
+    crate::checks::check(&c.header, &c.parameters, &layout, &mut warnings);
+    c.set_warnings(warnings);
+    Ok(c)
+}
+
+/// The header block, read with the processor the parameter section's first block names:
+/// (the parameter section's block, its first byte, the processor, the header).
+fn header_of(bytes: &[u8]) -> Result<(usize, usize, Processor, Header)> {
     if bytes.len() < BLOCK {
         return Err(Error::malformed(
             Section::Header,
@@ -168,11 +210,19 @@ fn read_bytes(bytes: Bytes) -> Result<C3d> {
         )
     })?;
     let header = Header::parse(&bytes[..BLOCK], processor)?;
+    Ok((pb, param_start, processor, header))
+}
 
-    // Where the parameter section ends: its declared block count, or (when that is 0) the
-    // start of the data.
+/// Where the parameter section ends: its declared block count, or (when that is 0) the
+/// start of the data; a count that runs into the data stops at the data.
+fn parameters_end(
+    bytes: &[u8],
+    pb: usize,
+    param_start: usize,
+    hdr_data_start: usize,
+    warnings: &mut Vec<Warning>,
+) -> usize {
     let nblocks = bytes[param_start + 2] as usize;
-    let hdr_data_start = header.data_start as usize;
     let end = if nblocks == 0 {
         let fallback = if hdr_data_start > pb {
             (hdr_data_start - 1) * BLOCK
@@ -208,27 +258,21 @@ fn read_bytes(bytes: Bytes) -> Result<C3d> {
             format!("parameter section declares {nblocks} blocks, past the end of the file"),
         ));
     }
-    let (parameters, param_end) = parameters::parse(
-        &bytes,
-        SectionBounds {
-            start: param_start,
-            end,
-            reach: if hdr_data_start > pb {
-                end.max((hdr_data_start - 1) * BLOCK)
-            } else {
-                end
-            },
-        },
-        processor,
-        &mut warnings,
-    )?;
+    end
+}
 
-    let data_start = data_start_block(
-        &header,
-        &parameters,
-        (pb, param_end, bytes.len()),
-        &mut warnings,
-    )?;
+/// The data section: its first byte and its layout, refused when the file is too short to
+/// hold the frames the layout announces. `at` is (the parameter block, the byte where the
+/// parameter section ends).
+fn data_section(
+    bytes: &[u8],
+    header: &Header,
+    parameters: &Parameters,
+    at: (usize, usize),
+    warnings: &mut Vec<Warning>,
+) -> Result<(usize, Layout)> {
+    let (pb, param_end) = at;
+    let data_start = data_start_block(header, parameters, (pb, param_end, bytes.len()), warnings)?;
     let data_offset = (data_start - 1) * BLOCK;
     if data_offset < param_end && data_start > pb {
         warnings.push(Warning::new(
@@ -238,7 +282,7 @@ fn read_bytes(bytes: Bytes) -> Result<C3d> {
         ));
     }
     let available = bytes.len().saturating_sub(data_offset);
-    let layout = layout(&header, &parameters, available, &mut warnings)?;
+    let layout = layout(header, parameters, available, warnings)?;
     let need = layout.data_bytes();
     if need > available {
         return Err(Error::malformed(
@@ -266,18 +310,13 @@ fn read_bytes(bytes: Bytes) -> Result<C3d> {
             ),
         ));
     }
-    let source = Source {
-        header: header.clone(),
-        processor,
-        param_start,
-        param_end,
-        data_offset,
-        layout,
-        bytes,
-    };
-    let mut c = C3d::from_parts(header, parameters, layout, processor, Vec::new(), source);
-    // One pass over the stored samples for what the file says about itself; the arrays are
-    // decoded later, and only if someone asks for them.
+    Ok((data_offset, layout))
+}
+
+/// One pass over the stored samples for what the file says about itself (fourth words that
+/// are not residuals, every sample flagged invalid); the arrays are decoded later, and only
+/// if someone asks for them.
+fn scan_notes(c: &C3d, layout: &Layout, data_offset: usize, warnings: &mut Vec<Warning>) {
     let scan = c.scan();
     let notes = scan.notes;
     if let Some(k) = notes.first_odd {
@@ -302,9 +341,6 @@ fn read_bytes(bytes: Bytes) -> Result<C3d> {
             "every point sample is flagged invalid (negative residual) although coordinates are stored",
         ));
     }
-    crate::checks::check(&c.header, &c.parameters, &layout, &mut warnings);
-    c.set_warnings(warnings);
-    Ok(c)
 }
 
 /// The data section's first block: the header's word 9, checked against POINT:DATA_START.
@@ -387,7 +423,42 @@ fn layout(
             )));
         }
     }
-    // Number format: the sign of POINT:SCALE, else of the header's scale.
+    let (scale, pscale) = point_scale(h, ps, warnings);
+    let (channels, spf) = analog_layout(h, ps, points, scale, available, warnings);
+    let unsigned_analog = ps
+        .get_strings("ANALOG", "FORMAT")
+        .and_then(|v| v.into_iter().next())
+        .is_some_and(|f| f.trim().eq_ignore_ascii_case("UNSIGNED"));
+
+    let mut l = Layout {
+        points,
+        analog_channels: channels,
+        analog_samples_per_frame: spf,
+        frames: 0,
+        float: scale < 0.0,
+        unsigned_analog,
+        point_scale: scale.abs(),
+    };
+    // A scale sign that contradicts the file size is a vendor slip: trust the size.
+    l.frames = frame_count(h, ps, warnings);
+    let fits = |l: &Layout| l.data_bytes() <= available;
+    if !fits(&l) {
+        let mut other = l;
+        other.float = !l.float;
+        if fits(&other) && pscale.is_some_and(|s| (s < 0.0) != (h.scale < 0.0)) {
+            warnings.push(w(format!(
+                "the {} number format implied by POINT:SCALE does not fit the file; using the header's",
+                if l.float { "float" } else { "integer" }
+            )));
+            l = other;
+        }
+    }
+    Ok(l)
+}
+
+/// Number format and point scale: the sign of POINT:SCALE, else of the header's scale
+/// (the scale used, and POINT:SCALE as the file has it).
+fn point_scale(h: &Header, ps: &Parameters, warnings: &mut Vec<Warning>) -> (f32, Option<f32>) {
     let hscale = h.scale;
     let pscale = ps.get_f32("POINT", "SCALE");
     let scale = match pscale {
@@ -405,8 +476,20 @@ fn layout(
         }
         _ => hscale,
     };
+    (scale, pscale)
+}
 
-    // Analog layout: the header's word count and samples per frame.
+/// Analog layout: the header's word count and samples per frame, read as the candidate
+/// reading whose size fills the file (channels, samples per frame).
+fn analog_layout(
+    h: &Header,
+    ps: &Parameters,
+    points: usize,
+    scale: f32,
+    available: usize,
+    warnings: &mut Vec<Warning>,
+) -> (usize, usize) {
+    let w = |msg: String| Warning::new(Section::Parameters, None, msg);
     let words = h.analog_per_frame as usize;
     let mut spf = h.analog_samples_per_frame as usize;
     let used = ps.get_u16("ANALOG", "USED").map(|u| u as usize);
@@ -424,37 +507,7 @@ fn layout(
             "header gives 0 analog samples per frame; using {spf} from ANALOG:RATE"
         )));
     }
-    // Candidate readings of the stored analog words, most standard first; the one whose size
-    // fills the file (to within its last block) wins, so vendor slips in word 3 or 10 are read
-    // around (and reported).
-    let mut candidates: Vec<(usize, usize, &str)> = Vec::new();
-    if words == 0 {
-        candidates.push((0, spf.max(1), ""));
-    } else {
-        if spf > 0 && words.is_multiple_of(spf) {
-            candidates.push((words / spf, spf, ""));
-        }
-        if spf > 1 {
-            candidates.push((
-                words,
-                spf,
-                "header word 3 holds the channel count, not channels × samples per frame",
-            ));
-        }
-        if let Some(u) = used.filter(|&u| u > 0) {
-            let s = spf.max(1);
-            candidates.push((
-                u,
-                s,
-                "analog words per frame follow ANALOG:USED × samples per frame",
-            ));
-        }
-        candidates.push((
-            words,
-            1,
-            "analog words read as one sample per channel per frame",
-        ));
-    }
+    let candidates = analog_readings(words, spf, used);
     let frames_guess = frame_count(h, ps, &mut Vec::new());
     let word_bytes = if scale < 0.0 { 4 } else { 2 };
     let size = |c: usize, s: usize| {
@@ -486,35 +539,46 @@ fn layout(
             )));
         }
     }
-    let unsigned_analog = ps
-        .get_strings("ANALOG", "FORMAT")
-        .and_then(|v| v.into_iter().next())
-        .is_some_and(|f| f.trim().eq_ignore_ascii_case("UNSIGNED"));
+    (channels, spf)
+}
 
-    let mut l = Layout {
-        points,
-        analog_channels: channels,
-        analog_samples_per_frame: spf,
-        frames: 0,
-        float: scale < 0.0,
-        unsigned_analog,
-        point_scale: scale.abs(),
-    };
-    // A scale sign that contradicts the file size is a vendor slip: trust the size.
-    l.frames = frame_count(h, ps, warnings);
-    let fits = |l: &Layout| l.data_bytes() <= available;
-    if !fits(&l) {
-        let mut other = l;
-        other.float = !l.float;
-        if fits(&other) && pscale.is_some_and(|s| (s < 0.0) != (hscale < 0.0)) {
-            warnings.push(w(format!(
-                "the {} number format implied by POINT:SCALE does not fit the file; using the header's",
-                if l.float { "float" } else { "integer" }
-            )));
-            l = other;
+/// Candidate readings of the stored analog words (channels, samples per frame, the slip it
+/// reads around), most standard first; the one whose size fills the file (to within its last
+/// block) wins, so vendor slips in word 3 or 10 are read around (and reported).
+fn analog_readings(
+    words: usize,
+    spf: usize,
+    used: Option<usize>,
+) -> Vec<(usize, usize, &'static str)> {
+    let mut candidates: Vec<(usize, usize, &str)> = Vec::new();
+    if words == 0 {
+        candidates.push((0, spf.max(1), ""));
+    } else {
+        if spf > 0 && words.is_multiple_of(spf) {
+            candidates.push((words / spf, spf, ""));
         }
+        if spf > 1 {
+            candidates.push((
+                words,
+                spf,
+                "header word 3 holds the channel count, not channels × samples per frame",
+            ));
+        }
+        if let Some(u) = used.filter(|&u| u > 0) {
+            let s = spf.max(1);
+            candidates.push((
+                u,
+                s,
+                "analog words per frame follow ANALOG:USED × samples per frame",
+            ));
+        }
+        candidates.push((
+            words,
+            1,
+            "analog words read as one sample per channel per frame",
+        ));
     }
-    Ok(l)
+    candidates
 }
 
 /// Number of frames: the header's first/last frame, or the long-trial parameters when the

@@ -15,7 +15,7 @@ use crate::{Event, Kind};
 /// `window` frames (the nearest), `None` for a kind without such a pair.
 pub fn plate_offsets(plates: &[Event], kinematic: &[Event], window: f64) -> [Option<f64>; 2] {
     [Kind::FootStrike, Kind::FootOff].map(|kind| {
-        let d: Vec<f64> = plates
+        let mut d: Vec<f64> = plates
             .iter()
             .filter(|p| p.kind == kind)
             .filter_map(|p| {
@@ -27,7 +27,7 @@ pub fn plate_offsets(plates: &[Event], kinematic: &[Event], window: f64) -> [Opt
                     .min_by(|a, b| a.abs().total_cmp(&b.abs()))
             })
             .collect();
-        crate::session::median(d)
+        ::signal::order::median(&mut d)
     })
 }
 

@@ -22,7 +22,7 @@
 use crate::axes::Vertical;
 use crate::error::{Error, Result};
 pub use crate::kinematic_options::{Estimate, KinematicOptions, Method, Prepared};
-use crate::signal;
+use crate::signal::{self, lowest};
 use crate::{Event, Feet, Kind, Side, Source};
 
 /// The fewest frames a trial needs: three, to see an extremum between two samples.
@@ -517,17 +517,6 @@ fn heights(feet: &Feet, side: Side, v: Vertical) -> (Vec<f64>, Vec<f64>) {
         heel.iter().map(|p| v.height(*p)).collect(),
         toe.iter().map(|p| v.height(*p)).collect(),
     )
-}
-
-/// The lowest finite value of `x` over `[a, b)` (clamped), NaN if none.
-fn lowest(x: &[f64], a: f64, b: f64) -> f64 {
-    let n = x.len();
-    let (a, b) = (a.max(0.0) as usize, (b.max(0.0) as usize).min(n));
-    x[a.min(n)..b]
-        .iter()
-        .copied()
-        .filter(|v| v.is_finite())
-        .fold(f64::NAN, f64::min)
 }
 
 /// Foot strike refined from Zeni's heel extremum at `i0`: the first local minimum of the

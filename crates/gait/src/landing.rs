@@ -18,7 +18,7 @@
 //! plates' badly; a metatarsal marker rises as the heel lifts, well before the toe leaves.
 
 use crate::kinematic_options::{KinematicOptions, Prepared};
-use crate::signal::{self, Pass};
+use crate::signal::{self, lowest, Pass};
 use crate::{Feet, Side};
 
 /// Per frame: each part's height, and the foot centre's speed (mm/s) along the walking
@@ -90,17 +90,6 @@ fn highest(x: &[f64], a: f64, b: f64) -> Option<(usize, f64)> {
         .filter(|&k| x[k].is_finite())
         .max_by(|&i, &j| x[i].total_cmp(&x[j]))
         .map(|k| (k, x[k]))
-}
-
-/// The lowest finite value of `x` over `[a, b)` (clamped), NaN if none.
-fn lowest(x: &[f64], a: f64, b: f64) -> f64 {
-    let n = x.len();
-    let (a, b) = ((a.max(0.0) as usize).min(n), (b.max(0.0) as usize).min(n));
-    x[a..b.max(a)]
-        .iter()
-        .copied()
-        .filter(|v| v.is_finite())
-        .fold(f64::NAN, f64::min)
 }
 
 /// The first `k` in `from..to` where `x` falls through `thr` (interpolated), both samples

@@ -13,6 +13,9 @@
 //! kind within a window; the offset of a kind is the median of its lags.
 
 use crate::{Event, Kind, Side};
+// The mean of the middle two for an even count: the one rule both the trial's own
+// calibration and the session's use.
+use ::signal::order::median;
 use serde::Serialize;
 
 /// One truth event's lag against the nearest kinematic event of its foot and kind.
@@ -101,21 +104,6 @@ fn side_index(side: Side) -> usize {
     }
 }
 
-/// The median (the mean of the middle two for an even count); None for none: the one rule
-/// both the trial's own calibration and the session's use.
-pub(crate) fn median(mut d: Vec<f64>) -> Option<f64> {
-    if d.is_empty() {
-        return None;
-    }
-    d.sort_by(f64::total_cmp);
-    let m = d.len() / 2;
-    Some(if d.len() % 2 == 1 {
-        d[m]
-    } else {
-        (d[m - 1] + d[m]) / 2.0
-    })
-}
-
 /// The lags of one trial: each `truth` event with a kinematic event of the same foot and
 /// kind within `window_s` (the nearest) gives (truth − kinematic) in seconds. Both are
 /// fractional frame indices of the same trial at `rate` frames per second.
@@ -153,9 +141,9 @@ pub fn session_offsets(lags: &[Lag], opts: &SessionOptions) -> SessionOffsets {
         let sides = [of(Some(Side::Left)), of(Some(Side::Right))];
         let contacts = [sides[0].len(), sides[1].len()];
         let min = opts.min_contacts.max(1);
-        let pooled = of(None);
+        let mut pooled = of(None);
         let pooled = if pooled.len() >= min {
-            median(pooled)
+            median(&mut pooled)
         } else {
             None
         };
@@ -163,7 +151,7 @@ pub fn session_offsets(lags: &[Lag], opts: &SessionOptions) -> SessionOffsets {
         let seconds = if per_side {
             [0, 1].map(|k| {
                 if contacts[k] >= min {
-                    median(sides[k].clone())
+                    median(&mut sides[k].clone())
                 } else {
                     pooled
                 }

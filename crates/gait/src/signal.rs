@@ -1,4 +1,13 @@
-//! Small helpers on sampled signals with NaN for missing samples.
+//! Small helpers on sampled signals with NaN for missing samples: gait's own (short gaps,
+//! carried ends, moving average, peaks, the stride's period, derivatives, the lowest value in
+//! a window), and the filter and quantile every event method reads, which live in the
+//! `signal` crate beside repair's.
+
+/// Zero-lag 4th-order Butterworth (a second-order section forward and backward) over each
+/// finite run; why it is not repair's scipy filter: `signal::filter`'s page.
+pub use ::signal::filter::{zero_lag as butterworth, Pass};
+/// The value at quantile `q` (0–1) of the finite values, nearest rank; None when none.
+pub use ::signal::order::nearest_quantile as quantile;
 
 /// Fill runs of NaN no longer than `max` samples by linear interpolation between the
 /// samples either side (runs at the ends or longer stay NaN). Used for the pelvis, whose
@@ -85,15 +94,16 @@ pub fn smooth(x: &[f64], half: usize) -> Vec<f64> {
         .collect()
 }
 
-/// The value at quantile `q` (0–1) of the finite values, None when there are none.
-pub fn quantile(x: &[f64], q: f64) -> Option<f64> {
-    let mut v: Vec<f64> = x.iter().copied().filter(|v| v.is_finite()).collect();
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    let k = ((v.len() - 1) as f64 * q.clamp(0.0, 1.0)).round() as usize;
-    Some(v[k])
+/// The lowest finite value of `x` over `[a, b)` (clamped to `x`, empty when `b` is before
+/// `a`), NaN if none.
+pub fn lowest(x: &[f64], a: f64, b: f64) -> f64 {
+    let n = x.len();
+    let (a, b) = ((a.max(0.0) as usize).min(n), (b.max(0.0) as usize).min(n));
+    x[a..b.max(a)]
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(f64::NAN, f64::min)
 }
 
 /// Sub-sample position of an extremum at `i` from the parabola through its neighbours.
@@ -224,24 +234,6 @@ pub fn period(x: &[f64], min: usize, max: usize) -> Option<usize> {
         .map(|k| k + min - 1)
 }
 
-/// Finite runs of `x`: `(start, end)` ranges of consecutive finite samples.
-pub fn finite_runs(x: &[f64]) -> Vec<(usize, usize)> {
-    let mut out = Vec::new();
-    let mut i = 0;
-    while i < x.len() {
-        if !x[i].is_finite() {
-            i += 1;
-            continue;
-        }
-        let start = i;
-        while i < x.len() && x[i].is_finite() {
-            i += 1;
-        }
-        out.push((start, i));
-    }
-    out
-}
-
 /// Derivative per second by central differences (one-sided at the ends of each finite run;
 /// NaN where a sample or both neighbours are missing).
 pub fn derivative(x: &[f64], rate: f64) -> Vec<f64> {
@@ -261,92 +253,6 @@ pub fn derivative(x: &[f64], rate: f64) -> Vec<f64> {
             }
         })
         .collect()
-}
-
-/// Which band a [`butterworth`] filter keeps.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Pass {
-    Low,
-    High,
-}
-
-/// Zero-lag Butterworth filter: a second-order section (bilinear transform with
-/// pre-warping) run forward and backward, i.e. fourth order overall as Winter's and the gait
-/// papers' "4th-order zero-lag" filters, over each finite run of `x` separately (NaN stays
-/// NaN). Each run is extended at both ends by its odd reflection (as `scipy.signal.filtfilt`
-/// pads), so the filter's start-up transient falls outside the samples kept. A cut-off at or
-/// above the Nyquist frequency, or not positive, returns `x` unchanged (low-pass) or zeros
-/// (high-pass) on the finite samples.
-pub fn butterworth(x: &[f64], rate: f64, cutoff_hz: f64, pass: Pass) -> Vec<f64> {
-    let mut out = vec![f64::NAN; x.len()];
-    let nyquist = rate / 2.0;
-    let usable = cutoff_hz > 0.0 && cutoff_hz < nyquist && cutoff_hz.is_finite();
-    for (a, b) in finite_runs(x) {
-        let run = &x[a..b];
-        if !usable {
-            for (o, v) in out[a..b].iter_mut().zip(run) {
-                *o = match pass {
-                    Pass::Low => *v,
-                    Pass::High => 0.0,
-                };
-            }
-            continue;
-        }
-        let filtered = filtfilt_run(run, rate, cutoff_hz, pass);
-        out[a..b].copy_from_slice(&filtered);
-    }
-    out
-}
-
-/// Coefficients `(b, a)` of the second-order Butterworth section (a\[0\] = 1).
-fn biquad(rate: f64, cutoff_hz: f64, pass: Pass) -> ([f64; 3], [f64; 3]) {
-    let k = (std::f64::consts::PI * cutoff_hz / rate).tan();
-    let q = std::f64::consts::FRAC_1_SQRT_2;
-    let norm = 1.0 / (1.0 + k / q + k * k);
-    let b = match pass {
-        Pass::Low => [k * k * norm, 2.0 * k * k * norm, k * k * norm],
-        Pass::High => [norm, -2.0 * norm, norm],
-    };
-    let a = [
-        1.0,
-        2.0 * (k * k - 1.0) * norm,
-        (1.0 - k / q + k * k) * norm,
-    ];
-    (b, a)
-}
-
-fn lfilter(b: &[f64; 3], a: &[f64; 3], x: &[f64]) -> Vec<f64> {
-    // Start from the steady state of the first sample (as scipy's lfilter_zi), so a
-    // constant signal passes without a transient.
-    let x0 = x.first().copied().unwrap_or(0.0);
-    let dc = (b[0] + b[1] + b[2]) / (a[0] + a[1] + a[2]);
-    let (mut x1, mut x2, mut y1, mut y2) = (x0, x0, dc * x0, dc * x0);
-    x.iter()
-        .map(|&v| {
-            let y = b[0] * v + b[1] * x1 + b[2] * x2 - a[1] * y1 - a[2] * y2;
-            (x2, x1, y2, y1) = (x1, v, y1, y);
-            y
-        })
-        .collect()
-}
-
-fn filtfilt_run(run: &[f64], rate: f64, cutoff_hz: f64, pass: Pass) -> Vec<f64> {
-    let n = run.len();
-    let pad = (3 * (rate / cutoff_hz).ceil() as usize).min(n.saturating_sub(1));
-    let mut ext = Vec::with_capacity(n + 2 * pad);
-    for k in (1..=pad).rev() {
-        ext.push(2.0 * run[0] - run[k]);
-    }
-    ext.extend_from_slice(run);
-    for k in 1..=pad {
-        ext.push(2.0 * run[n - 1] - run[n - 1 - k]);
-    }
-    let (b, a) = biquad(rate, cutoff_hz, pass);
-    let mut y = lfilter(&b, &a, &ext);
-    y.reverse();
-    let mut y = lfilter(&b, &a, &y);
-    y.reverse();
-    y[pad..pad + n].to_vec()
 }
 
 #[cfg(test)]
@@ -421,34 +327,8 @@ mod tests {
         assert_eq!(x[9], [90.0, 5.0, 900.0]);
     }
 
-    /// Amplitude of a sine of `f` Hz after the filter, away from the ends.
-    fn gain(f: f64, cutoff: f64, pass: Pass) -> f64 {
-        let rate = 100.0;
-        let x: Vec<f64> = (0..2000)
-            .map(|i| (2.0 * std::f64::consts::PI * f * i as f64 / rate).sin())
-            .collect();
-        let y = butterworth(&x, rate, cutoff, pass);
-        y[500..1500].iter().fold(0.0, |m: f64, v| m.max(v.abs()))
-    }
-
     #[test]
-    fn butterworth_gains_and_gaps() {
-        // Two passes of a second-order section: the gain at the cut-off is 1/2 (−6 dB).
-        assert!((gain(2.0, 2.0, Pass::Low) - 0.5).abs() < 0.01);
-        assert!((gain(2.0, 2.0, Pass::High) - 0.5).abs() < 0.01);
-        assert!(gain(0.2, 2.0, Pass::High) < 0.001);
-        assert!((gain(0.2, 2.0, Pass::Low) - 1.0).abs() < 0.01);
-        assert!(gain(20.0, 2.0, Pass::Low) < 0.001);
-        // A ramp (walking progression) is removed by the high-pass, zero-lag; NaN stays.
-        let mut x: Vec<f64> = (0..300).map(|i| 10.0 * i as f64).collect();
-        x[100] = f64::NAN;
-        let y = butterworth(&x, 100.0, 1.0, Pass::High);
-        assert!(y[100].is_nan());
-        assert!(
-            y[150..290].iter().all(|v| v.abs() < 0.01),
-            "{:?}",
-            &y[150..160]
-        );
+    fn derivative_by_central_differences() {
         let d = derivative(&[0.0, 1.0, f64::NAN, 3.0, 5.0], 10.0);
         assert_eq!(d[0], 10.0);
         assert_eq!(d[1], 10.0);

@@ -12,7 +12,7 @@
 //! Whether it does is measured (docs/events.md, "A physically defined strike").
 
 use crate::kinematic_options::{KinematicOptions, Prepared};
-use crate::signal::{self, Pass};
+use crate::signal::{self, lowest, Pass};
 use crate::{Feet, Side};
 
 /// One part's height (mm) and its low-passed vertical velocity (mm/s) per frame.
@@ -28,17 +28,6 @@ fn part(marker: &[[f64; 3]], prep: &Prepared, lowpass_hz: f64) -> Part {
         prep.rate,
     );
     Part { height, up }
-}
-
-/// The lowest finite value of `x` over `[a, b)` (clamped), NaN if none.
-fn lowest(x: &[f64], a: f64, b: f64) -> f64 {
-    let n = x.len();
-    let (a, b) = ((a.max(0.0) as usize).min(n), (b.max(0.0) as usize).min(n));
-    x[a..b.max(a)]
-        .iter()
-        .copied()
-        .filter(|v| v.is_finite())
-        .fold(f64::NAN, f64::min)
 }
 
 /// Index of the largest finite value of `x` over `[a, b)` (clamped).

@@ -36,3 +36,25 @@ pub enum RepairError {
 
 /// Crate-wide result.
 pub type Result<T> = std::result::Result<T, RepairError>;
+
+/// The filters' errors in the repair's words: each kind one of [`RepairError`]'s, with the
+/// same data, so a repair reports a filter's refusal as it always has.
+impl From<signal::FilterError> for RepairError {
+    fn from(e: signal::FilterError) -> Self {
+        use signal::FilterError as F;
+        match e {
+            F::FilterOrder { order, max } => RepairError::FilterOrder { order, max },
+            F::Cutoff {
+                cutoff_hz,
+                nyquist_hz,
+            } => RepairError::Cutoff {
+                cutoff_hz,
+                nyquist_hz,
+            },
+            F::Attenuation { atten_db, max } => RepairError::Attenuation { atten_db, max },
+            F::SampleRate(fs) => RepairError::SampleRate(fs),
+            F::TooShort { len, padlen } => RepairError::TooShort { len, padlen },
+            _ => RepairError::Option(e.to_string()),
+        }
+    }
+}

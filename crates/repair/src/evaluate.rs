@@ -232,11 +232,7 @@ fn summarize(
     } else {
         f64::NAN
     };
-    let median = match n {
-        0 => f64::NAN,
-        _ if n % 2 == 1 => e[n / 2],
-        _ => (e[n / 2 - 1] + e[n / 2]) / 2.0,
-    };
+    let median = signal::order::sorted_median(&e).unwrap_or(f64::NAN);
     MethodScore {
         method,
         gap_len: len,
@@ -533,7 +529,7 @@ pub fn calibration(gaps: &[GapScore], floor: f64) -> Calibration {
         within_2x: share(&|e, r| r <= 2.0 * e && r >= 0.5 * e),
         over_confident: share(&|e, r| r > 2.0 * e),
         under_confident: share(&|e, r| r < 0.5 * e),
-        median_ratio: ratios.get(n / 2).copied().unwrap_or(f64::NAN),
+        median_ratio: signal::order::rank(&ratios, 1, 2).unwrap_or(f64::NAN),
     }
 }
 

@@ -5,7 +5,7 @@ use serde::Serialize;
 
 use crate::error::Result;
 use crate::fill::{fill_gaps, max_steps, FillOptions, FillOutcome, SkipReason, Vetting};
-use crate::filter::FilterSpec;
+use crate::filter::{FilterSpec, Iir};
 use crate::gaps::{find_gaps, valid_segments, Gap};
 use crate::spikes::{detect, Spike, SpikeMode, SpikeOptions};
 use crate::Trial;
@@ -185,6 +185,48 @@ pub fn repair_trial_after(
     trial.check()?;
     // Earlier fills are hidden from this run until the filter step: every stage reads the
     // trial as recorded, as the first run did.
+    let hidden = hide_earlier_fills(trial, earlier);
+    let iir = cfg.filter.map(|s| s.design(trial.rate_hz)).transpose()?;
+    let (markers, frames) = (trial.markers(), trial.frames());
+    let mut changes = vec![vec![0u8; frames]; markers];
+
+    // 1. Spikes.
+    let mut spikes = Vec::new();
+    if let Some(opts) = &cfg.spikes {
+        spikes = remove_spikes(trial, &mut changes, opts);
+    }
+
+    // 2. Fill, reading the spike-free data.
+    let gaps = fill_stage(trial, &mut changes, &cfg.fill, earlier);
+    for (m, f) in hidden {
+        trial.valid[m][f] = true;
+    }
+
+    // 3. Filter each continuous valid segment.
+    let mut segments = Vec::new();
+    if let Some(iir) = &iir {
+        segments = filter_segments(trial, &mut changes, iir);
+    }
+
+    let changed_per_marker = changes
+        .iter()
+        .map(|m| m.iter().filter(|&&c| c != 0).count())
+        .collect();
+    Ok(RepairReport {
+        markers,
+        frames,
+        spikes,
+        spike_mode: cfg.spikes.map(|s| s.mode),
+        gaps,
+        segments,
+        changed_per_marker,
+        changes,
+    })
+}
+
+/// Marks an earlier repair's fills missing, returning them (marker, frame) to be shown
+/// again before the filter.
+fn hide_earlier_fills(trial: &mut Trial, earlier: &Earlier) -> Vec<(usize, usize)> {
     let mut hidden = Vec::new();
     for (m, row) in trial.valid.iter_mut().enumerate() {
         for (f, v) in row.iter_mut().enumerate() {
@@ -194,48 +236,54 @@ pub fn repair_trial_after(
             }
         }
     }
-    let iir = cfg.filter.map(|s| s.design(trial.rate_hz)).transpose()?;
-    let (markers, frames) = (trial.markers(), trial.frames());
-    let mut changes = vec![vec![0u8; frames]; markers];
+    hidden
+}
 
-    // 1. Spikes.
-    let mut spikes = Vec::new();
-    if let Some(opts) = &cfg.spikes {
-        let found: Vec<Vec<Spike>> = trial
-            .xyz
-            .par_iter_mut()
-            .zip(trial.valid.par_iter_mut())
-            .zip(changes.par_iter_mut())
-            .enumerate()
-            .map(|(m, ((xyz, valid), ch))| {
-                let s = detect(xyz, valid, m, opts);
-                for sp in &s {
-                    match opts.mode {
-                        SpikeMode::Gap => {
-                            valid[sp.frame] = false;
-                            ch[sp.frame] |= change::INVALIDATED;
-                        }
-                        SpikeMode::Median => {
-                            for (c, &out) in sp.axes.iter().enumerate() {
-                                if out {
-                                    xyz[sp.frame][c] = sp.median[c];
-                                }
+/// The spikes of every marker, in parallel: each made a gap or replaced by its window's
+/// median, as `opts.mode` says, and marked in `changes`.
+fn remove_spikes(trial: &mut Trial, changes: &mut [Vec<u8>], opts: &SpikeOptions) -> Vec<Spike> {
+    let found: Vec<Vec<Spike>> = trial
+        .xyz
+        .par_iter_mut()
+        .zip(trial.valid.par_iter_mut())
+        .zip(changes.par_iter_mut())
+        .enumerate()
+        .map(|(m, ((xyz, valid), ch))| {
+            let s = detect(xyz, valid, m, opts);
+            for sp in &s {
+                match opts.mode {
+                    SpikeMode::Gap => {
+                        valid[sp.frame] = false;
+                        ch[sp.frame] |= change::INVALIDATED;
+                    }
+                    SpikeMode::Median => {
+                        for (c, &out) in sp.axes.iter().enumerate() {
+                            if out {
+                                xyz[sp.frame][c] = sp.median[c];
                             }
-                            ch[sp.frame] |= change::DESPIKED;
                         }
+                        ch[sp.frame] |= change::DESPIKED;
                     }
                 }
-                s
-            })
-            .collect();
-        spikes = found.into_iter().flatten().collect();
-    }
+            }
+            s
+        })
+        .collect();
+    found.into_iter().flatten().collect()
+}
 
-    // 2. Fill, reading the spike-free data; `fill_gaps` writes the samples, the masks are
-    // set here.
+/// The fill stage: `fill_gaps` writes the samples, the masks and `changes` are set here.
+/// The gaps are the runs of samples missing in the file (earlier fills are no gap); those
+/// an earlier repair left under the same settings are left again as they were. The records
+/// come sorted by marker and first frame.
+fn fill_stage(
+    trial: &mut Trial,
+    changes: &mut [Vec<u8>],
+    fill: &FillOptions,
+    earlier: &Earlier,
+) -> Vec<GapRecord> {
+    let (markers, frames) = (trial.markers(), trial.frames());
     let steps = max_steps(&trial.xyz, &trial.valid);
-    // The gaps are the runs of samples missing in the file (earlier fills are no gap); those
-    // an earlier repair left under the same settings are left again as they were.
     let found: Vec<Gap> = (0..markers)
         .into_par_iter()
         .map(|m| {
@@ -257,7 +305,7 @@ pub fn repair_trial_after(
         &trial.valid,
         &steps,
         &found,
-        &cfg.fill,
+        fill,
         Vetting::Checked,
     );
     let mut gaps = Vec::with_capacity(found.len() + again.len());
@@ -283,69 +331,52 @@ pub fn repair_trial_after(
         });
     }
     gaps.sort_by_key(|g| (g.gap.marker, g.gap.first));
-    for (m, f) in hidden {
-        trial.valid[m][f] = true;
-    }
+    gaps
+}
 
-    // 3. Filter each continuous valid segment.
-    let mut segments = Vec::new();
-    if let Some(iir) = &iir {
-        let padlen = iir.padlen();
-        let recs: Vec<Vec<SegmentRecord>> = trial
-            .xyz
-            .par_iter_mut()
-            .zip(trial.valid.par_iter())
-            .zip(changes.par_iter_mut())
-            .enumerate()
-            .map(|(m, ((xyz, valid), ch))| {
-                let mut buf = Vec::new();
-                valid_segments(valid)
-                    .into_iter()
-                    .map(|(first, last)| {
-                        let len = last - first + 1;
-                        let ok = len > padlen;
-                        if ok {
-                            for c in 0..3 {
-                                buf.clear();
-                                buf.extend(xyz[first..=last].iter().map(|p| p[c]));
-                                // Length checked above, so filtfilt cannot refuse.
-                                if iir.filtfilt(&mut buf).is_ok() {
-                                    for (p, v) in xyz[first..=last].iter_mut().zip(&buf) {
-                                        p[c] = *v;
-                                    }
+/// Zero-phase filtering of each continuous valid segment longer than the filter's padding
+/// (shorter ones are recorded as left), marked in `changes`.
+fn filter_segments(trial: &mut Trial, changes: &mut [Vec<u8>], iir: &Iir) -> Vec<SegmentRecord> {
+    let padlen = iir.padlen();
+    let recs: Vec<Vec<SegmentRecord>> = trial
+        .xyz
+        .par_iter_mut()
+        .zip(trial.valid.par_iter())
+        .zip(changes.par_iter_mut())
+        .enumerate()
+        .map(|(m, ((xyz, valid), ch))| {
+            let mut buf = Vec::new();
+            valid_segments(valid)
+                .into_iter()
+                .map(|(first, last)| {
+                    let len = last - first + 1;
+                    let ok = len > padlen;
+                    if ok {
+                        for c in 0..3 {
+                            buf.clear();
+                            buf.extend(xyz[first..=last].iter().map(|p| p[c]));
+                            // Length checked above, so filtfilt cannot refuse.
+                            if iir.filtfilt(&mut buf).is_ok() {
+                                for (p, v) in xyz[first..=last].iter_mut().zip(&buf) {
+                                    p[c] = *v;
                                 }
                             }
-                            for c in &mut ch[first..=last] {
-                                *c |= change::FILTERED;
-                            }
                         }
-                        SegmentRecord {
-                            marker: m,
-                            first,
-                            last,
-                            len,
-                            filtered: ok,
-                            padlen: (!ok).then_some(padlen),
+                        for c in &mut ch[first..=last] {
+                            *c |= change::FILTERED;
                         }
-                    })
-                    .collect()
-            })
-            .collect();
-        segments = recs.into_iter().flatten().collect();
-    }
-
-    let changed_per_marker = changes
-        .iter()
-        .map(|m| m.iter().filter(|&&c| c != 0).count())
+                    }
+                    SegmentRecord {
+                        marker: m,
+                        first,
+                        last,
+                        len,
+                        filtered: ok,
+                        padlen: (!ok).then_some(padlen),
+                    }
+                })
+                .collect()
+        })
         .collect();
-    Ok(RepairReport {
-        markers,
-        frames,
-        spikes,
-        spike_mode: cfg.spikes.map(|s| s.mode),
-        gaps,
-        segments,
-        changed_per_marker,
-        changes,
-    })
+    recs.into_iter().flatten().collect()
 }

@@ -14,6 +14,9 @@
 //! 35 mm spike on a marker walking at 12 mm/frame is then found like any other.
 
 use serde::Serialize;
+// The mean of the middle two for an even count, as MATLAB's median (Hampel filters are
+// usually checked against MATLAB's hampel).
+use signal::order::median;
 
 use crate::error::{RepairError, Result};
 
@@ -175,7 +178,10 @@ fn predict(
             buf.push(0.5 * (x(f - j) + x(f + j)));
         }
     }
-    (buf.len() >= MIN_PAIRS).then(|| median_of(buf))
+    if buf.len() < MIN_PAIRS {
+        return None;
+    }
+    median(buf)
 }
 
 /// The Hampel rule on residuals from [`predict`]: a sample is an outlier when its residual
@@ -244,7 +250,7 @@ fn detect_detrended(
 /// more than `floor` and more than `nsigma` scaled MADs (1.4826 × MAD) from the window's
 /// median. Returns the verdict and the median.
 fn hampel(x: f64, window: &mut [f64], floor: f64, nsigma: f64) -> (bool, f64) {
-    let med = median_of(window);
+    let med = median(window).unwrap_or(f64::NAN);
     let dev = (x - med).abs();
     // Within the floor (or equal to the median) a sample is never an outlier: skip the MAD.
     if dev <= floor || dev.is_nan() {
@@ -253,21 +259,8 @@ fn hampel(x: f64, window: &mut [f64], floor: f64, nsigma: f64) -> (bool, f64) {
     for v in window.iter_mut() {
         *v = (*v - med).abs();
     }
-    (dev > nsigma * 1.4826 * median_of(window), med)
-}
-
-/// Median (mean of the middle two for even counts, as MATLAB's median).
-fn median_of(v: &mut [f64]) -> f64 {
-    let n = v.len();
-    let mid = n / 2;
-    let (_, m, _) = v.select_nth_unstable_by(mid, f64::total_cmp);
-    let hi = *m;
-    if n % 2 == 1 {
-        hi
-    } else {
-        let lo = v[..mid].iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        (lo + hi) / 2.0
-    }
+    let mad = median(window).unwrap_or(f64::NAN);
+    (dev > nsigma * 1.4826 * mad, med)
 }
 
 #[cfg(test)]
@@ -297,12 +290,6 @@ mod tests {
             (7, 40, [false, true, false])
         );
         assert!((s[0].median[1] - (xyz[40][1] - 60.0)).abs() < 3.0);
-    }
-
-    #[test]
-    fn median_matches_matlab_convention() {
-        assert_eq!(median_of(&mut [3.0, 1.0, 2.0]), 2.0);
-        assert_eq!(median_of(&mut [4.0, 1.0, 3.0, 2.0]), 2.5);
     }
 
     #[test]

@@ -167,33 +167,114 @@ fn parse_record(
     index: usize,
     warnings: &mut Vec<Warning>,
 ) -> Result<Parsed> {
-    let sec = Section::Parameters;
+    // Records may run past the declared end (a known vendor fault) but never past the file.
+    let hard_end = file.len();
+    let Some(head) = read_head(file, pos, p, warnings) else {
+        return Ok(None);
+    };
+    let (next, rec_end) = record_bounds(file, &head, end, warnings);
+    let lim = rec_end.min(hard_end);
+    let off_pos = head.off_pos;
+    let Some(record) = read_contents(file, head, lim, p, warnings)? else {
+        return Ok(None);
+    };
+    let bytes = file[pos..lim].to_vec();
+    let canonical = encode_record(&record, p);
+    let raw = RawRecord {
+        bytes,
+        canonical,
+        index,
+    };
+    let record = match record {
+        Record::Group(mut g) => {
+            g.raw = Some(raw);
+            Record::Group(g)
+        }
+        Record::Parameter(mut prm) => {
+            prm.raw = Some(raw);
+            Record::Parameter(prm)
+        }
+    };
+    if let Some(n) = next {
+        if n > hard_end {
+            warnings.push(Warning::new(
+                Section::Parameters,
+                Some(off_pos),
+                "offset to next record points past the end of the file",
+            ));
+            return Ok(Some((record, None, lim)));
+        }
+    }
+    Ok(Some((record, next, lim)))
+}
+
+/// What a record's first bytes say: its name (a negative length: locked), its id (negative:
+/// a group), the offset to the next record and where its body starts.
+struct Head {
+    pos: usize,
+    name_len_raw: i8,
+    id: i8,
+    name: String,
+    /// Where the offset to the next record is stored, and what it says.
+    off_pos: usize,
+    offset: usize,
+    body: usize,
+}
+
+impl Head {
+    fn what(&self) -> &'static str {
+        if self.id < 0 {
+            "group"
+        } else {
+            "parameter"
+        }
+    }
+}
+
+/// The record's head at `pos`; None (with a warning) when the file ends inside it.
+fn read_head(file: &[u8], pos: usize, p: Processor, warnings: &mut Vec<Warning>) -> Option<Head> {
     let name_len_raw = file[pos] as i8;
     let id = file[pos + 1] as i8;
     let nlen = name_len_raw.unsigned_abs() as usize;
     let off_pos = pos + 2 + nlen;
-    // Records may run past the declared end (a known vendor fault) but never past the file.
-    let hard_end = file.len();
-    if off_pos + 2 > hard_end {
+    if off_pos + 2 > file.len() {
         warnings.push(Warning::new(
-            sec,
+            Section::Parameters,
             Some(pos),
             "record truncated by the end of the file; ignored",
         ));
-        return Ok(None);
+        return None;
     }
     let name = latin1(&file[pos + 2..off_pos]);
     let offset = p.read_i16([file[off_pos], file[off_pos + 1]]) as u16 as usize;
-    let body = off_pos + 2;
-    let mut next = if offset == 0 {
+    Some(Head {
+        pos,
+        name_len_raw,
+        id,
+        name,
+        off_pos,
+        offset,
+        body: off_pos + 2,
+    })
+}
+
+/// Where the next record starts (None: this is the last) and where this one's bytes stop:
+/// the offset as stored, or the end of the record's contents when the offset is wrong.
+fn record_bounds(
+    file: &[u8],
+    h: &Head,
+    end: usize,
+    warnings: &mut Vec<Warning>,
+) -> (Option<usize>, usize) {
+    let (sec, hard_end, body, what, name) =
+        (Section::Parameters, file.len(), h.body, h.what(), &h.name);
+    let mut next = if h.offset == 0 {
         None
     } else {
-        Some(off_pos + offset)
+        Some(h.off_pos + h.offset)
     };
-    let what = if id < 0 { "group" } else { "parameter" };
-
     // The body's natural length, to judge the offset against.
-    let natural_end = if id < 0 {
+    let natural_end = if h.id < 0 {
         body.checked_add(1)
             .filter(|&e| e <= hard_end)
             .map(|e| e + file[body] as usize)
@@ -203,14 +284,15 @@ fn parse_record(
     if let (Some(n), Some(nat)) = (next, natural_end) {
         // A wrong offset: the next record would start inside this one, or at garbage while a
         // real record follows right after this one's contents.
-        let inside = n < body + if id < 0 { 1 } else { 2 };
+        let inside = n < body + if h.id < 0 { 1 } else { 2 };
         if inside || (!plausible_record(file, n, hard_end) && plausible_record(file, nat, end)) {
             warnings.push(Warning::new(
                 sec,
-                Some(off_pos),
+                Some(h.off_pos),
                 format!(
-                    "{what} {name}: offset to next record ({offset}) is wrong; \
-                     using the end of its contents instead"
+                    "{what} {name}: offset to next record ({}) is wrong; \
+                     using the end of its contents instead",
+                    h.offset
                 ),
             ));
             next = Some(nat);
@@ -222,17 +304,35 @@ fn parse_record(
         (None, Some(nat)) => nat.min(hard_end),
         (None, None) => end,
     };
-    if rec_end > end && pos < end {
+    if rec_end > end && h.pos < end {
         warnings.push(Warning::new(
             sec,
-            Some(pos),
+            Some(h.pos),
             format!(
                 "{what} {name} extends past the end of the parameter section (byte {end}); read from the bytes that follow"
             ),
         ));
     }
-    let lim = rec_end.min(hard_end);
-    let record = if id < 0 {
+    (next, rec_end)
+}
+
+/// The group or parameter the record's body holds up to `lim`; `Ok(None)` when a
+/// parameter's body cannot be read.
+fn read_contents(
+    file: &[u8],
+    h: Head,
+    lim: usize,
+    p: Processor,
+    warnings: &mut Vec<Warning>,
+) -> Result<Option<Record>> {
+    let Head {
+        name_len_raw,
+        id,
+        name,
+        body,
+        ..
+    } = h;
+    Ok(Some(if id < 0 {
         let (description, _) = read_description(file, body, lim, &name, warnings);
         Record::Group(Group {
             id: id.unsigned_abs(),
@@ -256,35 +356,7 @@ fn parse_record(
             description,
             raw: None,
         })
-    };
-    let bytes = file[pos..lim].to_vec();
-    let canonical = encode_record(&record, p);
-    let raw = RawRecord {
-        bytes,
-        canonical,
-        index,
-    };
-    let record = match record {
-        Record::Group(mut g) => {
-            g.raw = Some(raw);
-            Record::Group(g)
-        }
-        Record::Parameter(mut prm) => {
-            prm.raw = Some(raw);
-            Record::Parameter(prm)
-        }
-    };
-    if let Some(n) = next {
-        if n > hard_end {
-            warnings.push(Warning::new(
-                sec,
-                Some(off_pos),
-                "offset to next record points past the end of the file",
-            ));
-            return Ok(Some((record, None, lim)));
-        }
-    }
-    Ok(Some((record, next, lim)))
+    }))
 }
 
 /// The natural end of a parameter body (type, dims, data, description) or None if unreadable.

@@ -293,29 +293,8 @@ impl Model {
         let mean_trj = Arc::clone(&frame.mean_trj);
         // Mean distance of each marker to the target over the frames both are recorded.
         let dists = frame.mean_distances(d.xyz, &valid, t.m, &target_ok);
-        let known: Vec<f64> = dists.iter().flatten().copied().collect();
-        let thresh = DISTAL_THRESHOLD * known.iter().sum::<f64>() / known.len().max(1) as f64;
-        // 2. The markers kept: the target, and every other marker that is near or recorded
-        // throughout, and recorded on each of the target's missing frames.
-        let missing: Vec<usize> = (0..n).filter(|&f| !target_ok[f]).collect();
-        let kept: Vec<usize> = (0..markers)
-            .filter(|&j| {
-                j == t.m
-                    || (dists[j].is_some_and(|x| x <= thresh || complete[j])
-                        && missing.iter().all(|&f| valid[j][f]))
-            })
-            .collect();
-        if kept.len() < 2 {
-            return Err(SkipReason::NoDonors);
-        }
-        let mut on_all = vec![true; n];
-        for &j in &kept {
-            on_all.iter_mut().zip(valid[j]).for_each(|(a, &v)| *a &= v);
-        }
-        let rows: Vec<usize> = (0..n).filter(|&f| on_all[f]).collect();
-        if rows.len() < 2 {
-            return Err(SkipReason::NoContext);
-        }
+        // 2. The markers kept, and the rows (frames) on which all of them are recorded.
+        let (missing, kept, on_all, rows) = kept_markers(t, &valid, &target_ok, &dists, complete)?;
         // 3. Weights from the same distances as step 2 (over the whole trial, as published).
         let sigma = WEIGHT_SCALE_MM / mm_per_unit;
         let w: Vec<f64> = kept
@@ -354,54 +333,7 @@ impl Model {
                 (mean, sd, components(&x, ti))
             }
         };
-        // The components kept: up to 99 % of the singular values' sum in either set, the
-        // larger count of the two plus one; only those eigenvectors are computed.
-        let kept_count = |vals: &[f64]| {
-            let sv: Vec<f64> = vals.iter().map(|v| v.max(0.0).sqrt()).collect();
-            let total: f64 = sv.iter().sum();
-            let mut acc = 0.0;
-            sv.iter()
-                .position(|v| {
-                    acc += v;
-                    acc >= MIN_CUM_SV * total
-                })
-                .unwrap_or(sv.len().saturating_sub(1))
-        };
-        let k = kept_count(no.values()).max(kept_count(zero.values())) + 1;
-        let signed = |mut vecs: DMatrix<f64>| {
-            // The published product (step 4) changes with the components' signs, which the
-            // decomposition leaves arbitrary: each is turned so that its largest coordinate is
-            // positive (the reference script does the same).
-            for mut v in vecs.column_iter_mut() {
-                let big = v
-                    .iter()
-                    .copied()
-                    .fold(0.0f64, |a, x| if x.abs() > a.abs() { x } else { a });
-                if big < 0.0 {
-                    v.neg_mut();
-                }
-            }
-            vecs
-        };
-        let p_no = signed(no.vectors(k));
-        let p_zero = signed(zero.vectors(k));
-        // T = P_noᵀ P_zero (k × k).
-        let tm = DMatrix::from_fn(k, k, |a, b| {
-            (0..cols)
-                .map(|c| p_no[(c, a)] * p_zero[(c, b)])
-                .sum::<f64>()
-        });
-        // The published product M_zeros · PC_zeros · T · PC_no_gapsᵀ read for the target's
-        // three columns only: (PC_no_gaps's target rows · Tᵀ · PC_zerosᵀ), 3 × cols, made
-        // once here, so a fill is three sums over a frame's row instead of the scores, T
-        // and the read-back per frame (on Facial-Sing, k 65 of 98 columns, the fills were a
-        // sixth of the process: `docs/price.md`). The same product to rounding.
-        let target_rows = p_no.rows(3 * ti, 3);
-        let read = (target_rows * tm.transpose()) * p_zero.transpose();
-        let read: Vec<f64> = (0..3)
-            .flat_map(|ax| (0..cols).map(move |c| (ax, c)))
-            .map(|(ax, c)| read[(ax, c)])
-            .collect();
+        let read = read_product(&no, &zero, cols, ti);
         Ok(Model {
             kept,
             ti,
@@ -464,6 +396,100 @@ impl Model {
         }
         Ok(out)
     }
+}
+
+/// The markers a model of `t` keeps: the target, and every other marker that is near
+/// (its mean distance `dists` within the distal threshold) or recorded throughout
+/// (`complete`), and recorded on each of the target's missing frames. Returns the target's
+/// missing frames, the markers kept, whether all kept markers are recorded at each frame,
+/// and those frames (the rows).
+#[allow(clippy::type_complexity)]
+fn kept_markers(
+    t: &Target,
+    valid: &[&[bool]],
+    target_ok: &[bool],
+    dists: &[Option<f64>],
+    complete: &[bool],
+) -> Result<(Vec<usize>, Vec<usize>, Vec<bool>, Vec<usize>), SkipReason> {
+    let (n, markers) = (t.data.frames, t.data.xyz.len());
+    let known: Vec<f64> = dists.iter().flatten().copied().collect();
+    let thresh = DISTAL_THRESHOLD * known.iter().sum::<f64>() / known.len().max(1) as f64;
+    // The markers kept: the target, and every other marker that is near or recorded
+    // throughout, and recorded on each of the target's missing frames.
+    let missing: Vec<usize> = (0..n).filter(|&f| !target_ok[f]).collect();
+    let kept: Vec<usize> = (0..markers)
+        .filter(|&j| {
+            j == t.m
+                || (dists[j].is_some_and(|x| x <= thresh || complete[j])
+                    && missing.iter().all(|&f| valid[j][f]))
+        })
+        .collect();
+    if kept.len() < 2 {
+        return Err(SkipReason::NoDonors);
+    }
+    let mut on_all = vec![true; n];
+    for &j in &kept {
+        on_all.iter_mut().zip(valid[j]).for_each(|(a, &v)| *a &= v);
+    }
+    let rows: Vec<usize> = (0..n).filter(|&f| on_all[f]).collect();
+    if rows.len() < 2 {
+        return Err(SkipReason::NoContext);
+    }
+    Ok((missing, kept, on_all, rows))
+}
+
+/// The product a fill reads from the components of both sets (`no`: without the gaps,
+/// `zero`: with them), for the target's three columns (`ti`, of `cols`): the components
+/// kept, each turned to a sign, and the published product reduced to 3 × `cols`.
+fn read_product(no: &Components, zero: &Components, cols: usize, ti: usize) -> Vec<f64> {
+    // The components kept: up to 99 % of the singular values' sum in either set, the
+    // larger count of the two plus one; only those eigenvectors are computed.
+    let kept_count = |vals: &[f64]| {
+        let sv: Vec<f64> = vals.iter().map(|v| v.max(0.0).sqrt()).collect();
+        let total: f64 = sv.iter().sum();
+        let mut acc = 0.0;
+        sv.iter()
+            .position(|v| {
+                acc += v;
+                acc >= MIN_CUM_SV * total
+            })
+            .unwrap_or(sv.len().saturating_sub(1))
+    };
+    let k = kept_count(no.values()).max(kept_count(zero.values())) + 1;
+    let signed = |mut vecs: DMatrix<f64>| {
+        // The published product (step 4) changes with the components' signs, which the
+        // decomposition leaves arbitrary: each is turned so that its largest coordinate is
+        // positive (the reference script does the same).
+        for mut v in vecs.column_iter_mut() {
+            let big = v
+                .iter()
+                .copied()
+                .fold(0.0f64, |a, x| if x.abs() > a.abs() { x } else { a });
+            if big < 0.0 {
+                v.neg_mut();
+            }
+        }
+        vecs
+    };
+    let p_no = signed(no.vectors(k));
+    let p_zero = signed(zero.vectors(k));
+    // T = P_noᵀ P_zero (k × k).
+    let tm = DMatrix::from_fn(k, k, |a, b| {
+        (0..cols)
+            .map(|c| p_no[(c, a)] * p_zero[(c, b)])
+            .sum::<f64>()
+    });
+    // The published product M_zeros · PC_zeros · T · PC_no_gapsᵀ read for the target's
+    // three columns only: (PC_no_gaps's target rows · Tᵀ · PC_zerosᵀ), 3 × cols, made
+    // once here, so a fill is three sums over a frame's row instead of the scores, T
+    // and the read-back per frame (on Facial-Sing, k 65 of 98 columns, the fills were a
+    // sixth of the process: `docs/price.md`). The same product to rounding.
+    let target_rows = p_no.rows(3 * ti, 3);
+    let read = (target_rows * tm.transpose()) * p_zero.transpose();
+    (0..3)
+        .flat_map(|ax| (0..cols).map(move |c| (ax, c)))
+        .map(|(ax, c)| read[(ax, c)])
+        .collect()
 }
 
 /// The principal components of `x`'s columns, and of the same with kept marker `ti`'s

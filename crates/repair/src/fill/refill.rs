@@ -112,48 +112,63 @@ pub(crate) fn fill_gaps(
             if !near_filled(&plan, span) {
                 return r;
             }
-            match (fill_planned(&t, span, &plan, opts, vetting), r) {
-                // The expected error is the first pass's evidence, marked as refilled (the
-                // calibration learns how much better a refill does than that evidence
-                // says): the second pass's own artificial gaps are scored with recorded
-                // donors where the real gap has filled ones, so its own estimate is
-                // over-confident (on the corpus evaluation, 10 % of gaps above twice
-                // their estimate instead of 5 %).
-                // A refill whose estimate is above `max_expected_error` (it leans on fills
-                // less sure than the recorded donors of the first pass) gives way to the
-                // first pass's fill, which its estimate vouched for.
-                // A gap the first pass could not fill keeps the second pass's own.
-                ((Some(v), again, own), (v1, first, diag)) => match (&first, diag) {
-                    (FillOutcome::Filled { .. }, Some(d1)) => {
-                        let (donor_err, share) = filled_donors(&plan, g, &filled, valid);
-                        let d = auto::Diag {
-                            refilled: true,
-                            donor_err: donor_err.map(|e| e / d1.scored.max(1e-12)),
-                            share,
-                            rescored: own.map(|o| o.scored / d1.scored.max(1e-12)),
-                            respread: own.map(|o| o.spread / d1.spread.max(1e-12)),
-                            // The fill written is the second pass's.
-                            slowed: own.map_or(d1.slowed, |o| o.slowed),
-                            ..d1
-                        };
-                        let e = auto::calibrated(&d);
-                        if opts.max_expected_error.is_some_and(|max| e > max) {
-                            (v1, first, Some(d1))
-                        } else {
-                            (Some(v), again.with_expected_error(Some(e)), Some(d))
-                        }
-                    }
-                    (FillOutcome::Filled { expected_error, .. }, None) => {
-                        (Some(v), again.with_expected_error(*expected_error), None)
-                    }
-                    _ => (Some(v), again, own),
-                },
-                (_, r) => r,
-            }
+            let again = fill_planned(&t, span, &plan, opts, vetting);
+            refill_kept(again, r, (&plan, g), &filled, valid, opts)
         })
         .collect();
     write(xyz, &out);
     out
+}
+
+/// The fill a refilled gap keeps: the second pass's (`again`), with the first pass's
+/// (`r`) evidence as its expected error, unless that estimate is above
+/// `max_expected_error`; the first pass's fill when the second could not fill the gap.
+fn refill_kept(
+    again: GapFill,
+    r: GapFill,
+    (plan, g): (&Plan, &Gap),
+    filled: &[Vec<(usize, usize, Option<f64>)>],
+    valid: &[Vec<bool>],
+    opts: &FillOptions,
+) -> GapFill {
+    match (again, r) {
+        // The expected error is the first pass's evidence, marked as refilled (the
+        // calibration learns how much better a refill does than that evidence
+        // says): the second pass's own artificial gaps are scored with recorded
+        // donors where the real gap has filled ones, so its own estimate is
+        // over-confident (on the corpus evaluation, 10 % of gaps above twice
+        // their estimate instead of 5 %).
+        // A refill whose estimate is above `max_expected_error` (it leans on fills
+        // less sure than the recorded donors of the first pass) gives way to the
+        // first pass's fill, which its estimate vouched for.
+        // A gap the first pass could not fill keeps the second pass's own.
+        ((Some(v), again, own), (v1, first, diag)) => match (&first, diag) {
+            (FillOutcome::Filled { .. }, Some(d1)) => {
+                let (donor_err, share) = filled_donors(plan, g, filled, valid);
+                let d = auto::Diag {
+                    refilled: true,
+                    donor_err: donor_err.map(|e| e / d1.scored.max(1e-12)),
+                    share,
+                    rescored: own.map(|o| o.scored / d1.scored.max(1e-12)),
+                    respread: own.map(|o| o.spread / d1.spread.max(1e-12)),
+                    // The fill written is the second pass's.
+                    slowed: own.map_or(d1.slowed, |o| o.slowed),
+                    ..d1
+                };
+                let e = auto::calibrated(&d);
+                if opts.max_expected_error.is_some_and(|max| e > max) {
+                    (v1, first, Some(d1))
+                } else {
+                    (Some(v), again.with_expected_error(Some(e)), Some(d))
+                }
+            }
+            (FillOutcome::Filled { expected_error, .. }, None) => {
+                (Some(v), again.with_expected_error(*expected_error), None)
+            }
+            _ => (Some(v), again, own),
+        },
+        (_, r) => r,
+    }
 }
 
 /// What a refilled gap leans on: the largest first-pass score (mean error on artificial

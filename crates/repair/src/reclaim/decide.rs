@@ -6,8 +6,8 @@
 //! marker's gap). Costs are compared with a floor of 0.02 tolerances², so that two pieces
 //! fitting within the noise are not told apart by it.
 
-use super::score::Verdict;
-use super::{Fit, Move, Piece, ReclaimOptions, Reclaims, Unsettled, Why};
+use super::finds::Verdict;
+use super::finds::{Fit, Move, Piece, ReclaimOptions, Reclaims, Unsettled, Why};
 
 /// Cost floor of the comparison (mean squared residual in tolerances).
 const FLOOR: f64 = 0.02;

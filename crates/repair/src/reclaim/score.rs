@@ -1,42 +1,9 @@
 //! One piece against the evidence: its samples against the marker's segment distances,
 //! frame by frame, and its ends against the marker's own path.
 
-use super::{Piece, ReclaimOptions};
+use super::finds::{Fit, Piece, ReclaimOptions, Verdict};
 use crate::swaps::Link;
 use crate::Trial;
-use serde::Serialize;
-
-/// How a piece fits the marker it is judged for.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Fit {
-    /// What the evidence says.
-    pub verdict: Verdict,
-    /// Mean squared link residual, in tolerances (each residual counted up to 10).
-    pub cost: f64,
-    /// Root mean square of the link residuals, mm.
-    pub rms_mm: f64,
-    /// Frames checked by at least [`ReclaimOptions::min_links`] links.
-    pub checked_frames: usize,
-    /// Link checks made, and those beyond the link's tolerance.
-    pub checks: usize,
-    pub fails: usize,
-    /// The largest distance of the piece's end samples from the marker's path, mm, where
-    /// the path could be carried to them (`None`: at neither end).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub path_mm: Option<f64>,
-}
-
-/// The evidence's word on a piece.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Verdict {
-    /// The links and the path agree: a candidate.
-    Fits,
-    /// The path fits, too few frames could be checked against the segment.
-    FewLinks,
-    /// Something says it is another point.
-    Off,
-}
 
 fn dist(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()

@@ -63,7 +63,7 @@ fn a_cut_fragment_goes_back_to_its_marker_past_a_ghost_and_a_reflection() {
         (m.piece.marker, m.piece.source, m.piece.first, m.piece.last),
         (0, 0, 100, 140)
     );
-    assert_eq!(m.fit.verdict, score::Verdict::Fits);
+    assert_eq!(m.fit.verdict, Verdict::Fits);
     assert!(m.fit.rms_mm < 1e-6, "{:?}", m.fit);
     assert!(r.unsettled.is_empty(), "{:?}", r.unsettled);
 }

@@ -158,6 +158,9 @@ fn draw<DB: DrawingBackend>(plot: &Plot, root: &DrawingArea<DB, Shift>) -> Resul
     Ok(())
 }
 
+/// One axis of one marker in its panel: the shown trajectory (and the original under a
+/// repair), its gaps, the samples filled, filtered and removed as spikes, the events, and
+/// the legend when asked.
 fn draw_axis<DB: DrawingBackend>(
     plot: &Plot,
     m: &MarkerPlot,
@@ -204,6 +207,38 @@ fn draw_axis<DB: DrawingBackend>(
         .draw()
         .map_err(err)?;
 
+    let at = Across { x0, dx, columns };
+    draw_gaps(&mut chart, m, at, (lo, hi))?;
+    draw_lines(&mut chart, m, at, &shown_v, orig_v.as_deref())?;
+    draw_marks(&mut chart, m, at, n, &shown_v, orig_v.as_deref())?;
+    draw_events(&mut chart, &plot.events, (x0, t1), (lo, hi), axis == 0)?;
+    if legend {
+        draw_legend(&mut chart)?;
+    }
+    Ok(())
+}
+
+/// A panel's chart: time across, values up.
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// Where a panel's samples go across it: the first sample's time, the time between samples,
+/// and the panel's width in pixels (lines and marks are thinned to what it shows).
+#[derive(Clone, Copy)]
+struct Across {
+    x0: f64,
+    dx: f64,
+    columns: usize,
+}
+
+/// The marker's gaps as shaded spans over the panel's height (`lo..hi`).
+fn draw_gaps<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    m: &MarkerPlot,
+    at: Across,
+    (lo, hi): (f64, f64),
+) -> Result<()> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| Error::Draw(e.to_string());
+    let Across { x0, dx, columns } = at;
     let shade = RGBColor(0, 0, 0).mix(0.10).filled();
     let gap_label = if m.original.is_some() {
         "gap in original"
@@ -226,6 +261,19 @@ fn draw_axis<DB: DrawingBackend>(
             .label(gap_label)
             .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 16, y + 5)], shade));
     }
+    Ok(())
+}
+
+/// The shown trajectory's line and, under a repair, the original's.
+fn draw_lines<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    m: &MarkerPlot,
+    at: Across,
+    shown_v: &[f32],
+    orig_v: Option<&[f32]>,
+) -> Result<()> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| Error::Draw(e.to_string());
+    let Across { x0, dx, columns } = at;
     let line = |v: &[f32], ok: &[bool]| decimate::polylines(x0, dx, v, ok, columns);
     // The repaired line goes under the original, wider, so both show where they agree.
     let (colour, label, width) = if m.original.is_some() {
@@ -235,14 +283,14 @@ fn draw_axis<DB: DrawingBackend>(
     };
     chart
         .draw_series(
-            line(&shown_v, &m.shown.valid)
+            line(shown_v, &m.shown.valid)
                 .into_iter()
                 .map(move |p| PathElement::new(p, colour.stroke_width(width))),
         )
         .map_err(err)?
         .label(label)
         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], colour.stroke_width(2)));
-    if let (Some(o), Some(ov)) = (&m.original, &orig_v) {
+    if let (Some(o), Some(ov)) = (&m.original, orig_v) {
         chart
             .draw_series(
                 line(ov, &o.valid)
@@ -253,6 +301,21 @@ fn draw_axis<DB: DrawingBackend>(
             .label("original")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], ORIGINAL.stroke_width(2)));
     }
+    Ok(())
+}
+
+/// The samples filled and filtered on the shown line, and those removed as spikes on the
+/// original's, thinned to what the panel's `n` samples across its width can show.
+fn draw_marks<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    m: &MarkerPlot,
+    at: Across,
+    n: usize,
+    shown_v: &[f32],
+    orig_v: Option<&[f32]>,
+) -> Result<()> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| Error::Draw(e.to_string());
+    let Across { x0, dx, columns } = at;
     let filled = decimate::thin(&m.filled, n, columns / 3);
     if !filled.is_empty() {
         chart
@@ -279,7 +342,7 @@ fn draw_axis<DB: DrawingBackend>(
             .label("filtered")
             .legend(|(x, y)| Circle::new((x + 8, y), 2, ORIGINAL.filled()));
     }
-    if let Some(ov) = &orig_v {
+    if let Some(ov) = orig_v {
         let spikes = decimate::thin(&m.spikes, n, columns / 3);
         if !spikes.is_empty() {
             chart
@@ -290,10 +353,6 @@ fn draw_axis<DB: DrawingBackend>(
                 .label("removed as spike")
                 .legend(|(x, y)| Cross::new((x + 8, y), 4, SPIKE.stroke_width(2)));
         }
-    }
-    draw_events(&mut chart, &plot.events, (x0, t1), (lo, hi), axis == 0)?;
-    if legend {
-        draw_legend(&mut chart)?;
     }
     Ok(())
 }

@@ -71,15 +71,7 @@ pub(super) fn score(
     fills: &mut Vec<(FillMethod, Vec<[f64; 3]>)>,
     kinds: &mut Vec<Kind>,
 ) -> Scores {
-    let Scoring {
-        t,
-        plan,
-        plans,
-        opts,
-        wide_plan,
-        wide_opts,
-        real_sk,
-    } = *ctx;
+    let t = ctx.t;
     // preds[c]: candidate c's predictions over the artificial gaps where every candidate
     // succeeded (so all are compared on the same samples), truth: the true samples.
     let mut preds: Vec<Vec<[f64; 3]>> = vec![Vec::new(); fills.len()];
@@ -95,111 +87,14 @@ pub(super) fn score(
     let mut drift_holes = [(0.0, 0usize); 3];
     for tr in trials {
         if scored == first_look && fills.len() > 1 {
-            let err: Vec<f64> = preds
-                .iter()
-                .map(|p| p.iter().zip(&truth).map(|(a, b)| dist(*a, *b)).sum::<f64>())
-                .collect();
-            // The runner-up stays whatever its score: how far the two best fills of the
-            // real gap are apart is the expected error's best evidence, lost with it.
-            let mut sorted = err.clone();
-            sorted.sort_by(f64::total_cmp);
-            let cut = (PRUNE * sorted[0]).max(sorted[1]);
-            let keep: Vec<bool> = err.iter().map(|&e| e <= cut).collect();
-            if keep.iter().any(|k| !k) {
-                let mut k = keep.iter();
-                fills.retain(|_| *k.next().unwrap_or(&true));
-                let mut k = keep.iter();
-                preds.retain(|_| *k.next().unwrap_or(&true));
-                let mut k = keep.iter();
-                kinds.retain(|_| *k.next().unwrap_or(&true));
-            }
+            prune(fills, &mut preds, kinds, &truth);
         }
         let tt = Target {
             m: tr.m,
             hole: Some(tr.hole),
             data: t.data,
         };
-        let p = tr.plan.map_or(plan, |i| &plans[i]);
-        let mut got: Vec<Vec<[f64; 3]>> = Vec::with_capacity(fills.len());
-        let mut sk: Option<Option<Skeleton>> = None;
-        // Each donor method's raw prediction of this trial, shared by its variants.
-        let mut raws: Vec<(FillMethod, Option<Raw>)> = Vec::new();
-        for (c, (m, _)) in fills.iter().enumerate() {
-            // A constrained candidate follows its method's plain fill of this trial.
-            let kind = kinds[c];
-            let base = if kind.skel {
-                (0..c).find(|&b| {
-                    let k = kinds[b];
-                    !k.skel && !k.smooth && !k.wide && fills[b].0 == *m
-                })
-            } else {
-                None
-            };
-            // The wide model on the target's own holes; elsewhere (or where its donors are
-            // not valid) it is scored as the plain PCA fill.
-            let method = if kind.wide {
-                Method::PcaWide
-            } else {
-                Method::of(*m)
-            };
-            let time = profile::time(Work::Scored(method));
-            let wide_fill = match (&wide_plan, kind.wide, tr.plan) {
-                (Some(w), true, None) => fill_raw(*m, &tt, tr.span, w, wide_opts, 1)
-                    .ok()
-                    .map(|r| r.anchored(tr.span)),
-                _ => None,
-            };
-            let made = match base {
-                Some(b) => Ok(got[b].clone()),
-                None if wide_fill.is_some() => Ok(wide_fill.unwrap_or_default()),
-                None if m.is_donor() => {
-                    let i = match raws.iter().position(|r| r.0 == *m) {
-                        Some(i) => i,
-                        None => {
-                            let ctx = if kinds
-                                .iter()
-                                .zip(fills.iter())
-                                .any(|(k, f)| k.smooth && f.0 == *m)
-                            {
-                                RESID_NODES
-                            } else {
-                                1
-                            };
-                            raws.push((*m, fill_raw(*m, &tt, tr.span, p, opts, ctx).ok()));
-                            raws.len() - 1
-                        }
-                    };
-                    match &raws[i].1 {
-                        Some(r) if kind.smooth => {
-                            Ok(r.smoothed(tr.span).unwrap_or_else(|| r.anchored(tr.span)))
-                        }
-                        Some(r) => Ok(r.anchored(tr.span)),
-                        None => Err(()),
-                    }
-                }
-                None => fill_with(*m, &tt, tr.span, p, opts).map_err(|_| ()),
-            };
-            drop(time);
-            let Ok(mut v) = made else {
-                break;
-            };
-            if kind.skel {
-                let s = sk.get_or_insert_with(|| match (tr.plan, &real_sk) {
-                    (None, Some(r)) => r.without(tr.hole, tr.span.len()),
-                    _ => Skeleton::new(&tt, tr.span, p, opts),
-                });
-                if let Some(s) = s {
-                    s.apply(&tt, tr.span, &mut v);
-                }
-            }
-            // Scored as it would be used: slowed down where it is too fast.
-            if step_ratio(&tt, tr.span, &v) > STEP_FACTOR {
-                if let Some(d) = slowed(&tt, tr.span, &v) {
-                    v = d;
-                }
-            }
-            got.push(v);
-        }
+        let (got, raws) = hole_fills(ctx, tr, &tt, fills, kinds);
         if got.len() < fills.len() {
             continue;
         }
@@ -227,6 +122,139 @@ pub(super) fn score(
         bend_holes,
         drift_holes,
     }
+}
+
+/// Drops the candidates already far behind the best on the holes scored so far (their
+/// predictions `preds` against `truth`) from every list.
+fn prune(
+    fills: &mut Vec<(FillMethod, Vec<[f64; 3]>)>,
+    preds: &mut Vec<Vec<[f64; 3]>>,
+    kinds: &mut Vec<Kind>,
+    truth: &[[f64; 3]],
+) {
+    let err: Vec<f64> = preds
+        .iter()
+        .map(|p| p.iter().zip(truth).map(|(a, b)| dist(*a, *b)).sum::<f64>())
+        .collect();
+    // The runner-up stays whatever its score: how far the two best fills of the
+    // real gap are apart is the expected error's best evidence, lost with it.
+    let mut sorted = err.clone();
+    sorted.sort_by(f64::total_cmp);
+    let cut = (PRUNE * sorted[0]).max(sorted[1]);
+    let keep: Vec<bool> = err.iter().map(|&e| e <= cut).collect();
+    if keep.iter().any(|k| !k) {
+        let mut k = keep.iter();
+        fills.retain(|_| *k.next().unwrap_or(&true));
+        let mut k = keep.iter();
+        preds.retain(|_| *k.next().unwrap_or(&true));
+        let mut k = keep.iter();
+        kinds.retain(|_| *k.next().unwrap_or(&true));
+    }
+}
+
+/// Every candidate's fill of the artificial hole `tr` (the trial `tt` with the hole made),
+/// in the order of `fills`, scored as it would be used; it stops at the first candidate
+/// that cannot fill it. With the fills, each donor method's raw prediction, shared by its
+/// variants.
+#[allow(clippy::type_complexity)]
+fn hole_fills(
+    ctx: &Scoring,
+    tr: &Trial,
+    tt: &Target,
+    fills: &[(FillMethod, Vec<[f64; 3]>)],
+    kinds: &[Kind],
+) -> (Vec<Vec<[f64; 3]>>, Vec<(FillMethod, Option<Raw>)>) {
+    let Scoring {
+        plan,
+        plans,
+        opts,
+        wide_plan,
+        wide_opts,
+        real_sk,
+        ..
+    } = *ctx;
+    let p = tr.plan.map_or(plan, |i| &plans[i]);
+    let mut got: Vec<Vec<[f64; 3]>> = Vec::with_capacity(fills.len());
+    let mut sk: Option<Option<Skeleton>> = None;
+    // Each donor method's raw prediction of this trial, shared by its variants.
+    let mut raws: Vec<(FillMethod, Option<Raw>)> = Vec::new();
+    for (c, (m, _)) in fills.iter().enumerate() {
+        // A constrained candidate follows its method's plain fill of this trial.
+        let kind = kinds[c];
+        let base = if kind.skel {
+            (0..c).find(|&b| {
+                let k = kinds[b];
+                !k.skel && !k.smooth && !k.wide && fills[b].0 == *m
+            })
+        } else {
+            None
+        };
+        // The wide model on the target's own holes; elsewhere (or where its donors are
+        // not valid) it is scored as the plain PCA fill.
+        let method = if kind.wide {
+            Method::PcaWide
+        } else {
+            Method::of(*m)
+        };
+        let time = profile::time(Work::Scored(method));
+        let wide_fill = match (&wide_plan, kind.wide, tr.plan) {
+            (Some(w), true, None) => fill_raw(*m, tt, tr.span, w, wide_opts, 1)
+                .ok()
+                .map(|r| r.anchored(tr.span)),
+            _ => None,
+        };
+        let made = match base {
+            Some(b) => Ok(got[b].clone()),
+            None if wide_fill.is_some() => Ok(wide_fill.unwrap_or_default()),
+            None if m.is_donor() => {
+                let i = match raws.iter().position(|r| r.0 == *m) {
+                    Some(i) => i,
+                    None => {
+                        let ctx = if kinds
+                            .iter()
+                            .zip(fills.iter())
+                            .any(|(k, f)| k.smooth && f.0 == *m)
+                        {
+                            RESID_NODES
+                        } else {
+                            1
+                        };
+                        raws.push((*m, fill_raw(*m, tt, tr.span, p, opts, ctx).ok()));
+                        raws.len() - 1
+                    }
+                };
+                match &raws[i].1 {
+                    Some(r) if kind.smooth => {
+                        Ok(r.smoothed(tr.span).unwrap_or_else(|| r.anchored(tr.span)))
+                    }
+                    Some(r) => Ok(r.anchored(tr.span)),
+                    None => Err(()),
+                }
+            }
+            None => fill_with(*m, tt, tr.span, p, opts).map_err(|_| ()),
+        };
+        drop(time);
+        let Ok(mut v) = made else {
+            break;
+        };
+        if kind.skel {
+            let s = sk.get_or_insert_with(|| match (tr.plan, &real_sk) {
+                (None, Some(r)) => r.without(tr.hole, tr.span.len()),
+                _ => Skeleton::new(tt, tr.span, p, opts),
+            });
+            if let Some(s) = s {
+                s.apply(tt, tr.span, &mut v);
+            }
+        }
+        // Scored as it would be used: slowed down where it is too fast.
+        if step_ratio(tt, tr.span, &v) > STEP_FACTOR {
+            if let Some(d) = slowed(tt, tr.span, &v) {
+                v = d;
+            }
+        }
+        got.push(v);
+    }
+    (got, raws)
 }
 
 /// The span of an artificial hole `a..=b`, one-sided like the real gap when that touches

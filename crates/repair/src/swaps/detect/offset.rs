@@ -9,7 +9,7 @@
 //! reconstruction settling do not: their leaps do not cancel, or the partners move with
 //! the marker, or the offset drifts.
 
-use super::{norm, Ctx};
+use super::context::{median, norm, Ctx};
 use crate::linalg::kabsch;
 use nalgebra::{Rotation3, Vector3};
 
@@ -121,7 +121,7 @@ impl Ctx<'_> {
         if departures.is_empty() {
             return None;
         }
-        let q = super::median(departures);
+        let q = median(departures);
         let steady = ((STEADY_NONE - q) / (STEADY_NONE - STEADY_FULL)).clamp(0.0, 1.0);
         Some(Offset {
             closure,

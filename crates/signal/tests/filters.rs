@@ -1,7 +1,7 @@
 //! Filter designs and filtfilt against scipy's numbers (reference/make_reference.py).
 
-use repair::Iir;
 use serde_json::Value;
+use signal::Iir;
 
 fn reference() -> Value {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/filters.json");
@@ -91,7 +91,7 @@ fn filtfilt_refuses_padlen_samples() {
     let mut x = vec![1.0; 15];
     assert!(matches!(
         f.filtfilt(&mut x),
-        Err(repair::RepairError::TooShort {
+        Err(signal::FilterError::TooShort {
             len: 15,
             padlen: 15
         })

@@ -1,18 +1,40 @@
-//! Low-pass IIR filters designed as scipy.signal designs them, applied zero-phase as
-//! scipy.signal.filtfilt applies them, so results can be checked against scipy's numbers.
+//! Zero-phase IIR filters: two designs run through one forward-backward implementation
+//! (`filtfilt.rs`'s `zero_phase`: the odd extension, the pass forward, the pass backward).
+//!
+//!
+//! - [`Iir`]: low-pass Butterworth and Chebyshev II of any order up to [`MAX_ORDER`],
+//!   designed as scipy.signal designs them and applied as scipy.signal.filtfilt applies them
+//!   (its padding, its initial conditions, its refusal of short signals), so results can be
+//!   checked against scipy's numbers. Repair's low-pass stage and the plates' filter run it.
+//! - [`Section`]: one second-order Butterworth section (low- or high-pass) run forward and
+//!   backward, the "4th-order zero-lag" filter of Winter and the gait papers, over each
+//!   finite run of a signal with gaps. Gait's event methods run it.
+//!
+//! Why two and not one: they differ in their numbers, and each caller's outputs (the
+//! repaired files, the events) were made with its own. The section's coefficients are the
+//! closed form of the bilinear transform, not scipy's zeros-poles-gain path (equal in exact
+//! arithmetic, not in the last bits); it pads by three periods of the cut-off rather than
+//! scipy's `3 * max(len(a), len(b))` samples, so a low cut-off's start-up transient still
+//! falls outside the samples kept, and shortens the padding to fit a short run instead of
+//! refusing it, since a foot's run between gaps may be short; and it filters in direct form
+//! I from the first sample's steady state, where scipy's runs direct form II transposed from
+//! `lfilter_zi`. Both share the odd extension and the forward-backward passes.
 
 mod butterworth;
 mod chebyshev2;
 mod filtfilt;
+mod section;
 
 use nalgebra::Complex;
 use serde::Serialize;
 
-use crate::error::{RepairError, Result};
+use crate::error::FilterError;
 
 pub use filtfilt::{lfilter_zi, padlen};
+pub use section::{zero_lag, Pass, Section};
 
 type C64 = Complex<f64>;
+type Result<T> = std::result::Result<T, FilterError>;
 
 /// Highest filter order. The filters run in transfer-function form (as scipy's `filtfilt`
 /// with `b, a`), whose coefficients lose precision as the order grows; beyond this the
@@ -22,66 +44,6 @@ pub const MAX_ORDER: usize = 10;
 /// Highest Chebyshev II stopband attenuation, in dB: 200 dB is a ratio of 1e10, well inside
 /// what double precision resolves.
 pub const MAX_ATTEN_DB: f64 = 200.0;
-
-/// Which low-pass filter to run over each continuous valid segment. The sample rate comes
-/// from the trial, so one spec serves trials recorded at different rates.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-pub enum FilterSpec {
-    /// Butterworth (scipy.signal.butter); `cutoff_hz` is the -3 dB frequency.
-    Butterworth { order: usize, cutoff_hz: f64 },
-    /// Chebyshev type II (scipy.signal.cheby2); `cutoff_hz` is the stopband edge, where the
-    /// attenuation first reaches `atten_db`.
-    Cheby2 {
-        order: usize,
-        cutoff_hz: f64,
-        atten_db: f64,
-    },
-}
-
-impl FilterSpec {
-    /// Checks what can be checked without the sample rate.
-    pub fn validate(&self) -> Result<()> {
-        let (order, cutoff) = match *self {
-            FilterSpec::Butterworth { order, cutoff_hz } => (order, cutoff_hz),
-            FilterSpec::Cheby2 {
-                order,
-                cutoff_hz,
-                atten_db,
-            } => {
-                if !(atten_db > 0.0 && atten_db <= MAX_ATTEN_DB) {
-                    return Err(RepairError::Attenuation {
-                        atten_db,
-                        max: MAX_ATTEN_DB,
-                    });
-                }
-                (order, cutoff_hz)
-            }
-        };
-        if !(1..=MAX_ORDER).contains(&order) {
-            return Err(RepairError::FilterOrder {
-                order,
-                max: MAX_ORDER,
-            });
-        }
-        if !(cutoff > 0.0 && cutoff.is_finite()) {
-            return Err(RepairError::CutoffNotPositive(cutoff));
-        }
-        Ok(())
-    }
-
-    /// The digital filter for sample rate `fs`.
-    pub fn design(&self, fs: f64) -> Result<Iir> {
-        match *self {
-            FilterSpec::Butterworth { order, cutoff_hz } => Iir::butterworth(order, cutoff_hz, fs),
-            FilterSpec::Cheby2 {
-                order,
-                cutoff_hz,
-                atten_db,
-            } => Iir::cheby2(order, cutoff_hz, atten_db, fs),
-        }
-    }
-}
 
 /// A digital filter in transfer-function form: `b` numerator, `a` denominator, `a[0] == 1`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -101,12 +63,7 @@ impl Iir {
     /// Low-pass Chebyshev type II with stopband edge `cutoff_hz` and `atten_db` of stopband
     /// attenuation, as `scipy.signal.cheby2`.
     pub fn cheby2(order: usize, cutoff_hz: f64, atten_db: f64, fs: f64) -> Result<Iir> {
-        if !(atten_db > 0.0 && atten_db <= MAX_ATTEN_DB) {
-            return Err(RepairError::Attenuation {
-                atten_db,
-                max: MAX_ATTEN_DB,
-            });
-        }
+        check_attenuation(atten_db)?;
         let wn = normalized_cutoff(order, cutoff_hz, fs)?;
         let (z, p, k) = chebyshev2::prototype(order, atten_db);
         Ok(digital_lowpass(z, p, k, wn))
@@ -124,20 +81,38 @@ impl Iir {
     }
 }
 
-/// Cutoff as a fraction of Nyquist, validated as scipy's iirfilter does.
-fn normalized_cutoff(order: usize, cutoff_hz: f64, fs: f64) -> Result<f64> {
+/// A Chebyshev II attenuation within what the design resolves (above 0, at most
+/// [`MAX_ATTEN_DB`]).
+pub fn check_attenuation(atten_db: f64) -> Result<()> {
+    if !(atten_db > 0.0 && atten_db <= MAX_ATTEN_DB) {
+        return Err(FilterError::Attenuation {
+            atten_db,
+            max: MAX_ATTEN_DB,
+        });
+    }
+    Ok(())
+}
+
+/// An order the designs accept (1 to [`MAX_ORDER`]).
+pub fn check_order(order: usize) -> Result<()> {
     if !(1..=MAX_ORDER).contains(&order) {
-        return Err(RepairError::FilterOrder {
+        return Err(FilterError::FilterOrder {
             order,
             max: MAX_ORDER,
         });
     }
+    Ok(())
+}
+
+/// Cutoff as a fraction of Nyquist, validated as scipy's iirfilter does.
+fn normalized_cutoff(order: usize, cutoff_hz: f64, fs: f64) -> Result<f64> {
+    check_order(order)?;
     if !(fs > 0.0 && fs.is_finite()) {
-        return Err(RepairError::SampleRate(fs));
+        return Err(FilterError::SampleRate(fs));
     }
     let wn = 2.0 * cutoff_hz / fs;
     if !(wn > 0.0 && wn < 1.0) {
-        return Err(RepairError::Cutoff {
+        return Err(FilterError::Cutoff {
             cutoff_hz,
             nyquist_hz: fs / 2.0,
         });
@@ -193,44 +168,29 @@ mod tests {
     fn invalid_designs_are_typed_errors() {
         assert_eq!(
             Iir::butterworth(0, 6.0, 100.0),
-            Err(RepairError::FilterOrder {
+            Err(FilterError::FilterOrder {
                 order: 0,
                 max: MAX_ORDER
             })
         );
         assert!(matches!(
             Iir::butterworth(4, 50.0, 100.0),
-            Err(RepairError::Cutoff { .. })
+            Err(FilterError::Cutoff { .. })
         ));
         assert!(matches!(
             Iir::butterworth(4, 0.0, 100.0),
-            Err(RepairError::Cutoff { .. })
+            Err(FilterError::Cutoff { .. })
         ));
         assert!(matches!(
             Iir::butterworth(4, 6.0, 0.0),
-            Err(RepairError::SampleRate(_))
+            Err(FilterError::SampleRate(_))
         ));
         assert_eq!(
             Iir::cheby2(4, 6.0, 0.0, 100.0),
-            Err(RepairError::Attenuation {
+            Err(FilterError::Attenuation {
                 atten_db: 0.0,
                 max: MAX_ATTEN_DB
             })
-        );
-        assert!(FilterSpec::Cheby2 {
-            order: 2,
-            cutoff_hz: 6.0,
-            atten_db: -3.0
-        }
-        .validate()
-        .is_err());
-        assert_eq!(
-            FilterSpec::Butterworth {
-                order: 2,
-                cutoff_hz: -1.0
-            }
-            .validate(),
-            Err(RepairError::CutoffNotPositive(-1.0))
         );
     }
 

@@ -1,7 +1,27 @@
-//! scipy.signal.filtfilt with its defaults: odd extension of padlen samples at each end,
-//! lfilter_zi initial conditions scaled by the first sample, forward then backward pass.
+//! The one forward-backward filtering ([`zero_phase`]) both designs run through, and
+//! scipy.signal.filtfilt with its defaults on top of it: odd extension of padlen samples at
+//! each end, lfilter_zi initial conditions scaled by the first sample, forward then backward
+//! pass.
 
-use crate::error::{RepairError, Result};
+use crate::error::FilterError;
+
+/// Zero-phase filtering of `x` in place: `x` extended at each end by `pad` samples of its
+/// odd reflection (`2 x[0] - x[k]`, as scipy's `odd_ext`), `pass` run over the extension,
+/// the result reversed and `pass` run again, then reversed back and its middle kept.
+/// `pass` filters a slice in place, starting from its own first sample's steady state.
+/// `pad` must be below `x.len()`.
+pub(super) fn zero_phase(x: &mut [f64], pad: usize, mut pass: impl FnMut(&mut [f64])) {
+    let n = x.len();
+    let mut ext = Vec::with_capacity(n + 2 * pad);
+    ext.extend((1..=pad).rev().map(|i| 2.0 * x[0] - x[i]));
+    ext.extend_from_slice(x);
+    ext.extend((1..=pad).map(|i| 2.0 * x[n - 1] - x[n - 1 - i]));
+    pass(&mut ext);
+    ext.reverse();
+    pass(&mut ext);
+    ext.reverse();
+    x.copy_from_slice(&ext[pad..pad + n]);
+}
 
 /// filtfilt's default padding: `3 * max(len(a), len(b))`.
 pub fn padlen(b: &[f64], a: &[f64]) -> usize {
@@ -55,28 +75,21 @@ fn lfilter_in_place(b: &[f64], a: &[f64], x: &mut [f64], mut z: Vec<f64>) {
     }
 }
 
-/// Forward-backward filtering of `x` in place.
-pub(super) fn filtfilt(b: &[f64], a: &[f64], x: &mut [f64]) -> Result<()> {
+/// Forward-backward filtering of `x` in place, as scipy.signal.filtfilt(b, a, x).
+pub(super) fn filtfilt(b: &[f64], a: &[f64], x: &mut [f64]) -> Result<(), FilterError> {
     let pad = padlen(b, a);
     let n = x.len();
     if n <= pad {
-        return Err(RepairError::TooShort {
+        return Err(FilterError::TooShort {
             len: n,
             padlen: pad,
         });
     }
     let (bn, an) = normalized(b, a);
     let zi = lfilter_zi(b, a);
-    let mut ext = Vec::with_capacity(n + 2 * pad);
-    ext.extend((1..=pad).rev().map(|i| 2.0 * x[0] - x[i]));
-    ext.extend_from_slice(x);
-    ext.extend((1..=pad).map(|i| 2.0 * x[n - 1] - x[n - 1 - i]));
-    let x0 = ext[0];
-    lfilter_in_place(&bn, &an, &mut ext, zi.iter().map(|z| z * x0).collect());
-    ext.reverse();
-    let y0 = ext[0];
-    lfilter_in_place(&bn, &an, &mut ext, zi.iter().map(|z| z * y0).collect());
-    ext.reverse();
-    x.copy_from_slice(&ext[pad..pad + n]);
+    zero_phase(x, pad, |s| {
+        let s0 = s[0];
+        lfilter_in_place(&bn, &an, s, zi.iter().map(|z| z * s0).collect());
+    });
     Ok(())
 }

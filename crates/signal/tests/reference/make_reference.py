@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Reference vectors for the repair crate's filter tests.
+"""Reference vectors for the signal crate's filter tests.
 
 Writes filters.json beside this script: (b, a) of scipy.signal.butter / cheby2 for several
 orders, cutoffs and sample rates, and scipy.signal.filtfilt outputs (default arguments) on a
