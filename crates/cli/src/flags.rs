@@ -139,4 +139,28 @@ mod tests {
             "give -o OUT or --in-place"
         );
     }
+
+    #[test]
+    fn marker_names_and_missing_events_are_said_with_the_flags_the_library_leaves_out() {
+        let e = gait::Error::UnknownMarker {
+            role: "lheel".into(),
+            name: "NOPE".into(),
+        };
+        assert_eq!(
+            e.to_string(),
+            "markers lheel=NOPE: the trial has no marker of that name"
+        );
+        assert_eq!(
+            markers_phrase(&e),
+            "--markers lheel=NOPE: the trial has no marker of that name"
+        );
+        let e = Error::NoFileEvents {
+            path: PathBuf::from("walk.c3d"),
+        };
+        assert!(!e.to_string().contains("--"), "{e}");
+        assert_eq!(
+            phrase(&e),
+            "walk.c3d: no Foot Strike or Foot Off events of the Left or Right context in the EVENT group (add them with `c3dfix events -o`, or use --detect)"
+        );
+    }
 }
