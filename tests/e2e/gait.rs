@@ -5,7 +5,7 @@
 
 use super::{c3dfix, s, sample, stderr, stdout};
 use c3dfix::events::TrialEvent;
-use c3dfix::gait::{Kind, Side, Source};
+use gait::{Kind, Side, Source};
 use serde_json::Value as Json;
 use std::path::{Path, PathBuf};
 

@@ -90,6 +90,10 @@ pub enum Error {
     /// the plates nor the markers tell it: the axes must be given (each front says how).
     #[error("{}: neither force plates nor markers tell which way is up: give the axes (e.g. x,z,-y)", path.display())]
     NoUp { path: PathBuf },
+    /// Gait parameters were asked of the file's own events and its EVENT group holds no
+    /// Foot Strike or Foot Off of either foot: they are to be detected (each front says how).
+    #[error("{}: no Foot Strike or Foot Off events of the Left or Right context in the EVENT group (detect them, or write them into the file first)", path.display())]
+    NoFileEvents { path: PathBuf },
     /// The repair library refused the data or configuration.
     #[error("{}: {source}", path.display())]
     Repair {

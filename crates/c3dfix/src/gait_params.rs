@@ -151,16 +151,12 @@ pub fn gait_parameters(c: &c3d::C3d, opts: &GaitOptions, path: &Path) -> Result<
         None => (crate::event_labels::file_gait_events(c), "file", Vec::new()),
     };
     if events.is_empty() {
-        return Err(trial_error(
-            path,
-            match source {
-                "file" => {
-                    "no Foot Strike or Foot Off events of the Left or Right context in \
-                           the EVENT group (add them with `c3dfix events -o`, or use --detect)"
-                }
-                _ => "no Foot Strike or Foot Off events were detected",
+        return Err(match source {
+            "file" => Error::NoFileEvents {
+                path: path.to_path_buf(),
             },
-        ));
+            _ => trial_error(path, "no Foot Strike or Foot Off events were detected"),
+        });
     }
     check_inside(c, &events, path)?;
     let names = opts.detect.as_ref().map_or(&opts.markers, |d| &d.markers);

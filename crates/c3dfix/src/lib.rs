@@ -5,7 +5,7 @@
 //! of a missing sample, [`c3d::is_missing`]); trajectory processing is the [`repair`] crate
 //! (plain arrays and masks). This crate is the bridge between them: which points are markers
 //! ([`markers`]), trajectories in and repaired samples back with the C3D manual's flags
-//! ([`trial`]), options as people write them ([`RepairOptions`]), reports, and atomic
+//! (read by [`open`] and [`open_mapped`]), options as people write them ([`RepairOptions`]), reports, and atomic
 //! writing ([`save()`], [`mod@save`]); a file in and a file out, as the command does, in
 //! [`files`]; the text exports (TRC, MOT, CSV, JSON, the OpenSim pair) in [`export`], the
 //! lab's up and axis rotations in [`axes`], length units in [`units`].
@@ -45,27 +45,23 @@ pub mod markers;
 mod options;
 pub mod plate_silence;
 pub mod platforms;
-pub mod reclaim_stage;
+mod reclaim_stage;
 mod repair;
 pub mod report;
 pub mod rerun;
 pub mod save;
 mod session_calibration;
-pub mod swap_stage;
+mod swap_stage;
 mod swaps;
 mod tally;
 pub mod targets;
-pub mod trial;
+mod trial;
 pub mod units;
 
-pub use ::bvh;
-pub use ::c3d;
-pub use ::gait;
-pub use ::kinetics;
-pub use ::repair as repair_lib;
+pub use ::repair::{FillMethod, FilterSpec, ParseError, SkipKind, SpikeMode, SpikeSpec};
 pub use axes::{Axes, Direction, Up, UpSource};
 pub use cycles::{cycles, CycleInfo, CycleOptions, Cycles};
-pub use error::{Conflict, Error, Result, Setting};
+pub use error::{Conflict, Error, Result, Setting, PLATES_NEED_FEET};
 pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
 pub use events::{detect_events, Detected, EventOptions, EventSource, TrialEvent};
 pub use feet::Feet;
@@ -81,12 +77,14 @@ pub use platforms::{
     force_platforms, Baseline, BaselineSource, Contact, ForceOptions, ForcePlatforms, ForcesReport,
     PlateWarning, Platform,
 };
-pub use reclaim_stage::{reclaim, Reclaim};
+pub use reclaim_stage::{
+    reclaim, Reclaim, ReclaimAction, ReclaimBrief, Reclaimed, UnsettledBrief, UnsettledWhy,
+};
 pub use repair::{
     repair, GapBrief, GapRow, MarkerChange, Repaired, SegmentRow, SpikeRow, Summary,
     UnlabelledBrief,
 };
-pub use repair_lib::{FillMethod, FilterSpec, ParseError, SkipKind, SpikeMode, SpikeSpec};
+pub use swap_stage::{SwapAction, SwapBrief};
 pub use swaps::{swaps, SwapFind, Swaps};
 pub use tally::Tally;
 pub use trial::{open, open_mapped};

@@ -182,7 +182,7 @@ pub struct SpikeRow {
     pub frame: usize,
     /// Which coordinates (x, y, z) were outliers.
     pub axes: [bool; 3],
-    /// What the `median` mode writes (see [`repair::Spike`]).
+    /// What the `median` mode writes (see [`repair::spikes::Spike`]).
     pub median: [f64; 3],
 }
 

@@ -2,7 +2,7 @@
 //! and the EVENT group as written (minutes and seconds, kept and replaced events).
 
 use c3dfix::events::{merge_auto, to_trial_event, TrialEvent};
-use c3dfix::gait::{Event, Kind, Side, Source};
+use gait::{Event, Kind, Side, Source};
 
 fn walk() -> c3d::C3d {
     c3dfix::open(testkit::workspace_root().join("sample_c3d/walk_truth.c3d")).unwrap()
@@ -337,9 +337,9 @@ fn matching_the_plate_steps_moves_an_event_only_to_a_match_inside_its_search() {
             .collect()
     };
     let shifted = strikes(&EventOptions::default());
-    let heel = c3dfix::gait::correlate::Part::Heel;
+    let heel = gait::correlate::Part::Heel;
     let matched = strikes(&EventOptions {
-        correlate: Some(c3dfix::gait::CorrelateOptions {
+        correlate: Some(gait::CorrelateOptions {
             strike_part: heel,
             off_part: heel,
             half_window_s: 0.15,

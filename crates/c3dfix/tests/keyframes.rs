@@ -1,9 +1,9 @@
 //! The keyframe job through the library's door, on real BVH files: the report both fronts
 //! print, the rebuilt motion written atomically, and the refusals naming the file.
 
-use c3dfix::bvh::error_metric::Effectors;
-use c3dfix::bvh::interp::Interp;
-use c3dfix::bvh::keyframes::Target;
+use bvh::error_metric::Effectors;
+use bvh::interp::Interp;
+use bvh::keyframes::Target;
 use c3dfix::{KeyMethod, KeyframeOptions};
 use std::path::PathBuf;
 
@@ -29,7 +29,7 @@ fn walk_reduced_to_twelve_keys_by_both_methods() {
     let Some(path) = sample("bvhtoolbox_walk01.bvh") else {
         return;
     };
-    let b = c3dfix::bvh::read(&path).expect("a corpus file reads");
+    let b = bvh::read(&path).expect("a corpus file reads");
     let greedy = c3dfix::keyframes(&b, &path, &options(Target::Keys(12), KeyMethod::Greedy))
         .expect("greedy")
         .report;
@@ -72,7 +72,7 @@ fn an_error_bound_gives_the_fewest_keys_within_it_and_the_rebuilt_motion_is_writ
     let Some(path) = sample("fairmotion_sinusoidal.bvh") else {
         return;
     };
-    let b = c3dfix::bvh::read(&path).expect("a corpus file reads");
+    let b = bvh::read(&path).expect("a corpus file reads");
     let dir = tempfile::tempdir().expect("temp dir");
     let out = dir.path().join("rebuilt.bvh");
     let mut opts = options(Target::MaxError(0.5), KeyMethod::Greedy);
@@ -84,7 +84,7 @@ fn an_error_bound_gives_the_fewest_keys_within_it_and_the_rebuilt_motion_is_writ
         "{} keys",
         r.keys.len()
     );
-    let rebuilt = c3dfix::bvh::read(&out).expect("the rebuilt motion reads back");
+    let rebuilt = bvh::read(&out).expect("the rebuilt motion reads back");
     assert_eq!(rebuilt.motion.frames(), b.motion.frames());
     // A second run does not replace it unless asked, and never writes over its input.
     let again = c3dfix::keyframes(&b, &path, &opts).expect_err("exists");
@@ -103,7 +103,7 @@ fn an_impossible_key_count_is_refused_naming_the_file() {
     let Some(path) = sample("fairmotion_sinusoidal.bvh") else {
         return;
     };
-    let b = c3dfix::bvh::read(&path).expect("a corpus file reads");
+    let b = bvh::read(&path).expect("a corpus file reads");
     let e = c3dfix::keyframes(&b, &path, &options(Target::Keys(1), KeyMethod::Greedy))
         .expect_err("one key cannot hold a motion");
     let text = e.to_string();

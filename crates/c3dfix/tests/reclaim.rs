@@ -2,7 +2,7 @@
 //! into their markers as recorded, the file records it, and a rerun changes nothing; a trial
 //! without unlabelled points is left byte for byte as the stage off leaves it.
 
-use c3dfix::reclaim_stage::ReclaimAction;
+use c3dfix::ReclaimAction;
 use c3dfix::{ReclaimMode, RepairOptions};
 
 fn on() -> RepairOptions {
@@ -99,19 +99,11 @@ fn the_listing_is_what_the_repair_moves() {
     };
     let path = labs.join("RehabEngGroup__MOtoNMS__Running_1.c3d");
     let original = c3dfix::open(&path).unwrap();
-    let listed = c3dfix::reclaim(
-        &original,
-        &path,
-        &c3dfix::repair_lib::Unlabelled::common(),
-        false,
-    )
-    .unwrap();
+    let listed = c3dfix::reclaim(&original, &path, &repair::Unlabelled::common(), false).unwrap();
     assert_eq!((listed.markers, listed.unlabelled), (33, 36));
     let mut c = original.clone();
     let done = c3dfix::repair(&mut c, &on(), &path).unwrap();
-    let key = |b: &c3dfix::reclaim_stage::ReclaimBrief| {
-        (b.point, b.source_point, b.first_index, b.last_index)
-    };
+    let key = |b: &c3dfix::ReclaimBrief| (b.point, b.source_point, b.first_index, b.last_index);
     let a: Vec<_> = listed.settled.iter().map(key).collect();
     let b: Vec<_> = done.summary.reclaim_list.iter().map(key).collect();
     assert_eq!(a, b);
@@ -124,12 +116,8 @@ fn the_listing_is_what_the_repair_moves() {
 
 /// A small trial written in memory: `labels` points over `frames` frames at 100 Hz, in mm,
 /// each sample from `at` (`None`: missing).
-fn made(
-    frames: usize,
-    labels: &[&str],
-    at: impl Fn(usize, usize) -> Option<[f32; 3]>,
-) -> c3dfix::c3d::C3d {
-    use c3dfix::c3d::{Analog, C3d, Parameters, Points, Processor};
+fn made(frames: usize, labels: &[&str], at: impl Fn(usize, usize) -> Option<[f32; 3]>) -> c3d::C3d {
+    use c3d::{Analog, C3d, Parameters, Points, Processor};
     let mut pts = Points::new(frames, labels.len());
     for f in 0..frames {
         for m in 0..labels.len() {
@@ -149,7 +137,7 @@ fn made(
     let bytes = C3d::new(pts, Analog::new(frames, 0, 1), ps, Processor::Intel, -1.0)
         .to_bytes()
         .unwrap();
-    c3dfix::c3d::read(bytes).unwrap()
+    c3d::read(bytes).unwrap()
 }
 
 /// Four markers of one rigid body walking along x; marker 0 (`A`) is lost over frames
@@ -221,5 +209,5 @@ fn bad_input_one_frame_nan_and_duplicate_labels() {
         .summary
         .reclaim_unsettled
         .iter()
-        .all(|u| matches!(u.why, c3dfix::reclaim_stage::UnsettledWhy::Ambiguous { .. })));
+        .all(|u| matches!(u.why, c3dfix::UnsettledWhy::Ambiguous { .. })));
 }

@@ -31,7 +31,7 @@ fn repair_all(dir: &Path, out: &Path) -> Vec<(PathBuf, PathBuf, Summary)> {
 /// `repair::Unlabelled`'s common spellings are left out, as the repair leaves them).
 fn missing(path: &Path) -> usize {
     let c = c3dfix::open(path).unwrap();
-    let rule = c3dfix::repair_lib::Unlabelled::common();
+    let rule = repair::Unlabelled::common();
     c3dfix::gaps(&c, false)
         .iter()
         .filter(|g| !rule.is_unlabelled(&g.label))

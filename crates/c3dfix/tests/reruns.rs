@@ -16,7 +16,7 @@ fn repaired(
     path: &Path,
     opts: &c3dfix::RepairOptions,
 ) -> Option<(Vec<u8>, c3dfix::Summary)> {
-    let mut c = c3dfix::c3d::read(bytes).ok()?;
+    let mut c = c3d::read(bytes).ok()?;
     let done = c3dfix::repair(&mut c, opts, path).ok()?;
     Some((c.encoded().ok()?.into_owned(), done.summary))
 }

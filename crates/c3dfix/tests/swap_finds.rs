@@ -1,17 +1,17 @@
 //! Label errors of the corpus files themselves (issue 34: "a real swap in a corpus trial is
 //! a find: show it"): each asserted on the published file, with what the samples show.
 
-use c3dfix::repair_lib::swaps::{FindKind, SwapOptions};
+use repair::swaps::{FindKind, SwapOptions};
 
 /// A c3d-more trial and what the finding reports on it with the default options (None, with
 /// the skip message, where the corpus is absent).
-fn more_trial(name: &str) -> Option<(c3dfix::c3d::C3d, c3dfix::Swaps)> {
+fn more_trial(name: &str) -> Option<(c3d::C3d, c3dfix::Swaps)> {
     let Some(dir) = testkit::c3d_more() else {
         testkit::skipped("C3D_MORE absent");
         return None;
     };
     let path = dir.join(name);
-    let c = c3dfix::c3d::read_file(&path).unwrap();
+    let c = c3d::read_file(&path).unwrap();
     let found = c3dfix::swaps(&c, &path, &SwapOptions::default()).unwrap();
     Some((c, found))
 }
@@ -209,7 +209,7 @@ fn foot_label_on_another_point_from_the_first_frame_is_a_settled_jump() {
         return;
     };
     let path = dir.join("sample_01/Eb015pr.c3d");
-    let c = c3dfix::c3d::read_file(&path).unwrap();
+    let c = c3d::read_file(&path).unwrap();
     let found = c3dfix::swaps(&c, &path, &SwapOptions::default()).unwrap();
     let x = found
         .swaps

@@ -3,8 +3,8 @@
 //! its expected error; read as data, a fill a few millimetres off its donors' distances was
 //! called a label jump that the recorded samples never showed.
 
-use c3dfix::repair_lib::swaps::SwapOptions;
 use rayon::prelude::*;
+use repair::swaps::SwapOptions;
 use std::path::{Path, PathBuf};
 
 /// Kind, markers, frames and whether settled: what a lab reads of a find.
@@ -29,14 +29,14 @@ fn briefs(found: &c3dfix::Swaps) -> Vec<Brief> {
 /// The finds on the file, the finds on its repair with the defaults (swaps reported, not
 /// changed), and the repaired file; `None` where the file cannot be repaired or has too
 /// little to judge.
-fn before_and_after(path: &Path) -> Option<(Vec<Brief>, Vec<Brief>, c3dfix::c3d::C3d)> {
+fn before_and_after(path: &Path) -> Option<(Vec<Brief>, Vec<Brief>, c3d::C3d)> {
     let opts = SwapOptions::default();
-    let c = c3dfix::c3d::read_file(path).ok()?;
+    let c = c3d::read_file(path).ok()?;
     let before = c3dfix::swaps(&c, path, &opts).ok()?;
     let mut r = c.clone();
     c3dfix::repair(&mut r, &c3dfix::RepairOptions::default(), path).ok()?;
     let bytes = r.encoded().ok()?.into_owned();
-    let again = c3dfix::c3d::read(bytes).expect("a repaired file reads");
+    let again = c3d::read(bytes).expect("a repaired file reads");
     let after = c3dfix::swaps(&again, path, &opts).expect("a repaired file is judged");
     Some((briefs(&before), briefs(&after), again))
 }

@@ -63,7 +63,10 @@ pub fn describe(e: &anyhow::Error) -> String {
             Some(e) => crate::flags::phrase(e),
             None => match cause.downcast_ref::<show::Error>() {
                 Some(show::Error::Library(e)) => crate::flags::phrase(e),
-                _ => cause.to_string(),
+                _ => match cause.downcast_ref::<gait::Error>() {
+                    Some(e) => crate::flags::markers_phrase(e),
+                    None => cause.to_string(),
+                },
             },
         };
         if out.contains(&m) {

@@ -25,6 +25,20 @@ pub fn flag(s: Setting) -> &'static str {
     }
 }
 
+/// A marker name the person gave (`--markers`) that the trial or the grammar refuses, said
+/// with the flag; any other error of the detector as it says it.
+pub fn markers_phrase(e: &gait::Error) -> String {
+    match e {
+        gait::Error::UnknownMarker { role, name } => {
+            format!("--markers {role}={name}: the trial has no marker of that name")
+        }
+        gait::Error::BadMarkerSpec(item) => format!(
+            "--markers {item}: expected ROLE=NAME with ROLE one of lheel, rheel, ltoe, rtoe, pelvis (NAME+NAME… for a mean)"
+        ),
+        other => other.to_string(),
+    }
+}
+
 /// `e` as the command line says it.
 pub fn phrase(e: &Error) -> String {
     match e {
@@ -64,12 +78,30 @@ pub fn phrase(e: &Error) -> String {
             value,
             why,
         } => format!("{} {value}: {why}", flag(*setting)),
+        Error::NoFileEvents { path } => format!(
+            "{}: no Foot Strike or Foot Off events of the Left or Right context in the EVENT group (add them with `c3dfix events -o`, or use --detect)",
+            path.display()
+        ),
         Error::Markers {
-            source: c3dfix::gait::Error::NoMarker { .. },
+            path,
+            source: source @ (gait::Error::UnknownMarker { .. } | gait::Error::BadMarkerSpec(_)),
+            for_plates,
+        } => format!(
+            "{}: {}{}",
+            path.display(),
+            markers_phrase(source),
+            if *for_plates {
+                c3dfix::PLATES_NEED_FEET
+            } else {
+                ""
+            }
+        ),
+        Error::Markers {
+            source: gait::Error::NoMarker { .. },
             ..
         } => format!("{e} (name it with --markers)"),
         Error::Markers {
-            source: c3dfix::gait::Error::NoFootMarkers { markers },
+            source: gait::Error::NoFootMarkers { markers },
             ..
         } if *markers > 0 => format!("{e}; feet marked under other names are named with --markers"),
         other => other.to_string(),
@@ -105,6 +137,30 @@ mod tests {
         assert_eq!(
             phrase(&Error::Conflict(Conflict::NoDestination)),
             "give -o OUT or --in-place"
+        );
+    }
+
+    #[test]
+    fn marker_names_and_missing_events_are_said_with_the_flags_the_library_leaves_out() {
+        let e = gait::Error::UnknownMarker {
+            role: "lheel".into(),
+            name: "NOPE".into(),
+        };
+        assert_eq!(
+            e.to_string(),
+            "markers lheel=NOPE: the trial has no marker of that name"
+        );
+        assert_eq!(
+            markers_phrase(&e),
+            "--markers lheel=NOPE: the trial has no marker of that name"
+        );
+        let e = Error::NoFileEvents {
+            path: PathBuf::from("walk.c3d"),
+        };
+        assert!(!e.to_string().contains("--"), "{e}");
+        assert_eq!(
+            phrase(&e),
+            "walk.c3d: no Foot Strike or Foot Off events of the Left or Right context in the EVENT group (add them with `c3dfix events -o`, or use --detect)"
         );
     }
 }

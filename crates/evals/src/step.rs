@@ -10,8 +10,6 @@
 //! The `step_check` binary runs it on a corpus; `tests/step_rule.rs` on the files where a
 //! fill once ended above the limit.
 
-use c3dfix::c3d;
-
 const LENGTHS: [usize; 5] = [5, 10, 20, 40, 80];
 /// Recorded frames kept on each side of a knocked gap.
 const MARGIN: usize = 10;

@@ -12,11 +12,12 @@ pub enum Error {
     /// out (an upper-body set), so the trial has no gait events to give.
     #[error("no foot markers: {}", if *markers == 0 { "the trial has no markers".to_string() } else { format!("none of the trial's {markers} markers is a heel, ankle, toe or foot marker under any known name (the marker set leaves the feet out, or names them as no known set does)") })]
     NoFootMarkers { markers: usize },
-    /// A name given by a person is no marker of the trial.
-    #[error("--markers {role}={name}: the trial has no marker of that name")]
+    /// A name given by a person is no marker of the trial (each front names the setting its
+    /// own way).
+    #[error("markers {role}={name}: the trial has no marker of that name")]
     UnknownMarker { role: String, name: String },
-    /// A malformed `--markers` item.
-    #[error("--markers {0}: expected ROLE=NAME with ROLE one of lheel, rheel, ltoe, rtoe, pelvis (NAME+NAME… for a mean)")]
+    /// A malformed item of the marker names a person gave.
+    #[error("markers {0}: expected ROLE=NAME with ROLE one of lheel, rheel, ltoe, rtoe, pelvis (NAME+NAME… for a mean)")]
     BadMarkerSpec(String),
     /// Too few frames to see a step.
     #[error("{frames} frame(s): events need at least {needed} frames")]

@@ -278,7 +278,7 @@ fn lengths(c: &Cycle, toes: &Toes) -> Option<(f64, f64, f64)> {
 pub fn gait_parameters(events: &[TimedEvent], toes: Option<&Toes>) -> Result<GaitParameters> {
     if events.is_empty() {
         return Err(Error::Input(
-            "no Foot Strike or Foot Off events (add them with `c3dfix events`, or use --detect)"
+            "no Foot Strike or Foot Off events (detect them, or write them into the trial first)"
                 .into(),
         ));
     }

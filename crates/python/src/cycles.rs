@@ -9,8 +9,8 @@ use pyo3::types::{PyDict, PyList};
 use crate::{err, lib_err, PyC3d};
 use c3dfix::events::{EventOptions, EventSource};
 use c3dfix::events_session::{session_from, CalibrationTruth, SessionReport};
-use c3dfix::gait::session::SessionOptions;
-use c3dfix::gait::{cycles::SAMPLES, Kind, MarkerNames, Side, Source};
+use gait::session::SessionOptions;
+use gait::{cycles::SAMPLES, Kind, MarkerNames, Side, Source};
 
 /// Each warning as a Python `UserWarning` naming the file.
 fn warn_all(py: Python<'_>, name: &str, warnings: &[String]) -> PyResult<()> {

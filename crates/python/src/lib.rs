@@ -498,7 +498,7 @@ fn repair(
 #[pyfunction]
 fn swaps(py: Python<'_>, c3d: &PyC3d) -> PyResult<PyObject> {
     let name = c3d.name();
-    let opts = c3dfix::repair_lib::swaps::SwapOptions::default();
+    let opts = ::repair::swaps::SwapOptions::default();
     let found = py
         .allow_threads(|| c3dfix::swaps(&c3d.inner, &name, &opts))
         .map_err(err)?;
@@ -521,8 +521,8 @@ fn reclaim(
 ) -> PyResult<PyObject> {
     let name = c3d.name();
     let rule = match unlabelled {
-        Some(p) => c3dfix::repair_lib::Unlabelled::with_pattern(p.parse().map_err(err)?),
-        None => c3dfix::repair_lib::Unlabelled::common(),
+        Some(p) => ::repair::Unlabelled::with_pattern(p.parse().map_err(err)?),
+        None => ::repair::Unlabelled::common(),
     };
     let found = py
         .allow_threads(|| c3dfix::reclaim(&c3d.inner, &name, &rule, zero_invalid))
@@ -578,7 +578,7 @@ fn _c3dfix(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("C3dError", m.py().get_type::<C3dError>())?;
     m.add_function(wrap_pyfunction!(read, m)?)?;
     m.add_function(wrap_pyfunction!(gaps, m)?)?;
-    m.add_function(wrap_pyfunction!(repair, m)?)?;
+    m.add_function(wrap_pyfunction!(self::repair, m)?)?;
     m.add_function(wrap_pyfunction!(swaps, m)?)?;
     m.add_function(wrap_pyfunction!(reclaim, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;

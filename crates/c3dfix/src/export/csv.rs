@@ -17,7 +17,7 @@ pub const PARAMETERS_HEADER: &str = "file,context,name,value,unit\n";
 
 /// The gait-cycle parameters of one trial as CSV rows (`file,context,name,value,unit`, under
 /// [`PARAMETERS_HEADER`]): a table of several trials is their rows one after another.
-pub fn parameter_rows(file: &str, parameters: &[crate::gait::params::Parameter]) -> String {
+pub fn parameter_rows(file: &str, parameters: &[gait::params::Parameter]) -> String {
     let mut out = String::new();
     for p in parameters {
         let _ = writeln!(

@@ -7,8 +7,8 @@ use crate::output::{refuse_input, write_atomic};
 use crate::plates::PlateArgs;
 use anyhow::Result;
 use c3dfix::events::{EventOptions, EventSource};
-use c3dfix::gait::Side;
 use c3dfix::CycleOptions;
+use gait::Side;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]

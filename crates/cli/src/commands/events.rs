@@ -6,8 +6,8 @@ use anyhow::Result;
 use c3dfix::annotate::Annotate;
 use c3dfix::events::{Detected, EventOptions, EventSource};
 use c3dfix::events_session::{session_from, CalibrationTruth, SessionLags};
-use c3dfix::gait::session::SessionOptions;
-use c3dfix::gait::MarkerNames;
+use gait::session::SessionOptions;
+use gait::MarkerNames;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]

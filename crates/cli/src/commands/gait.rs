@@ -5,8 +5,8 @@ use crate::console::{errln, outln};
 use anyhow::Result;
 use c3dfix::annotate::Annotate;
 use c3dfix::events::{EventOptions, EventSource};
-use c3dfix::gait::MarkerNames;
 use c3dfix::{GaitOptions, GaitReport};
+use gait::MarkerNames;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]

@@ -5,7 +5,7 @@
 use crate::commands::info::read_c3d;
 use crate::console::outln;
 use anyhow::Result;
-use c3dfix::reclaim_stage::UnsettledWhy;
+use c3dfix::UnsettledWhy;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -15,7 +15,7 @@ pub struct Args {
     /// point as unlabelled, beside the common placeholders (`*51`, `Unlabeled 3`, an empty
     /// label).
     #[arg(long, value_name = "PATTERN")]
-    pub unlabelled: Option<c3dfix::repair_lib::Glob>,
+    pub unlabelled: Option<repair::Glob>,
     /// Also treat samples whose coordinates are all exactly 0 as missing.
     #[arg(long)]
     pub zero_invalid: bool,
@@ -26,10 +26,10 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<i32> {
     let c = read_c3d(&a.file)?;
-    let rule = a.unlabelled.clone().map_or_else(
-        c3dfix::repair_lib::Unlabelled::common,
-        c3dfix::repair_lib::Unlabelled::with_pattern,
-    );
+    let rule = a
+        .unlabelled
+        .clone()
+        .map_or_else(repair::Unlabelled::common, repair::Unlabelled::with_pattern);
     let out = c3dfix::reclaim(&c, &a.file, &rule, a.zero_invalid)?;
     if a.json {
         let mut v = serde_json::to_value(&out)?;

@@ -5,8 +5,8 @@ use crate::commands::repair_io::RepairArgs;
 use crate::console::outln;
 use anyhow::Result;
 use c3dfix::files::Destination;
-use c3dfix::reclaim_stage::ReclaimAction;
-use c3dfix::swap_stage::SwapAction;
+use c3dfix::ReclaimAction;
+use c3dfix::SwapAction;
 use c3dfix::{SkipKind, Summary};
 use std::path::PathBuf;
 
@@ -135,8 +135,8 @@ fn print_swaps(s: &Summary) -> Result<()> {
     for b in &s.swap_list {
         let x = &b.find;
         let kind = match x.kind {
-            c3dfix::repair_lib::swaps::FindKind::Swap => "swap",
-            c3dfix::repair_lib::swaps::FindKind::Jump => "jump",
+            repair::swaps::FindKind::Swap => "swap",
+            repair::swaps::FindKind::Jump => "jump",
         };
         let action = match b.action {
             SwapAction::Undone => "exchanged back",

@@ -66,7 +66,7 @@ pub struct RepairArgs {
     /// `uname*2`, an empty label). Unlabelled points are not repaired nor donors nor
     /// searched for swaps; they are counted apart and left as recorded.
     #[arg(long, value_name = "PATTERN")]
-    pub unlabelled: Option<c3dfix::repair_lib::Glob>,
+    pub unlabelled: Option<repair::Glob>,
     /// Unlabelled samples that are a labelled marker's, the stage after the swaps and before
     /// the fills (docs/reclaim.md): `on` moves the settled ones into their markers (recorded
     /// values, residuals and camera masks; the unlabelled point is marked missing there);

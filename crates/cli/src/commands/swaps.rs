@@ -16,7 +16,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<i32> {
     let c = read_c3d(&a.file)?;
-    let opts = c3dfix::repair_lib::swaps::SwapOptions::default();
+    let opts = repair::swaps::SwapOptions::default();
     let out = c3dfix::swaps(&c, &a.file, &opts)?;
     if a.json {
         let v = serde_json::json!({
@@ -43,8 +43,8 @@ pub fn run(a: Args) -> Result<i32> {
     }
     for x in &out.swaps {
         let kind = match x.kind {
-            c3dfix::repair_lib::swaps::FindKind::Swap => "swap",
-            c3dfix::repair_lib::swaps::FindKind::Jump => "jump",
+            repair::swaps::FindKind::Swap => "swap",
+            repair::swaps::FindKind::Jump => "jump",
         };
         outln!(
             "  {kind} {:<30} frames {:>6}–{:<6} confidence {:.2}{}",

@@ -7,7 +7,6 @@
 //! cargo run --release -p evals --bin step_check -- FILE...   # these files
 //! ```
 
-use c3dfix::c3d;
 use clap::Parser;
 use evals::step::check;
 use std::path::PathBuf;

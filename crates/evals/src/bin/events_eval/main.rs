@@ -55,7 +55,6 @@ mod session;
 mod tally;
 mod truth;
 
-use c3dfix::c3d;
 use c3dfix::events;
 use clap::Parser;
 use gait::{Event, Kind, Side};

@@ -2,7 +2,6 @@
 //! strikes the trial's plates contradict (`--truth-check`, `--without-contradicted`).
 
 use super::Timed;
-use c3dfix::c3d;
 use gait::Kind;
 
 /// A foot's state at time `t` (s): how far its heel and its toe stand above their stance
