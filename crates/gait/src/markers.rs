@@ -130,6 +130,41 @@ pub struct MarkerChoice {
     /// Left and right: the markers among which the heel and toe were told apart by their
     /// positions (a cluster or the foot's landmarks), once they have been; empty otherwise.
     pub by_position: [Vec<usize>; 2],
+    /// Other markers that stood in for a role's chosen one where it is missing, as the
+    /// caller filled them (see [`candidates`]).
+    pub stand_ins: Vec<StandIn>,
+}
+
+/// A marker standing in for a role's chosen marker over the frames it is missing.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StandIn {
+    /// `lheel`, `ltoe`, `rheel` or `rtoe`.
+    pub role: &'static str,
+    /// The role's chosen marker and the one standing in (point indices).
+    pub chosen: usize,
+    pub marker: usize,
+    /// Frames filled.
+    pub frames: usize,
+}
+
+/// The markers of `side` (`'l'` or `'r'`) named as a heel (`heel`) or as a toe part,
+/// best first by the preference of their names: a role's candidates, of which the first
+/// seen stands in where the chosen one is missing (MOtoNMS' right foot: `RIMH` missing
+/// where `RVMH` is seen).
+pub fn candidates(labels: &[String], side: char, heel: bool) -> Vec<usize> {
+    let norm: Vec<String> = labels.iter().map(|l| canonical(l)).collect();
+    let parts = if heel { HEEL } else { TOE };
+    let mut out = Vec::new();
+    for part in parts {
+        for (i, n) in norm.iter().enumerate() {
+            if split_side(n).is_some_and(|(s, rest)| s == side && rest == *part)
+                && !out.contains(&i)
+            {
+                out.push(i);
+            }
+        }
+    }
+    out
 }
 
 /// Names given by a person for some roles (each a list whose mean is used).
@@ -486,6 +521,7 @@ fn choice(left: &SideFoot, right: &SideFoot, pelvis: Vec<usize>) -> MarkerChoice
         right_toe,
         pelvis,
         by_position: Default::default(),
+        stand_ins: Vec::new(),
     }
 }
 
