@@ -544,17 +544,7 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
         ("pelvis".to_string(), names(&choice.pelvis)),
     ];
     let mut notes = position_notes(&choice, &labels);
-    for st in &choice.stand_ins {
-        let name = |i: usize| labels.get(i).cloned().unwrap_or_default();
-        notes.push(format!(
-            "{}: {} stands in for {} in {} frames where {} is missing (moved by their median offset near each gap)",
-            st.role,
-            name(st.marker),
-            name(st.chosen),
-            st.frames,
-            name(st.chosen)
-        ));
-    }
+    notes.extend(stand_in_notes(&choice, &labels));
     let frames = c.frames();
     if frames < gait::kinematic::MIN_FRAMES {
         return Err(trial_error(
@@ -676,6 +666,25 @@ pub const TREADMILL_NOTE: &str = "treadmill: the pelvis stays while the feet swi
 /// What a trial whose feet show flight phases is called, and what that means for its offs
 /// ([`gait::running`]).
 pub const RUNNING_NOTE: &str = "running: each foot leaves the floor before the other lands; foot offs from the markers are where the toe rises from its stance level (the toe's backward extreme comes late in a run's flight)";
+
+/// One sentence per marker that stood in for a role's missing one ([`stand_in`]).
+fn stand_in_notes(choice: &MarkerChoice, labels: &[String]) -> Vec<String> {
+    let name = |i: usize| labels.get(i).cloned().unwrap_or_default();
+    choice
+        .stand_ins
+        .iter()
+        .map(|st| {
+            format!(
+                "{}: {} stands in for {} in {} frames where {} is missing (moved by their median offset near each gap)",
+                st.role,
+                name(st.marker),
+                name(st.chosen),
+                st.frames,
+                name(st.chosen)
+            )
+        })
+        .collect()
+}
 
 /// One sentence per side whose heel and toe were told apart by position.
 fn position_notes(choice: &MarkerChoice, labels: &[String]) -> Vec<String> {
