@@ -785,3 +785,25 @@ fn markers_choose_the_exported_points() {
         stderr(&out)
     );
 }
+
+#[test]
+fn info_counts_a_plates_origin_warning_among_the_files_warnings() {
+    // rtosim's two plates store their ORIGIN from the other end: a fault of the file, said
+    // under info's warnings (once, not again among the plates' own).
+    let Some(labs) = testkit::c3d_labs() else {
+        return;
+    };
+    let file = labs.join("RealTimeBiomechanics__rtosim__walking_1.c3d");
+    let out = c3dfix(&["info", "--json", s(&file)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: Json = serde_json::from_slice(&out.stdout).unwrap();
+    let w = v["warnings"].as_array().unwrap();
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert!(w[0]
+        .as_str()
+        .unwrap()
+        .starts_with("plate 1: FORCE_PLATFORM:ORIGIN x and y are -241.3, -819"));
+    assert_eq!(v["force_platform_warnings"], serde_json::json!([]));
+    let t = stdout(&c3dfix(&["info", s(&file)]));
+    assert!(!t.contains("warnings     none"), "{t}");
+}

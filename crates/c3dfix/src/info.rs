@@ -91,6 +91,9 @@ pub struct Report<'a> {
     pub force_platforms: Vec<PlateInfo>,
     /// Plates left out or parameters not used ("plate K: FORCE_PLATFORM:PARAM message").
     pub force_platform_warnings: Vec<String>,
+    /// The reader's warnings, then each plate whose FORCE_PLATFORM:ORIGIN the maths read
+    /// otherwise than stored: a fault of the file, said once here (every command that reads
+    /// the plates meets it again), not among the plates' warnings.
     pub warnings: Vec<String>,
 }
 
@@ -134,7 +137,13 @@ pub fn describe<'a>(c: &'a c3d::C3d, file: &Path) -> Report<'a> {
     let origin_samples = v.at_origin;
     let frames = c.frames();
     let rate = c.point_rate();
-    let (force_platforms, force_platform_warnings) = plates(c);
+    let (force_platforms, mut force_platform_warnings) = plates(c);
+    let mut warnings: Vec<String> = c.warnings().iter().map(|w| w.to_string()).collect();
+    let (origin, others): (Vec<String>, Vec<String>) = force_platform_warnings
+        .drain(..)
+        .partition(|w| w.contains(": FORCE_PLATFORM:ORIGIN "));
+    force_platform_warnings = others;
+    warnings.extend(origin);
     let up = crate::axes::up(c);
     Report {
         file: file.display().to_string(),
@@ -178,7 +187,7 @@ pub fn describe<'a>(c: &'a c3d::C3d, file: &Path) -> Report<'a> {
         events: in_time_order(c.events()),
         force_platforms,
         force_platform_warnings,
-        warnings: c.warnings().iter().map(|w| w.to_string()).collect(),
+        warnings,
     }
 }
 

@@ -346,3 +346,31 @@ fn a_belt_speed_given_measures_the_walk_over_the_belt() {
     let r = c3dfix::gait_parameters(&c, &opts, &path).unwrap();
     assert_eq!(value(&r, "Left", "Walking Speed"), None);
 }
+
+#[test]
+fn another_metatarsal_stands_in_where_the_toe_marker_is_missing() {
+    // lasem's walk loses LTOE and RTOE near the trial's end; LP5MT and RP1MT/RP5MT, seen
+    // there, stand in (moved by their median offset near each gap), and the last right and
+    // left offs are found, each 0.11 and 0.10 s after the other foot's strike as in the
+    // trial's other steps (16 events before, 18 now; no truth event moved in events_eval).
+    let Some(path) = labs("psbiomech__lasem-data-processing__FAILT01_Walk01") else {
+        return;
+    };
+    let d = detect(&path, EventSource::Kinematics).unwrap();
+    assert_eq!(d.events.len(), 18);
+    assert!(
+        d.notes
+            .iter()
+            .any(|n| n.starts_with("ltoe: LP5MT stands in for LTOE in 80 frames")),
+        "{:?}",
+        d.notes
+    );
+    assert_eq!(role(&d, "ltoe"), ["LTOE"]);
+    let last_off = d
+        .events
+        .iter()
+        .filter(|e| e.context == "Left" && e.label == "Foot Off")
+        .map(|e| e.time)
+        .fold(f64::NAN, f64::max);
+    assert!((last_off - 6.6411).abs() < 1e-3, "{last_off}");
+}

@@ -130,6 +130,41 @@ pub struct MarkerChoice {
     /// Left and right: the markers among which the heel and toe were told apart by their
     /// positions (a cluster or the foot's landmarks), once they have been; empty otherwise.
     pub by_position: [Vec<usize>; 2],
+    /// Other markers that stood in for a role's chosen one where it is missing, as the
+    /// caller filled them (see [`candidates`]).
+    pub stand_ins: Vec<StandIn>,
+}
+
+/// A marker standing in for a role's chosen marker over the frames it is missing.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StandIn {
+    /// `lheel`, `ltoe`, `rheel` or `rtoe`.
+    pub role: &'static str,
+    /// The role's chosen marker and the one standing in (point indices).
+    pub chosen: usize,
+    pub marker: usize,
+    /// Frames filled.
+    pub frames: usize,
+}
+
+/// The markers of `side` (`'l'` or `'r'`) named as a heel (`heel`) or as a toe part,
+/// best first by the preference of their names: a role's candidates, of which the first
+/// seen stands in where the chosen one is missing (MOtoNMS' right foot: `RIMH` missing
+/// where `RVMH` is seen).
+pub fn candidates(labels: &[String], side: char, heel: bool) -> Vec<usize> {
+    let norm: Vec<String> = labels.iter().map(|l| canonical(l)).collect();
+    let parts = if heel { HEEL } else { TOE };
+    let mut out = Vec::new();
+    for part in parts {
+        for (i, n) in norm.iter().enumerate() {
+            if split_side(n).is_some_and(|(s, rest)| s == side && rest == *part)
+                && !out.contains(&i)
+            {
+                out.push(i);
+            }
+        }
+    }
+    out
 }
 
 /// Names given by a person for some roles (each a list whose mean is used).
@@ -321,103 +356,145 @@ impl SideFoot {
 /// tells heel from toe by their positions ([`cluster_heel_toe`]).
 pub fn find_markers(labels: &[String], names: &MarkerNames) -> Result<MarkerChoice> {
     let norm: Vec<String> = labels.iter().map(|l| canonical(l)).collect();
-    let missing = |what: &str, looked: String| Error::NoMarker {
+    let left = side_foot(labels, &norm, 'l', &names.left_heel, &names.left_toe);
+    let right = side_foot(labels, &norm, 'r', &names.right_heel, &names.right_toe);
+    enough_feet(labels, &left, &right)?;
+    let pelvis = pelvis_markers(labels, &norm, &names.pelvis)?;
+    Ok(choice(&left, &right, pelvis))
+}
+
+/// The error of a role found by no name: what was looked for.
+fn no_marker(what: &str, looked: String) -> Error {
+    Error::NoMarker {
         what: what.to_string(),
         looked_for: looked,
+    }
+}
+
+/// One foot role's markers: the names `given` by a person, else the first label of `side`
+/// by the preference of `parts` (a list of name lists, tried in turn), else why not.
+fn foot_role(
+    labels: &[String],
+    norm: &[String],
+    given: &Option<Vec<String>>,
+    role: &str,
+    side: char,
+    parts: &[&[&str]],
+) -> Result<Vec<usize>> {
+    if let Some(g) = given {
+        return by_names(labels, role, g);
+    }
+    parts
+        .iter()
+        .find_map(|p| find_sided(norm, side, p))
+        .map(|i| vec![i])
+        .ok_or_else(|| {
+            let mut looked: Vec<String> = parts
+                .iter()
+                .flat_map(|p| p.iter().take(4))
+                .map(|p| format!("{}{}", side.to_ascii_uppercase(), p.to_ascii_uppercase()))
+                .collect();
+            looked.push(format!("{}FT1…", side.to_ascii_uppercase()));
+            no_marker(role, looked.join(", "))
+        })
+}
+
+/// One side's heel and toe: by name (the ankle standing in for a missing heel), else its
+/// numbered foot cluster, else its foot landmarks, each in both roles to be told apart by
+/// position ([`foot_cluster`], [`foot_landmarks`]).
+fn side_foot(
+    labels: &[String],
+    norm: &[String],
+    side: char,
+    heel: &Option<Vec<String>>,
+    toe: &Option<Vec<String>>,
+) -> SideFoot {
+    let prefix = side.to_string();
+    let mut f = SideFoot {
+        heel: foot_role(
+            labels,
+            norm,
+            heel,
+            &format!("{prefix}heel"),
+            side,
+            &[HEEL, ANKLE],
+        ),
+        toe: foot_role(labels, norm, toe, &format!("{prefix}toe"), side, &[TOE]),
+        ankle: heel.is_none() && find_sided(norm, side, HEEL).is_none(),
+        cluster: false,
+        named: heel.is_some() || toe.is_some(),
     };
-    let foot = |given: &Option<Vec<String>>, role: &str, side: char, parts: &[&[&str]]| {
-        if let Some(g) = given {
-            return by_names(labels, role, g);
-        }
-        parts
-            .iter()
-            .find_map(|p| find_sided(&norm, side, p))
-            .map(|i| vec![i])
-            .ok_or_else(|| {
-                let mut looked: Vec<String> = parts
-                    .iter()
-                    .flat_map(|p| p.iter().take(4))
-                    .map(|p| format!("{}{}", side.to_ascii_uppercase(), p.to_ascii_uppercase()))
-                    .collect();
-                looked.push(format!("{}FT1…", side.to_ascii_uppercase()));
-                missing(role, looked.join(", "))
-            })
+    let by_position = |markers: Vec<usize>| SideFoot {
+        heel: Ok(markers.clone()),
+        toe: Ok(markers),
+        ankle: false,
+        cluster: true,
+        named: false,
     };
-    let side_foot = |side: char, heel: &Option<Vec<String>>, toe: &Option<Vec<String>>| {
-        let prefix = side.to_string();
-        let mut f = SideFoot {
-            heel: foot(heel, &format!("{prefix}heel"), side, &[HEEL, ANKLE]),
-            toe: foot(toe, &format!("{prefix}toe"), side, &[TOE]),
-            ankle: heel.is_none() && find_sided(&norm, side, HEEL).is_none(),
-            cluster: false,
-            named: heel.is_some() || toe.is_some(),
-        };
-        if !f.named && !f.complete() {
-            let cluster = foot_cluster(&norm, side);
-            if !cluster.is_empty() {
-                f = SideFoot {
-                    heel: Ok(cluster.clone()),
-                    toe: Ok(cluster),
-                    ankle: false,
-                    cluster: true,
-                    named: false,
-                };
-            }
+    if !f.named && !f.complete() {
+        let cluster = foot_cluster(norm, side);
+        if !cluster.is_empty() {
+            f = by_position(cluster);
         }
-        if !f.named && (!f.complete() || f.ankle) && !f.cluster {
-            if let Some(landmarks) = foot_landmarks(&norm, side) {
-                f = SideFoot {
-                    heel: Ok(landmarks.clone()),
-                    toe: Ok(landmarks),
-                    ankle: false,
-                    cluster: true,
-                    named: false,
-                };
-            }
+    }
+    if !f.named && (!f.complete() || f.ankle) && !f.cluster {
+        if let Some(landmarks) = foot_landmarks(norm, side) {
+            f = by_position(landmarks);
         }
-        f
-    };
-    let left = side_foot('l', &names.left_heel, &names.left_toe);
-    let right = side_foot('r', &names.right_heel, &names.right_toe);
+    }
+    f
+}
+
+/// Whether the feet found will do: some foot marker at all, and each side that is
+/// incomplete either left out (the other side complete, nothing named for it) or the
+/// reason its first missing role gives.
+fn enough_feet(labels: &[String], left: &SideFoot, right: &SideFoot) -> Result<()> {
     let any_foot = |f: &SideFoot| f.named || f.cluster || f.heel.is_ok() || f.toe.is_ok();
-    if !any_foot(&left) && !any_foot(&right) {
+    if !any_foot(left) && !any_foot(right) {
         return Err(Error::NoFootMarkers {
             markers: labels.iter().filter(|l| !l.trim().is_empty()).count(),
         });
     }
-    if !left.complete() && (left.named || !right.complete()) {
-        left.heel.clone()?;
-        left.toe.clone()?;
-    }
-    if !right.complete() && (right.named || !left.complete()) {
-        right.heel.clone()?;
-        right.toe.clone()?;
-    }
-    let pelvis = match &names.pelvis {
-        Some(g) => by_names(labels, "pelvis", g)?,
-        None => {
-            let alone = SACRUM.iter().find_map(|s| norm.iter().position(|n| n == s));
-            let pair = |parts: &[&str]| match (
-                find_sided(&norm, 'l', parts),
-                find_sided(&norm, 'r', parts),
-            ) {
-                (Some(l), Some(r)) => Some(vec![l, r]),
-                _ => None,
-            };
-            alone
-                .map(|i| vec![i])
-                .or_else(|| pair(PSIS))
-                .or_else(|| pair(ASIS))
-                .or_else(|| pelvis_cluster(&norm))
-                .or_else(|| pair(TROCHANTER))
-                .ok_or_else(|| {
-                    missing(
-                        "pelvis",
-                        "SACR, LPSI+RPSI, LASI+RASI, PV1+PV2…, LTRO+RTRO".into(),
-                    )
-                })?
+    for (this, other) in [(left, right), (right, left)] {
+        if !this.complete() && (this.named || !other.complete()) {
+            this.heel.clone()?;
+            this.toe.clone()?;
         }
+    }
+    Ok(())
+}
+
+/// The pelvis markers: named by a person, else the sacrum alone, the PSIS pair, the ASIS
+/// pair, a pelvis cluster or the trochanters, in that order.
+fn pelvis_markers(
+    labels: &[String],
+    norm: &[String],
+    given: &Option<Vec<String>>,
+) -> Result<Vec<usize>> {
+    if let Some(g) = given {
+        return by_names(labels, "pelvis", g);
+    }
+    let alone = SACRUM.iter().find_map(|s| norm.iter().position(|n| n == s));
+    let pair = |parts: &[&str]| match (find_sided(norm, 'l', parts), find_sided(norm, 'r', parts)) {
+        (Some(l), Some(r)) => Some(vec![l, r]),
+        _ => None,
     };
+    alone
+        .map(|i| vec![i])
+        .or_else(|| pair(PSIS))
+        .or_else(|| pair(ASIS))
+        .or_else(|| pelvis_cluster(norm))
+        .or_else(|| pair(TROCHANTER))
+        .ok_or_else(|| {
+            no_marker(
+                "pelvis",
+                "SACR, LPSI+RPSI, LASI+RASI, PV1+PV2…, LTRO+RTRO".into(),
+            )
+        })
+}
+
+/// The choice made of the two sides (an incomplete side left empty) and the pelvis.
+fn choice(left: &SideFoot, right: &SideFoot, pelvis: Vec<usize>) -> MarkerChoice {
     let take = |f: &SideFoot| {
         if f.complete() {
             (
@@ -428,8 +505,8 @@ pub fn find_markers(labels: &[String], names: &MarkerNames) -> Result<MarkerChoi
             (Vec::new(), Vec::new())
         }
     };
-    let ((left_heel, left_toe), (right_heel, right_toe)) = (take(&left), take(&right));
-    Ok(MarkerChoice {
+    let ((left_heel, left_toe), (right_heel, right_toe)) = (take(left), take(right));
+    MarkerChoice {
         heel_is_ankle: [
             left.complete() && left.ankle && !left.cluster,
             right.complete() && right.ankle && !right.cluster,
@@ -444,7 +521,8 @@ pub fn find_markers(labels: &[String], names: &MarkerNames) -> Result<MarkerChoi
         right_toe,
         pelvis,
         by_position: Default::default(),
-    })
+        stand_ins: Vec::new(),
+    }
 }
 
 /// Which of a foot cluster's markers are its heel and its toe (indices into `markers`):

@@ -14,10 +14,8 @@ use gait::{cycles::SAMPLES, Kind, MarkerNames, Side, Source};
 
 /// Each warning as a Python `UserWarning` naming the file.
 fn warn_all(py: Python<'_>, name: &str, warnings: &[String]) -> PyResult<()> {
-    let warn = py.get_type::<pyo3::exceptions::PyUserWarning>();
     for w in warnings {
-        let msg = std::ffi::CString::new(format!("{name}: {w}")).map_err(err)?;
-        PyErr::warn(py, &warn, &msg, 1)?;
+        crate::warnings::warn(py, name, w)?;
     }
     Ok(())
 }

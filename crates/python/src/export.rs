@@ -132,10 +132,8 @@ pub fn export_opensim(
     let Some(done) = exported.opensim else {
         return Err(err("the OpenSim export wrote no pair"));
     };
-    let warn = py.get_type::<pyo3::exceptions::PyUserWarning>();
     for w in &done.warnings {
-        let msg = std::ffi::CString::new(format!("{}: {w}", name.display())).map_err(err)?;
-        PyErr::warn(py, &warn, &msg, 1)?;
+        crate::warnings::warn(py, &name.display().to_string(), &w.to_string())?;
     }
     let d = PyDict::new(py);
     d.set_item("trc", done.trc)?;

@@ -21,6 +21,7 @@ mod platforms;
 mod plots;
 mod report;
 mod shared;
+mod warnings;
 
 pyo3::create_exception!(
     c3dfix,

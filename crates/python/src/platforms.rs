@@ -18,7 +18,8 @@ fn array3<'py>(py: Python<'py>, v: &[[f64; 3]]) -> PyResult<PyObject> {
         .unbind())
 }
 
-/// The plates of `c`; plate warnings become Python `UserWarning`s naming the file.
+/// The plates of `c`; plate warnings become Python `UserWarning`s naming the file (an
+/// ORIGIN warning once per file: [`crate::warnings`]).
 pub fn force_platforms(
     py: Python<'_>,
     c: &c3d::C3d,
@@ -28,10 +29,8 @@ pub fn force_platforms(
     let fp = py
         .allow_threads(|| c3dfix::force_platforms(c, opts))
         .map_err(err)?;
-    let warn = py.get_type::<pyo3::exceptions::PyUserWarning>();
     for w in &fp.warnings {
-        let msg = std::ffi::CString::new(format!("{name}: {w}")).map_err(err)?;
-        PyErr::warn(py, &warn, &msg, 1)?;
+        crate::warnings::warn(py, name, &w.to_string())?;
     }
     let out = PyList::empty(py);
     for p in &fp.platforms {

@@ -189,3 +189,35 @@ def test_bad_plates_warn_and_the_file_still_reads():
     with pytest.warns(UserWarning, match=r"plate 2: FORCE_PLATFORM:CHANNEL"):
         ps = c3dfix.read(d / "btkdata_shd01.c3d").force_platforms()
     assert [p["index"] for p in ps] == [1]
+
+
+def test_an_origin_warning_is_said_once_per_file():
+    """Issue 45 item 10: rtosim's two plates store their ORIGIN from the other end; each
+    plate's warning is said the first time the plates are read, not on every call."""
+    labs = corpus("C3D_LABS", "../shared/c3d-labs")
+    if labs is None:
+        pytest.skip("c3d-labs corpus not found")
+    c = c3dfix.read(str(Path(labs) / "RealTimeBiomechanics__rtosim__walking_1.c3d"))
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        c.force_platforms()
+        c.force_platforms()
+    origin = [str(w.message) for w in said if "FORCE_PLATFORM:ORIGIN" in str(w.message)]
+    assert len(origin) == 2, origin
+    assert "plate 1" in origin[0] and "plate 2" in origin[1]
+
+
+def test_a_belt_speed_gives_a_treadmills_walking_speed():
+    """Issue 45 item 2: gait_parameters(belt_speed=) on rtosim's treadmill walk; without it
+    the speed and lengths are left out."""
+    labs = corpus("C3D_LABS", "../shared/c3d-labs")
+    if labs is None:
+        pytest.skip("c3d-labs corpus not found")
+    c = c3dfix.read(str(Path(labs) / "RealTimeBiomechanics__rtosim__walking_1.c3d"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        given = c3dfix.gait_parameters(c, detect=True, belt_speed=1.2)
+        without = c3dfix.gait_parameters(c, detect=True)
+    speed = {p["context"]: p["value"] for p in given if p["name"] == "Walking Speed"}
+    assert abs(speed["Left"] - 1.1833) < 1e-3 and abs(speed["Right"] - 1.1612) < 1e-3, speed
+    assert not any(p["name"] == "Walking Speed" for p in without)
