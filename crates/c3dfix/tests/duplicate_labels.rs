@@ -7,7 +7,7 @@ use c3dfix::{RepairOptions, SwapsMode};
 
 /// The points of `c` whose label is `l`'s twin: every label given to two points, point
 /// `i` taking the label of point `i − i % 2`.
-fn labels_twice(c: &mut c3dfix::c3d::C3d) {
+fn labels_twice(c: &mut c3d::C3d) {
     let labels = c.point_labels();
     let twice: Vec<String> = (0..labels.len())
         .map(|i| labels[i - i % 2].clone())
@@ -18,7 +18,7 @@ fn labels_twice(c: &mut c3dfix::c3d::C3d) {
 }
 
 /// Every point's samples, as written: coordinates and residuals, bit for bit.
-fn samples(c: &c3dfix::c3d::C3d) -> Vec<(Vec<[u32; 3]>, Vec<u32>)> {
+fn samples(c: &c3d::C3d) -> Vec<(Vec<[u32; 3]>, Vec<u32>)> {
     let p = c.points();
     (0..c.point_labels().len())
         .map(|i| {
@@ -45,12 +45,12 @@ fn a_settled_swap_is_undone_exactly_where_every_label_names_two_points() {
         return;
     };
     let path = dir.join("keenon__nimblephysics__nick_freeform_001.c3d");
-    let original = c3dfix::c3d::read_file(&path).expect("the trial reads");
+    let original = c3d::read_file(&path).expect("the trial reads");
     let opts = RepairOptions {
         swaps: SwapsMode::Fix,
         ..RepairOptions::default()
     };
-    let repaired = |mut c: c3dfix::c3d::C3d| {
+    let repaired = |mut c: c3d::C3d| {
         let r = c3dfix::repair(&mut c, &opts, &path).expect("the trial is repaired");
         (c, r.report())
     };

@@ -369,7 +369,7 @@ fn another_metatarsal_stands_in_where_the_toe_marker_is_missing() {
     let last_off = d
         .events
         .iter()
-        .filter(|e| e.context == "Left" && e.label == "Foot Off")
+        .filter(|e| e.side == Side::Left && e.kind == Kind::FootOff)
         .map(|e| e.time)
         .fold(f64::NAN, f64::max);
     assert!((last_off - 6.6411).abs() < 1e-3, "{last_off}");

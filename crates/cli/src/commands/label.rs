@@ -32,7 +32,7 @@ pub struct Args {
     /// point as unlabelled, beside the common placeholders (`*51`, `Unlabeled 3`, an empty
     /// label).
     #[arg(long, value_name = "PATTERN")]
-    pub unlabelled: Option<c3dfix::repair_lib::Glob>,
+    pub unlabelled: Option<repair::Glob>,
     /// Also treat samples whose coordinates are all exactly 0 as missing.
     #[arg(long)]
     pub zero_invalid: bool,
@@ -49,10 +49,10 @@ pub fn run(a: Args) -> Result<i32> {
         force: a.force,
     };
     let settings = LabelSettings {
-        unlabelled: a.unlabelled.clone().map_or_else(
-            c3dfix::repair_lib::Unlabelled::common,
-            c3dfix::repair_lib::Unlabelled::with_pattern,
-        ),
+        unlabelled: a
+            .unlabelled
+            .clone()
+            .map_or_else(repair::Unlabelled::common, repair::Unlabelled::with_pattern),
         zero_invalid: a.zero_invalid,
         ..LabelSettings::default()
     };
