@@ -56,8 +56,10 @@ pub struct LabelOptions {
     pub min_neighbours: usize,
     /// States kept by the seed's beam search.
     pub beam: usize,
-    /// Frames matched from nothing when the trial labels nothing.
+    /// Most frames matched from nothing when the trial labels nothing.
     pub seed_frames: usize,
+    /// One frame matched from nothing per this many seconds (the one with the most points).
+    pub seed_every_s: f64,
     /// Frames read per pass: every `step`-th (0: chosen from the trial's length).
     pub step: usize,
     /// Frames a fragment must be read in to get a label.
@@ -73,6 +75,8 @@ pub struct LabelOptions {
     pub max_speed_mm_s: f64,
     /// Largest number of vote passes.
     pub passes: usize,
+    /// Times the geometry is learned again from the template and the trial as labelled.
+    pub relearn: usize,
 }
 
 impl Default for LabelOptions {
@@ -86,14 +90,16 @@ impl Default for LabelOptions {
             absent: 6.0,
             min_neighbours: 2,
             beam: 200,
-            seed_frames: 8,
+            seed_frames: 400,
+            seed_every_s: 0.5,
             step: 0,
             min_checked: 3,
             min_share: 0.5,
             margin: 3.0,
             relabel_share: 0.8,
             max_speed_mm_s: 20_000.0,
-            passes: 8,
+            passes: 30,
+            relearn: 1,
         }
     }
 }
@@ -292,23 +298,80 @@ pub fn label(
     } else {
         (t.frames() / 2500).clamp(1, 4)
     };
-    let mut answers = Vec::new();
+    let mut model = model;
     let mut passes = 0;
-    while passes < opts.passes.max(1) {
-        passes += 1;
-        let v = vote::vote(&model, &t, &frags, &active, &labels, step, opts);
-        answers = decide(&frags, &given_of, &v, opts);
-        let next: Vec<Option<usize>> = answers.iter().map(|a: &FragmentLabel| a.label).collect();
-        if next == labels {
+    let mut answers;
+    let mut round = 0;
+    loop {
+        let (a, l, p) = run_passes(&model, &t, &frags, &active, &given_of, labels, step, opts);
+        answers = a;
+        labels = l;
+        passes += p;
+        if round == opts.relearn {
             break;
         }
-        labels = next;
+        round += 1;
+        model = model::Model::learn(&with_trial(&tm, &t, &frags, &labels), opts);
     }
     Ok(Labelling {
         fragments: answers,
         seeded,
         passes,
     })
+}
+
+/// Vote passes from `labels` until no label changes (at most `opts.passes`): the answers,
+/// the labels and the passes run.
+#[allow(clippy::too_many_arguments)]
+fn run_passes(
+    model: &model::Model,
+    t: &Trial,
+    frags: &[Fragment],
+    active: &[Vec<u32>],
+    given_of: &[Option<usize>],
+    mut labels: Vec<Option<usize>>,
+    step: usize,
+    opts: &LabelOptions,
+) -> (Vec<FragmentLabel>, Vec<Option<usize>>, usize) {
+    let mut answers = Vec::new();
+    let mut passes = 0;
+    while passes < opts.passes.max(1) {
+        passes += 1;
+        let v = vote::vote(model, t, frags, active, &labels, step, opts);
+        answers = decide(frags, given_of, &labels, &v, opts);
+        let next: Vec<Option<usize>> = answers.iter().map(|a: &FragmentLabel| a.label).collect();
+        if next == labels {
+            break;
+        }
+        labels = next;
+    }
+    (answers, labels, passes)
+}
+
+/// The template's frames followed by the trial's frames as labelled so far: the geometry
+/// learned again from both keeps what the template shows and what this subject and this
+/// motion do (a static template keeps every pair; the trial shows which ones move).
+fn with_trial(template: &Trial, t: &Trial, frags: &[Fragment], labels: &[Option<usize>]) -> Trial {
+    let (k, n0, n) = (template.markers(), template.frames(), t.frames());
+    let mut xyz = template.xyz.clone();
+    let mut valid = template.valid.clone();
+    for m in 0..k {
+        xyz[m].resize(n0 + n, [0.0; 3]);
+        valid[m].resize(n0 + n, false);
+    }
+    for (g, l) in frags.iter().zip(labels) {
+        if let Some(m) = *l {
+            for f in g.first..=g.last {
+                xyz[m][n0 + f] = t.xyz[g.row][f];
+                valid[m][n0 + f] = true;
+            }
+        }
+    }
+    Trial {
+        rate_hz: template.rate_hz,
+        xyz,
+        valid,
+    }
 }
 
 /// First labels from the frames with the most points, one such frame in each of
@@ -322,7 +385,8 @@ fn seed_labels(
     opts: &LabelOptions,
 ) -> Vec<Option<usize>> {
     let n = active.len();
-    let parts = opts.seed_frames.max(1);
+    let seconds = n as f64 / t.rate_hz;
+    let parts = ((seconds / opts.seed_every_s) as usize).clamp(1, opts.seed_frames.max(1));
     let mut frames: Vec<usize> = (0..parts)
         .filter_map(|i| {
             let (a, b) = (i * n / parts, ((i + 1) * n / parts).min(n));
@@ -367,6 +431,7 @@ fn seed_labels(
 fn decide(
     frags: &[Fragment],
     given: &[Option<usize>],
+    before: &[Option<usize>],
     v: &vote::Votes,
     opts: &LabelOptions,
 ) -> Vec<FragmentLabel> {
@@ -383,6 +448,10 @@ fn decide(
             let votes_for = |m: usize| vs.iter().find(|x| x.0 == m).map_or(0, |x| x.1 as usize);
             let (label, outcome) = match (given[i], judged) {
                 (None, Ok(m)) => (Some(m), Outcome::Labelled),
+                // No frame judged it this pass: what it had stands.
+                (None, Err(Reason::Short { .. })) if before[i].is_some() => {
+                    (before[i], Outcome::Labelled)
+                }
                 (None, Err(reason)) => (None, Outcome::Unlabelled { reason }),
                 (Some(g), Ok(m))
                     if m != g
