@@ -335,14 +335,17 @@ fn run_passes(
 ) -> (Vec<FragmentLabel>, Vec<Option<usize>>, usize) {
     let mut answers = Vec::new();
     let mut passes = 0;
+    let mut cache = vote::Cache::new(active.len(), step);
     while passes < opts.passes.max(1) {
         passes += 1;
-        let v = vote::vote(model, t, frags, active, &labels, step, opts);
+        let v = vote::vote(model, t, frags, active, &labels, &mut cache, opts);
         answers = decide(frags, given_of, &labels, &v, opts);
         let next: Vec<Option<usize>> = answers.iter().map(|a: &FragmentLabel| a.label).collect();
-        if next == labels {
+        let changed: Vec<usize> = (0..next.len()).filter(|&i| next[i] != labels[i]).collect();
+        if changed.is_empty() {
             break;
         }
+        cache.forget(frags, Some(&changed));
         labels = next;
     }
     (answers, labels, passes)

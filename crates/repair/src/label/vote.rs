@@ -20,28 +20,68 @@ pub(crate) struct Votes {
 /// One frame's matches `(fragment, marker)` and the fragments it judged.
 type FrameVotes = (Vec<(u32, u16)>, Vec<u32>);
 
-/// Votes over every `step`-th frame, given the current `labels` of the fragments.
+/// Each frame's votes, kept between passes: a pass re-reads only the frames where a
+/// fragment's label changed (the others would vote as before), so the passes after the
+/// first cost what changed, not the trial.
+pub(crate) struct Cache {
+    frames: Vec<usize>,
+    per: Vec<Option<FrameVotes>>,
+}
+
+impl Cache {
+    /// Every `step`-th frame of `n`, none read yet.
+    pub fn new(n: usize, step: usize) -> Cache {
+        let frames: Vec<usize> = (0..n).step_by(step.max(1)).collect();
+        let per = vec![None; frames.len()];
+        Cache { frames, per }
+    }
+
+    /// Forget the frames any of `changed` fragments is recorded in (all with `None`).
+    pub fn forget(&mut self, frags: &[super::Fragment], changed: Option<&[usize]>) {
+        let Some(changed) = changed else {
+            self.per.iter_mut().for_each(|p| *p = None);
+            return;
+        };
+        for &g in changed {
+            let (a, b) = (frags[g].first, frags[g].last);
+            let lo = self.frames.partition_point(|&f| f < a);
+            let hi = self.frames.partition_point(|&f| f <= b);
+            self.per[lo..hi].iter_mut().for_each(|p| *p = None);
+        }
+    }
+}
+
+/// Votes over the cache's frames, given the current `labels` of the fragments: the frames
+/// forgotten are read again.
 pub(crate) fn vote(
     model: &Model,
     t: &Trial,
     frags: &[super::Fragment],
     active: &[Vec<u32>],
     labels: &[Option<usize>],
-    step: usize,
+    cache: &mut Cache,
     opts: &LabelOptions,
 ) -> Votes {
-    let frames: Vec<usize> = (0..active.len()).step_by(step.max(1)).collect();
-    let per_frame: Vec<FrameVotes> = frames
-        .par_iter()
-        .map(|&f| frame_votes(model, t, frags, &active[f], labels, f, opts))
+    let frames = &cache.frames;
+    let fresh: Vec<(usize, FrameVotes)> = (0..frames.len())
+        .filter(|&i| cache.per[i].is_none())
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .map(|i| {
+            let f = frames[i];
+            (i, frame_votes(model, t, frags, &active[f], labels, f, opts))
+        })
         .collect();
+    for (i, v) in fresh {
+        cache.per[i] = Some(v);
+    }
     let mut votes: Vec<Vec<(usize, u32)>> = vec![Vec::new(); frags.len()];
     let mut checked = vec![0u32; frags.len()];
-    for (fv, judged) in per_frame {
-        for g in judged {
+    for (fv, judged) in cache.per.iter().flatten() {
+        for &g in judged {
             checked[g as usize] += 1;
         }
-        for (g, m) in fv {
+        for &(g, m) in fv {
             let v = &mut votes[g as usize];
             match v.iter_mut().find(|(x, _)| *x == m as usize) {
                 Some(e) => e.1 += 1,
@@ -80,7 +120,10 @@ fn frame_votes(
             if !model.present[m] {
                 continue;
             }
-            let (sum, terms) = marker_cost(model, m, p, at, opts);
+            // A mean above `accept` over every pair the marker has is sure once the sum
+            // passes this: no need to add the rest.
+            let limit = opts.accept * model.nb[m].len() as f64;
+            let (sum, terms) = marker_cost(model, m, p, at, opts, limit);
             if terms >= opts.min_neighbours {
                 any = true;
                 let c = sum / terms as f64;
