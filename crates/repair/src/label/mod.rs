@@ -60,6 +60,11 @@ pub struct LabelOptions {
     pub seed_frames: usize,
     /// One frame matched from nothing per this many seconds (the one with the most points).
     pub seed_every_s: f64,
+    /// Seed every `seed_every_s` from the start (true), or 8 frames first and then only
+    /// where the labels have not reached (false: 3x faster on the speed bench, 5.5 s
+    /// instead of 17.4 s, and on label_eval 90.08 % right and 0.61 % wrong on the labs held
+    /// apart instead of 90.63 % and 0.56 %).
+    pub seed_all: bool,
     /// Frames read per pass: every `step`-th (0: chosen from the trial's length).
     pub step: usize,
     /// Frames a fragment must be read in to get a label.
@@ -92,6 +97,7 @@ impl Default for LabelOptions {
             beam: 200,
             seed_frames: 400,
             seed_every_s: 0.5,
+            seed_all: true,
             step: 0,
             min_checked: 3,
             min_share: 0.5,
@@ -289,7 +295,7 @@ pub fn label(
     let given_of: Vec<Option<usize>> = frags.iter().map(|g| given[g.row]).collect();
     let seeded = !given_of.iter().any(|g| g.is_some_and(|m| model.present[m]));
     let mut labels = if seeded {
-        seed_labels(&model, &t, &frags, &active, opts)
+        seed_labels(&model, &t, &frags, &active, None, opts)
     } else {
         given_of.clone()
     };
@@ -307,6 +313,17 @@ pub fn label(
         answers = a;
         labels = l;
         passes += p;
+        if seeded && round == 0 && !opts.seed_all {
+            // Seeds where the labels have not reached, then the passes again.
+            let more = seed_labels(&model, &t, &frags, &active, Some(&labels), opts);
+            if more != labels {
+                let (a, l, p) =
+                    run_passes(&model, &t, &frags, &active, &given_of, more, step, opts);
+                answers = a;
+                labels = l;
+                passes += p;
+            }
+        }
         if round == opts.relearn {
             break;
         }
@@ -385,16 +402,33 @@ fn seed_labels(
     t: &Trial,
     frags: &[Fragment],
     active: &[Vec<u32>],
+    so_far: Option<&[Option<usize>]>,
     opts: &LabelOptions,
 ) -> Vec<Option<usize>> {
     let n = active.len();
     let seconds = n as f64 / t.rate_hz;
-    let parts = ((seconds / opts.seed_every_s) as usize).clamp(1, opts.seed_frames.max(1));
+    // One frame per `seed_every_s`; or, without `seed_all`, 8 over the trial first and
+    // then one per `seed_every_s` where most of the fragments recorded are still unlabelled.
+    let parts = match so_far {
+        None if !opts.seed_all => 8,
+        None => ((seconds / opts.seed_every_s) as usize).clamp(1, opts.seed_frames.max(1)),
+        Some(_) => ((seconds / opts.seed_every_s) as usize).clamp(1, opts.seed_frames.max(1)),
+    };
+    let unlabelled_most = |f: usize| {
+        so_far.is_none_or(|l| {
+            let open = active[f]
+                .iter()
+                .filter(|&&g| l[g as usize].is_none())
+                .count();
+            open >= 3 && 2 * open > active[f].len()
+        })
+    };
     let mut frames: Vec<usize> = (0..parts)
         .filter_map(|i| {
             let (a, b) = (i * n / parts, ((i + 1) * n / parts).min(n));
             (a..b).max_by(|&x, &y| active[x].len().cmp(&active[y].len()).then(y.cmp(&x)))
         })
+        .filter(|&f| unlabelled_most(f))
         .collect();
     frames.dedup();
     use rayon::prelude::*;
@@ -422,10 +456,13 @@ fn seed_labels(
     }
     votes
         .iter()
-        .map(|v| {
-            v.iter()
-                .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
-                .map(|&(m, _)| m)
+        .enumerate()
+        .map(|(g, v)| {
+            so_far.and_then(|l| l[g]).or_else(|| {
+                v.iter()
+                    .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
+                    .map(|&(m, _)| m)
+            })
         })
         .collect()
 }
