@@ -4,7 +4,7 @@
 //! label and the frames by the file's own numbers ([`c3d::C3d::frame_number`]).
 
 use crate::error::{Error, Result};
-use crate::markers::{marker_indices, mm_per_unit};
+use crate::markers::mm_per_unit;
 use crate::trial::to_trial;
 use repair::swaps::{find_swaps, Evidence, FindKind, SwapOptions};
 use serde::Serialize;
@@ -44,7 +44,8 @@ pub struct Swaps {
     pub warnings: Vec<String>,
 }
 
-/// Swaps and jumps among the markers of `c` (model outputs left out). `path` only names the
+/// Swaps and jumps among the labelled markers of `c` (model outputs and unlabelled points,
+/// [`repair::Unlabelled::common`], left out). `path` only names the
 /// file in errors. Too little to judge is an error that says so: fewer than 2 markers,
 /// fewer than 3 frames, every sample missing. Coordinates that are not finite count as
 /// missing, as [`c3d::is_missing`] says.
@@ -53,7 +54,7 @@ pub fn swaps(c: &c3d::C3d, path: &Path, opts: &SwapOptions) -> Result<Swaps> {
 }
 
 /// [`swaps`] on the trial a repair built of the file's markers: `points` are
-/// [`marker_indices`] of `c` and the trial's rows are those points (it comes back as it
+/// [`crate::markers::marker_indices`] of `c` and the trial's rows are those points (it comes back as it
 /// was); `None` finds both. A repair passes the ones it has: telling markers from model
 /// outputs decodes frames of the file to find a model's segment axes, and done twice more
 /// per repair it was 0.02–0.04 s over the corpus.
@@ -69,7 +70,12 @@ pub(crate) fn swaps_with(
     };
     let (points, trial) = match repairing {
         Some((points, trial)) => (points.to_vec(), Some(trial)),
-        None => (marker_indices(c), None),
+        // Labelled markers only, as the repair's swap stage: a capture system's unlabelled
+        // points (`*53`) are no markers whose labels could swap (docs/swaps.md).
+        None => (
+            crate::markers::split_unlabelled(c, &repair::Unlabelled::common()).labelled,
+            None,
+        ),
     };
     if points.len() < 2 {
         return Err(trial_err(format!(

@@ -15,6 +15,7 @@ mod export;
 mod files;
 mod gait;
 mod info_view;
+mod label;
 mod options;
 mod pickling;
 mod platforms;
@@ -582,6 +583,7 @@ fn _c3dfix(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(self::repair, m)?)?;
     m.add_function(wrap_pyfunction!(swaps, m)?)?;
     m.add_function(wrap_pyfunction!(reclaim, m)?)?;
+    m.add_function(wrap_pyfunction!(label::label, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(files::repair_file, m)?)?;
     m.add_function(wrap_pyfunction!(options::_repair_defaults, m)?)?;

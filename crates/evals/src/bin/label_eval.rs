@@ -61,6 +61,8 @@ fn options(sets: &[String]) -> Result<LabelOptions, String> {
             "min_neighbours" => o.min_neighbours = x as usize,
             "beam" => o.beam = x as usize,
             "seed_frames" => o.seed_frames = x as usize,
+            "seed_every_s" => o.seed_every_s = x,
+            "seed_all" => o.seed_all = x != 0.0,
             "step" => o.step = x as usize,
             "min_checked" => o.min_checked = x as usize,
             "min_share" => o.min_share = x,
@@ -68,6 +70,7 @@ fn options(sets: &[String]) -> Result<LabelOptions, String> {
             "relabel_share" => o.relabel_share = x,
             "max_speed_mm_s" => o.max_speed_mm_s = x,
             "passes" => o.passes = x as usize,
+            "relearn" => o.relearn = x as usize,
             _ => return Err(format!("no option {k}")),
         }
     }

@@ -111,6 +111,21 @@ def reclaim(
     """The unlabelled samples that are a labelled marker's, as `c3dfix reclaim --json` lists
     them ("settled", "unsettled"); changes nothing."""
 
+def label(
+    input: _Path,
+    template: _Path,
+    output: Optional[_Path] = None,
+    *,
+    in_place: bool = False,
+    backup: bool = False,
+    force: bool = False,
+    unlabelled: Optional[str] = None,
+    zero_invalid: bool = False,
+) -> Dict[str, Any]:
+    """`c3dfix label INPUT --template TEMPLATE -o OUTPUT` (or in place): the unlabelled
+    trajectories labelled from a labelled trial of the same marker set, written as an
+    ordinary labelled C3D; the report `--json` prints."""
+
 def swaps(c3d: C3d) -> Dict[str, Any]:
     """Label swaps and jumps as `c3dfix swaps --json` lists them (frames in the file's numbering)."""
 

@@ -8,13 +8,15 @@ use super::LabelOptions;
 
 /// `(sum, terms)`: the capped squared departures of marker `m` at `p` from its pairs whose
 /// other marker `at` places, and a penalty of one cap for each tetrahedron of the wrong
-/// hand. `at(n)` is the position of marker `n`, if placed.
+/// hand. `at(n)` is the position of marker `n`, if placed. Once the sum passes `limit`
+/// the rest is not added (a caller that only wants costs below it asks no more).
 pub(crate) fn marker_cost<'a>(
     model: &Model,
     m: usize,
     p: &[f64; 3],
     at: impl Fn(usize) -> Option<&'a [f64; 3]>,
     opts: &LabelOptions,
+    limit: f64,
 ) -> (f64, usize) {
     let (mut sum, mut terms) = (0.0, 0usize);
     for n in &model.nb[m] {
@@ -22,6 +24,9 @@ pub(crate) fn marker_cost<'a>(
             let e = (super::dist(p, q) - n.d0) / n.sigma;
             sum += (e * e).min(opts.cap);
             terms += 1;
+            if sum > limit {
+                return (sum, terms);
+            }
         }
     }
     for c in &model.chiral[m] {

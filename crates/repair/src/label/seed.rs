@@ -39,7 +39,7 @@ pub(crate) fn seed(model: &Model, points: &[[f64; 3]], opts: &LabelOptions) -> V
                 if s.used[p] {
                     continue;
                 }
-                let (sum, terms) = marker_cost(model, m, point, at, opts);
+                let (sum, terms) = marker_cost(model, m, point, at, opts, f64::INFINITY);
                 placed = terms;
                 cands.push((s.cost + sum, si, p as u16));
             }
@@ -74,7 +74,7 @@ pub(crate) fn seed(model: &Model, points: &[[f64; 3]], opts: &LabelOptions) -> V
             if i == NONE {
                 return None;
             }
-            let (sum, terms) = marker_cost(model, m, &points[i as usize], at, opts);
+            let (sum, terms) = marker_cost(model, m, &points[i as usize], at, opts, f64::INFINITY);
             (terms >= opts.min_neighbours && sum <= opts.accept * terms as f64)
                 .then_some(i as usize)
         })
