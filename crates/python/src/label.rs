@@ -37,10 +37,10 @@ pub(crate) fn label(
         force,
     };
     let rule = match unlabelled {
-        Some(p) => c3dfix::repair_lib::Unlabelled::with_pattern(
+        Some(p) => repair::Unlabelled::with_pattern(
             p.parse().map_err(|e| err(format!("unlabelled: {e}")))?,
         ),
-        None => c3dfix::repair_lib::Unlabelled::common(),
+        None => repair::Unlabelled::common(),
     };
     let settings = LabelSettings {
         unlabelled: rule,
