@@ -80,14 +80,8 @@ pub struct UnsettledBrief {
     pub fit: Fit,
 }
 
-/// One move a repair made, for the file's record: point indices and 0-based frames.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub struct Reclaimed {
-    pub point: usize,
-    pub source: usize,
-    pub first: usize,
-    pub last: usize,
-}
+/// One move a repair made, as the file's record keeps it (the record's row, so it lives there).
+pub use crate::rerun::Reclaimed;
 
 /// The stage's (or the command's) outcome.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]

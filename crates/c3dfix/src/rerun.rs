@@ -114,7 +114,16 @@ pub struct Record {
     pub undone: Vec<Undone>,
     pub reclaim: Option<String>,
     /// Recorded samples moved from unlabelled points into markers, over all runs.
-    pub reclaimed: Vec<crate::reclaim_stage::Reclaimed>,
+    pub reclaimed: Vec<Reclaimed>,
+}
+
+/// One move a repair made, for the file's record: point indices and 0-based frames.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Reclaimed {
+    pub point: usize,
+    pub source: usize,
+    pub first: usize,
+    pub last: usize,
 }
 
 /// A reason as `LEFT` stores it: a code and two values (the reason's numbers, 0 without).
@@ -244,7 +253,7 @@ impl Record {
             .filter_map(|r| {
                 let (point, first, last) = place(&[r[0], r[2], r[3]])?;
                 let (source, _, _) = place(&[r[1], r[2], r[3]])?;
-                Some(crate::reclaim_stage::Reclaimed {
+                Some(Reclaimed {
                     point,
                     source,
                     first,

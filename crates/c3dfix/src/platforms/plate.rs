@@ -2,10 +2,9 @@
 //! channels in physical units with the unloaded level removed and the filter applied, the
 //! plate maths, and every warning in the order it arises (the order the reports print).
 
-use super::{
-    channels, reversed_origin, short, triple, units, unloaded_stretch, Baseline, Contact,
-    ForceOptions, PlateWarning, Platform, Units,
-};
+use super::level::{reversed_origin, unloaded_stretch};
+use super::model::{short, triple, Baseline, Contact, ForceOptions, PlateWarning, Platform, Units};
+use super::{channels, units};
 use c3d::{C3d, PlateParams};
 use kinetics::PlateSpec;
 use std::ops::Range;

@@ -4,7 +4,7 @@
 //! of its tetrahedra.
 
 use super::model::{handedness, Model};
-use super::LabelOptions;
+use super::options::LabelOptions;
 
 /// `(sum, terms)`: the capped squared departures of marker `m` at `p` from its pairs whose
 /// other marker `at` places, and a penalty of one cap for each tetrahedron of the wrong
@@ -21,7 +21,7 @@ pub(crate) fn marker_cost<'a>(
     let (mut sum, mut terms) = (0.0, 0usize);
     for n in &model.nb[m] {
         if let Some(q) = at(n.other) {
-            let e = (super::dist(p, q) - n.d0) / n.sigma;
+            let e = (super::options::dist(p, q) - n.d0) / n.sigma;
             sum += (e * e).min(opts.cap);
             terms += 1;
             if sum > limit {

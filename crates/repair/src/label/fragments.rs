@@ -43,7 +43,7 @@ pub(crate) fn fragments(t: &Trial, max_step_mm: f64) -> Vec<Fragment> {
             }
             let first = f;
             f += 1;
-            while f < n && valid[f] && super::dist(&xyz[f], &xyz[f - 1]) <= max_step_mm {
+            while f < n && valid[f] && super::options::dist(&xyz[f], &xyz[f - 1]) <= max_step_mm {
                 f += 1;
             }
             out.push(Fragment {

@@ -3,7 +3,7 @@
 //! code), which quadruples keep their handedness (what tells left from right, which no
 //! distance can), and an order in which a marker set is best matched from nothing.
 
-use super::LabelOptions;
+use super::options::LabelOptions;
 use crate::Trial;
 
 /// A pair of template markers and the distance it keeps.

@@ -4,7 +4,7 @@
 
 use super::cost::marker_cost;
 use super::model::Model;
-use super::LabelOptions;
+use super::options::LabelOptions;
 
 const NONE: u16 = u16::MAX;
 

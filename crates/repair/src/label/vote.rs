@@ -5,7 +5,7 @@
 
 use super::cost::marker_cost;
 use super::model::Model;
-use super::LabelOptions;
+use super::options::LabelOptions;
 use crate::Trial;
 use rayon::prelude::*;
 
@@ -37,7 +37,7 @@ impl Cache {
     }
 
     /// Forget the frames any of `changed` fragments is recorded in (all with `None`).
-    pub fn forget(&mut self, frags: &[super::Fragment], changed: Option<&[usize]>) {
+    pub fn forget(&mut self, frags: &[super::fragments::Fragment], changed: Option<&[usize]>) {
         let Some(changed) = changed else {
             self.per.iter_mut().for_each(|p| *p = None);
             return;
@@ -56,7 +56,7 @@ impl Cache {
 pub(crate) fn vote(
     model: &Model,
     t: &Trial,
-    frags: &[super::Fragment],
+    frags: &[super::fragments::Fragment],
     active: &[Vec<u32>],
     labels: &[Option<usize>],
     cache: &mut Cache,
@@ -95,7 +95,7 @@ pub(crate) fn vote(
 fn frame_votes(
     model: &Model,
     t: &Trial,
-    frags: &[super::Fragment],
+    frags: &[super::fragments::Fragment],
     here: &[u32],
     labels: &[Option<usize>],
     f: usize,
