@@ -403,3 +403,39 @@ def test_reclaim_lists_what_repair_moves():
     assert report["summary"]["unlabelled"]["points"] == 29
     with pytest.raises(c3dfix.C3dError):
         c3dfix.repair(c, reclaim="maybe")
+
+
+def test_label_writes_what_the_command_writes_and_a_rerun_changes_nothing(tmp_path):
+    """Issue 47 item 2: label() takes the same path as `c3dfix label --json` (same report,
+    same bytes), a rerun of its output is already labelled and rewrites the same bytes, the
+    output reads in ezc3d with every point kept, and a template of another marker set
+    raises C3dError naming what does not match, writing nothing."""
+    import subprocess
+
+    import ezc3d
+
+    labs = corpus("C3D_LABS", "../shared/c3d-labs")
+    if labs is None:
+        pytest.skip("c3d-labs corpus not found")
+    trial = Path(labs) / "RehabEngGroup__MOtoNMS__Fast_Walking.c3d"
+    out = tmp_path / "labelled.c3d"
+    r = c3dfix.label(str(trial), str(trial), str(out))
+    assert r["status"] == "labelled"
+    assert (r["unlabelled_points"], r["in_common"]) == (29, 51)
+    assert r["moved_samples"] == r["labelled_samples"] > 0
+    by_cli = tmp_path / "cli.c3d"
+    printed = subprocess.run(
+        [str(cli()), "label", str(trial), "--template", str(trial), "-o", str(by_cli), "--json"],
+        check=True, capture_output=True, text=True).stdout
+    assert json.loads(printed)["moved_samples"] == r["moved_samples"]
+    assert by_cli.read_bytes() == out.read_bytes()
+    again = tmp_path / "again.c3d"
+    r2 = c3dfix.label(str(out), str(trial), str(again))
+    assert r2["status"] == "already_labelled"
+    assert again.read_bytes() == out.read_bytes()
+    e = ezc3d.c3d(str(out))
+    assert e["data"]["points"].shape[1] == ezc3d.c3d(str(trial))["data"]["points"].shape[1]
+    other = Path(labs) / "psbiomech__lasem-data-processing__FAILT01_SLDJ03.c3d"
+    with pytest.raises(c3dfix.C3dError, match="another marker set"):
+        c3dfix.label(str(trial), str(other), str(tmp_path / "no.c3d"))
+    assert not (tmp_path / "no.c3d").exists()

@@ -50,11 +50,11 @@ pub struct Contact {
     pub first_sample: usize,
     pub last_sample: usize,
     /// The point frames they fall in, numbered as the file numbers them
-    /// ([`C3d::frame_number`]).
+    /// ([`c3d::C3d::frame_number`]).
     pub first_frame: usize,
     pub last_frame: usize,
     /// The times of the first and last sample in seconds, on the file's time base
-    /// ([`C3d::analog_time`], the EVENT group's base).
+    /// ([`c3d::C3d::analog_time`], the EVENT group's base).
     pub first_time: f64,
     pub last_time: f64,
     /// Largest push in the stretch (N).
@@ -167,7 +167,7 @@ pub struct ForcePlatforms {
     /// The file's first frame number.
     #[serde(skip)]
     pub first_frame: usize,
-    /// The time of the first analog sample on the file's time base ([`C3d::analog_time`]).
+    /// The time of the first analog sample on the file's time base ([`c3d::C3d::analog_time`]).
     #[serde(skip)]
     pub start_time: f64,
     /// The threshold used (N).
@@ -187,7 +187,7 @@ impl ForcePlatforms {
     }
 
     /// The time of analog sample `i` in seconds on the file's time base (frame `n` at
-    /// (`n` − 1) / POINT:RATE, the EVENT group's base), as [`C3d::analog_time`] gives it.
+    /// (`n` − 1) / POINT:RATE, the EVENT group's base), as [`c3d::C3d::analog_time`] gives it.
     pub fn time(&self, i: usize) -> f64 {
         match self.platforms.first() {
             Some(p) if p.rate > 0.0 && p.rate.is_finite() => self.start_time + i as f64 / p.rate,
