@@ -76,6 +76,32 @@ pub struct Trial {
 }
 
 impl Trial {
+    /// The trial in millimetres (`mm_per_unit` converts), with samples whose coordinates
+    /// are not finite marked missing: how reclaiming and labelling read a trial, whose
+    /// thresholds are lengths in mm.
+    pub(crate) fn in_mm(&self, mm_per_unit: f64) -> Trial {
+        let xyz: Vec<Vec<[f64; 3]>> = self
+            .xyz
+            .iter()
+            .map(|r| r.iter().map(|p| p.map(|v| v * mm_per_unit)).collect())
+            .collect();
+        let valid = xyz
+            .iter()
+            .zip(&self.valid)
+            .map(|(r, v)| {
+                r.iter()
+                    .zip(v)
+                    .map(|(p, &ok)| ok && p.iter().all(|c| c.is_finite()))
+                    .collect()
+            })
+            .collect();
+        Trial {
+            rate_hz: self.rate_hz,
+            xyz,
+            valid,
+        }
+    }
+
     /// A trial whose markers all have the same number of frames, with masks to match.
     pub fn new(rate_hz: f64, xyz: Vec<Vec<[f64; 3]>>, valid: Vec<Vec<bool>>) -> Result<Trial> {
         let t = Trial {

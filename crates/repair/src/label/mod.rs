@@ -131,30 +131,6 @@ pub enum LabelError {
     Scale { what: &'static str, value: f64 },
 }
 
-/// `t` in millimetres, with samples whose coordinates are not finite marked missing.
-fn in_mm(t: &Trial, mm_per_unit: f64) -> Trial {
-    let xyz: Vec<Vec<[f64; 3]>> = t
-        .xyz
-        .iter()
-        .map(|r| r.iter().map(|p| p.map(|v| v * mm_per_unit)).collect())
-        .collect();
-    let valid = xyz
-        .iter()
-        .zip(&t.valid)
-        .map(|(r, v)| {
-            r.iter()
-                .zip(v)
-                .map(|(p, &ok)| ok && p.iter().all(|c| c.is_finite()))
-                .collect()
-        })
-        .collect();
-    Trial {
-        rate_hz: t.rate_hz,
-        xyz,
-        valid,
-    }
-}
-
 /// Label the fragments of `trial` from `template`. `given[row]` is the template marker a
 /// trial row is already labelled as (`None`: unlabelled). Each trial's `mm_per_unit`
 /// converts its coordinates to millimetres. Samples with a coordinate that is not finite
@@ -208,12 +184,12 @@ pub fn label(
     if !(trial.rate_hz.is_finite() && trial.rate_hz > 0.0) {
         return Err(LabelError::Rate(trial.rate_hz));
     }
-    let tm = in_mm(template, template_mm_per_unit);
+    let tm = template.in_mm(template_mm_per_unit);
     let model = model::Model::learn(&tm, opts);
     if !model.present.iter().any(|&p| p) {
         return Err(LabelError::EmptyTemplate(k));
     }
-    let t = in_mm(trial, trial_mm_per_unit);
+    let t = trial.in_mm(trial_mm_per_unit);
     let frags = fragments::fragments(&t, opts.max_speed_mm_s / trial.rate_hz);
     let active = fragments::by_frame(&frags, t.frames());
     let given_of: Vec<Option<usize>> = frags.iter().map(|g| given[g.row]).collect();

@@ -62,7 +62,7 @@ pub fn judge(
     if markers.markers() == 0 || candidates.markers() == 0 || n == 0 || candidates.frames() != n {
         return Vec::new();
     }
-    let (m, u) = (in_mm(markers, mm_per_unit), in_mm(candidates, mm_per_unit));
+    let (m, u) = (markers.in_mm(mm_per_unit), candidates.in_mm(mm_per_unit));
     let links = segment_links(&m, opts);
     pieces(&m, &u)
         .into_iter()
@@ -108,31 +108,6 @@ pub fn segment_links(m: &Trial, opts: &ReclaimOptions) -> Vec<Vec<crate::swaps::
         ls.retain(|l| l.tol_mm <= max_tol_mm);
     }
     links
-}
-
-/// `t` in millimetres, with samples whose coordinates are not finite marked missing.
-fn in_mm(t: &Trial, mm_per_unit: f64) -> Trial {
-    let xyz = t
-        .xyz
-        .iter()
-        .map(|r| r.iter().map(|p| p.map(|v| v * mm_per_unit)).collect())
-        .collect();
-    let valid = t
-        .xyz
-        .iter()
-        .zip(&t.valid)
-        .map(|(r, v)| {
-            r.iter()
-                .zip(v)
-                .map(|(p, &ok)| ok && p.iter().all(|c| c.is_finite()))
-                .collect()
-        })
-        .collect();
-    Trial {
-        rate_hz: t.rate_hz,
-        xyz,
-        valid,
-    }
 }
 
 /// Every stretch of an unlabelled trajectory recorded inside a gap of a marker.
