@@ -138,6 +138,8 @@ pub enum Setting {
     Axes,
     /// Cycles: the feet whose cycles are cut.
     Side,
+    /// Runs over many files: trials done at once.
+    Jobs,
 }
 
 impl Setting {
@@ -157,6 +159,7 @@ impl Setting {
             Setting::Reclaim => "reclaim",
             Setting::Axes => "axes",
             Setting::Side => "side",
+            Setting::Jobs => "jobs",
         }
     }
 }

@@ -31,13 +31,14 @@ pub mod evaluate;
 pub mod event_group;
 pub mod event_labels;
 pub mod events;
-pub mod events_session;
+mod events_session;
 pub mod export;
 mod feet;
 pub mod files;
 pub mod gait_params;
 mod gaps;
 pub mod info;
+pub mod jobs;
 pub mod keyframes;
 pub mod label_stage;
 mod label_write;
@@ -48,7 +49,7 @@ pub mod platforms;
 mod reclaim_stage;
 mod repair;
 pub mod report;
-pub mod rerun;
+mod rerun;
 pub mod save;
 mod session_calibration;
 mod swap_stage;
@@ -64,9 +65,13 @@ pub use cycles::{cycles, CycleInfo, CycleOptions, Cycles};
 pub use error::{Conflict, Error, Result, Setting, PLATES_NEED_FEET};
 pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
 pub use events::{detect_events, Detected, EventOptions, EventSource, TrialEvent};
+pub use events_session::{
+    lab_events, session_from, CalibrationTruth, KindReport, SessionLags, SessionReport,
+};
 pub use feet::Feet;
 pub use gait_params::{gait_parameters, GaitOptions, GaitReport};
 pub use gaps::{gaps, GapInfo};
+pub use jobs::Jobs;
 pub use keyframes::{keyframes, KeyMethod, KeyframeOptions, KeyframeReport, Keyframed};
 pub use label_stage::{label, LabelReport, LabelSettings};
 pub use options::{
@@ -84,6 +89,7 @@ pub use repair::{
     repair, GapBrief, GapRow, MarkerChange, Repaired, SegmentRow, SpikeRow, Summary,
     UnlabelledBrief,
 };
+pub use rerun::Record as RepairRecord;
 pub use swap_stage::{SwapAction, SwapBrief};
 pub use swaps::{swaps, SwapFind, Swaps};
 pub use tally::Tally;

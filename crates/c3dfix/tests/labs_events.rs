@@ -282,7 +282,7 @@ fn a_labs_own_codes_in_the_general_context_are_read_as_gait_events() {
         "{cadence:?}"
     );
     // The session calibration reads them as truth too.
-    assert_eq!(c3dfix::events_session::lab_events(&c).len(), 7);
+    assert_eq!(c3dfix::lab_events(&c).len(), 7);
 }
 
 #[test]

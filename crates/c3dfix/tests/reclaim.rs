@@ -34,7 +34,7 @@ fn fast_walk_reclaimed_keeps_recorded_samples_and_reruns_to_the_same_bytes() {
     assert!(!moved.is_empty(), "{:?}", s.reclaim_list);
     assert_eq!(s.reclaimed, moved.iter().map(|b| b.samples).sum::<usize>());
     let (a, b) = (original.points(), c.points());
-    let filled = c3dfix::rerun::Record::read(&c).filled;
+    let filled = c3dfix::RepairRecord::read(&c).filled;
     for m in &moved {
         // A later fill never covers a moved sample: they are data.
         assert!(!filled
@@ -49,7 +49,7 @@ fn fast_walk_reclaimed_keeps_recorded_samples_and_reruns_to_the_same_bytes() {
             assert!(!b.is_valid(f, m.source_point), "{} frame {f}", m.source);
         }
     }
-    let record = c3dfix::rerun::Record::read(&c);
+    let record = c3dfix::RepairRecord::read(&c);
     assert_eq!(record.reclaim.as_deref(), Some("--reclaim on"));
     assert_eq!(record.reclaimed.len(), moved.len());
     // The rerun: the stage is not applied twice, nothing changes.

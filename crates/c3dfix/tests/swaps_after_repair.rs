@@ -76,7 +76,7 @@ fn pycgm_unlabelled_point_is_left_as_recorded_and_shows_no_jump() {
         .iter()
         .position(|l| l.trim() == "*154")
         .unwrap();
-    let record = c3dfix::rerun::Record::read(&repaired);
+    let record = c3dfix::RepairRecord::read(&repaired);
     assert!(
         record.filled.iter().all(|&(p, _, _)| p != p154),
         "{:?}",

@@ -75,7 +75,7 @@ fn a_pattern_adds_the_labs_own_placeholder() {
     assert_eq!(s.markers, 50);
     assert_eq!(s.unlabelled.as_ref().map(|u| u.points), Some(30));
     assert!(s.gap_list.iter().all(|g| g.label != "LTH3"));
-    let record = c3dfix::rerun::Record::read(&c);
+    let record = c3dfix::RepairRecord::read(&c);
     assert!(
         record
             .fill

@@ -20,6 +20,7 @@ pub fn flag(s: Setting) -> &'static str {
         Setting::Reclaim => "--reclaim",
         Setting::Axes => "--axes",
         Setting::Side => "--side",
+        Setting::Jobs => "--jobs",
         // A setting added to the library before it is given a flag here: its plain name.
         other => other.name(),
     }

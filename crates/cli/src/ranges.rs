@@ -2,9 +2,6 @@
 //! range is a usage error naming the option (exit 2) before any file is read or any memory
 //! is sized from it.
 
-/// Most worker threads `batch --jobs` starts.
-pub const MAX_JOBS: usize = 256;
-
 fn int_in(s: &str, lo: usize, hi: usize) -> Result<usize, String> {
     let v: usize = s
         .trim()
@@ -37,11 +34,6 @@ fn float_from(s: &str, lo: f64, open: bool) -> Result<f64, String> {
 /// `--max-gap`: 1 frame or more (more frames than the trial has means no limit).
 pub fn max_gap(s: &str) -> Result<usize, String> {
     int_in(s, 1, usize::MAX)
-}
-
-/// `--jobs`: 1 to [`MAX_JOBS`].
-pub fn jobs(s: &str) -> Result<usize, String> {
-    int_in(s, 1, MAX_JOBS)
 }
 
 /// `--gap-lengths`: each 1 to [`repair::evaluate::MAX_GAP_LENGTH`] frames.
@@ -92,17 +84,31 @@ pub fn scale(s: &str) -> Result<f32, String> {
     }
 }
 
+/// A choice the library names and parses (`FromStr` with the library's error: an event
+/// source, a side, a fill method …), checked while the command line is parsed, so a
+/// misspelt name is a usage error (exit 2) before any file is read, said with this tool's
+/// flags.
+pub fn choice<T>(s: &str) -> Result<T, String>
+where
+    T: std::str::FromStr,
+    T::Err: Into<c3dfix::Error>,
+{
+    s.parse::<T>().map_err(|e| crate::flags::phrase(&e.into()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn bounds_hold() {
-        assert_eq!(jobs("4"), Ok(4));
+        let jobs = choice::<c3dfix::Jobs>;
+        assert_eq!(jobs("4").map(c3dfix::Jobs::get), Ok(Some(4)));
         assert!(jobs("0").is_err() && jobs("257").is_err() && jobs("-1").is_err());
-        assert!(jobs("18446744073709551615")
-            .unwrap_err()
-            .contains("from 1 to 256"));
+        assert_eq!(
+            jobs("18446744073709551615").unwrap_err(),
+            "--jobs 18446744073709551615: must be from 1 to 256"
+        );
         assert!(gap_length("18446744073709551615").is_err());
         assert!(gaps_per_length("18446744073709551615").is_err());
         assert_eq!(max_gap("18446744073709551615"), Ok(usize::MAX));

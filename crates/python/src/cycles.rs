@@ -8,7 +8,7 @@ use pyo3::types::{PyDict, PyList};
 
 use crate::{err, lib_err, PyC3d};
 use c3dfix::events::{EventOptions, EventSource};
-use c3dfix::events_session::{session_from, CalibrationTruth, SessionReport};
+use c3dfix::{session_from, CalibrationTruth, SessionReport};
 use gait::session::SessionOptions;
 use gait::{cycles::SAMPLES, Kind, MarkerNames, Side, Source};
 

@@ -16,8 +16,8 @@ pub struct Args {
     /// The trial (a C3D file).
     pub file: PathBuf,
     /// The feet whose cycles are written: left, right or both.
-    #[arg(long, default_value = "both")]
-    pub side: String,
+    #[arg(long, default_value = "both", value_parser = crate::ranges::choice::<c3dfix::Feet>)]
+    pub side: c3dfix::Feet,
     /// Markers to write (x, y, z in mm each), comma-separated or repeated; every marker
     /// when no signal at all is named.
     #[arg(long, value_name = "NAME", value_delimiter = ',')]
@@ -35,8 +35,8 @@ pub struct Args {
     #[arg(long)]
     pub detect: bool,
     /// Where detected events come from: plates, kinematics or auto (with --detect).
-    #[arg(long, requires = "detect", value_name = "SOURCE")]
-    pub from: Option<String>,
+    #[arg(long, requires = "detect", value_name = "SOURCE", value_parser = crate::ranges::choice::<EventSource>)]
+    pub from: Option<EventSource>,
     /// The CSV to write (standard output when absent).
     #[arg(short = 'o', long, value_name = "OUT")]
     pub output: Option<PathBuf>,
@@ -47,7 +47,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<i32> {
     let detect = if a.detect {
-        let from: EventSource = a.from.as_deref().unwrap_or("auto").parse()?;
+        let from = a.from.unwrap_or(EventSource::Auto);
         Some(EventOptions {
             from,
             ..EventOptions::default()
@@ -56,7 +56,7 @@ pub fn run(a: Args) -> Result<i32> {
         None
     };
     let opts = CycleOptions {
-        sides: a.side.parse::<c3dfix::Feet>()?.sides(),
+        sides: a.side.sides(),
         markers: a.markers.clone(),
         analog: a.analog.clone(),
         forces: a.forces,

@@ -4,10 +4,8 @@
 //! depend on which thread finished first. Each file is written atomically (the library's
 //! `save`), so a run that is killed leaves every trial either as it was or complete.
 
-use crate::commands::parallel::pool;
 use anyhow::Result;
 use c3dfix::targets::{plan, Destination};
-use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// The trials named: files as given, each folder replaced by the C3D files below it
@@ -30,10 +28,10 @@ pub fn trials(named: &[PathBuf]) -> Result<Vec<PathBuf>> {
 
 /// `work` on every trial, on `jobs` threads (None: one per core), results in the trials'
 /// order.
-pub fn each<T, W>(files: &[PathBuf], jobs: Option<usize>, work: W) -> Result<Vec<Result<T>>>
+pub fn each<T, W>(files: &[PathBuf], jobs: Option<c3dfix::Jobs>, work: W) -> Result<Vec<Result<T>>>
 where
     T: Send,
     W: Fn(&Path) -> Result<T> + Sync,
 {
-    Ok(pool(jobs, files.len())?.install(|| files.par_iter().map(|f| work(f)).collect()))
+    Ok(jobs.unwrap_or_default().each(files, |f| work(f))?)
 }

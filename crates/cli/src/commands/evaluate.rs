@@ -19,8 +19,8 @@ pub struct Args {
     #[arg(long, value_delimiter = ',')]
     pub markers: Option<Vec<String>>,
     /// Methods to compare (default: all).
-    #[arg(long, value_delimiter = ',')]
-    pub methods: Option<Vec<String>>,
+    #[arg(long, value_delimiter = ',', value_parser = crate::ranges::choice::<FillMethod>)]
+    pub methods: Option<Vec<FillMethod>>,
     /// Artificial gaps (or groups of gaps) per length, 1 to 10 000.
     #[arg(long, default_value_t = 40, value_parser = ranges::gaps_per_length)]
     pub gaps_per_length: usize,
@@ -37,21 +37,10 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<i32> {
-    // Names are read here, before any file is opened, by the library's `FromStr`.
-    let methods = a
-        .methods
-        .as_ref()
-        .map(|names| {
-            names
-                .iter()
-                .map(|n| n.parse().map_err(c3dfix::Error::from))
-                .collect::<c3dfix::Result<Vec<FillMethod>>>()
-        })
-        .transpose()?;
     let opts = EvaluateOptions {
         gap_lengths: a.gap_lengths.clone(),
         markers: a.markers.clone(),
-        methods,
+        methods: a.methods.clone(),
         gaps_per_length: a.gaps_per_length,
         group: a.group,
         seed: a.seed,

@@ -5,7 +5,7 @@ use crate::console::{errln, outln};
 use anyhow::Result;
 use c3dfix::annotate::Annotate;
 use c3dfix::events::{Detected, EventOptions, EventSource};
-use c3dfix::events_session::{session_from, CalibrationTruth, SessionLags};
+use c3dfix::{session_from, CalibrationTruth, SessionLags};
 use gait::session::SessionOptions;
 use gait::MarkerNames;
 use std::path::PathBuf;
@@ -16,14 +16,14 @@ pub struct Args {
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
     /// Trials done at once, 1 to 256 (default: one per core).
-    #[arg(long, short = 'j', value_name = "N", value_parser = crate::ranges::jobs)]
-    pub jobs: Option<usize>,
+    #[arg(long, short = 'j', value_name = "N", value_parser = crate::ranges::choice::<c3dfix::Jobs>)]
+    pub jobs: Option<c3dfix::Jobs>,
     /// Where events come from: `plates` (a foot alone loading a plate), `kinematics` (the
     /// heel, toe and pelvis markers: Zeni 2008 and Desailly 2009 combined; never the file's
     /// own events) or `auto` (plate events where a foot lands on a plate, kinematic ones
     /// elsewhere, shifted by their lag on this trial's plate steps).
-    #[arg(long, default_value = "auto")]
-    pub from: String,
+    #[arg(long, default_value = "auto", value_parser = crate::ranges::choice::<EventSource>)]
+    pub from: EventSource,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -62,9 +62,10 @@ pub struct Args {
         long,
         value_name = "TRUTH",
         default_value = "auto",
-        requires = "calibrate_from"
+        requires = "calibrate_from",
+        value_parser = crate::ranges::choice::<CalibrationTruth>
     )]
-    pub calibrate_truth: String,
+    pub calibrate_truth: CalibrationTruth,
 }
 
 fn one(
@@ -110,7 +111,7 @@ fn as_json(path: &std::path::Path, d: &Detected) -> serde_json::Value {
 }
 
 pub fn run(mut a: Args) -> Result<i32> {
-    let from: EventSource = a.from.parse()?;
+    let from = a.from;
     let named_one_file = a.files.len() == 1 && !a.files[0].is_dir();
     a.files = crate::commands::each::trials(&a.files)?;
     let opts = EventOptions {
@@ -126,8 +127,7 @@ pub fn run(mut a: Args) -> Result<i32> {
                 "--calibrate-from shifts kinematic events: use --from kinematics or auto"
             );
         }
-        let truth: CalibrationTruth = a.calibrate_truth.parse()?;
-        let s = session_from(&a.calibrate_from, &opts, truth)
+        let s = session_from(&a.calibrate_from, &opts, a.calibrate_truth)
             .map_err(|e| anyhow::anyhow!("{e} (--calibrate-from)"))?;
         for why in &s.skipped {
             errln!("c3dfix: calibration: skipped {why}");
@@ -200,14 +200,14 @@ fn print_text(path: &std::path::Path, d: &Detected) -> Result<()> {
         outln!("  warning: {w}")?;
     }
     if let Some(s) = &d.session_calibration {
-        let ms = |k: &c3dfix::events_session::KindReport| match (k.left_ms, k.right_ms) {
+        let ms = |k: &c3dfix::KindReport| match (k.left_ms, k.right_ms) {
             (Some(l), Some(r)) if l == r => format!("{l:+.1} ms"),
             (l, r) => {
                 let f = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:+.1} ms"));
                 format!("left {}, right {}", f(l), f(r))
             }
         };
-        let used = |k: &c3dfix::events_session::KindReport| {
+        let used = |k: &c3dfix::KindReport| {
             if k.used {
                 ""
             } else if k.left_ms.is_some() || k.right_ms.is_some() {

@@ -15,8 +15,8 @@ pub struct Args {
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
     /// Trials done at once, 1 to 256 (default: one per core).
-    #[arg(long, short = 'j', value_name = "N", value_parser = crate::ranges::jobs)]
-    pub jobs: Option<usize>,
+    #[arg(long, short = 'j', value_name = "N", value_parser = crate::ranges::choice::<c3dfix::Jobs>)]
+    pub jobs: Option<c3dfix::Jobs>,
     /// Print JSON instead of text (also with --write: what was written).
     #[arg(long)]
     pub json: bool,
@@ -29,8 +29,8 @@ pub struct Args {
     #[arg(long)]
     pub detect: bool,
     /// With --detect: where events come from (plates, kinematics or auto).
-    #[arg(long, requires = "detect", default_value = "auto")]
-    pub from: String,
+    #[arg(long, requires = "detect", default_value = "auto", value_parser = crate::ranges::choice::<EventSource>)]
+    pub from: EventSource,
     /// Name markers the search does not find: ROLE=NAME with ROLE one of lheel, rheel,
     /// ltoe, rtoe, pelvis (the toes measure the lengths).
     #[arg(long, value_name = "ROLE=NAME")]
@@ -91,7 +91,7 @@ pub fn run(mut a: Args) -> Result<i32> {
     a.files = crate::commands::each::trials(&a.files)?;
     let detect = if a.detect {
         Some(EventOptions {
-            from: a.from.parse::<EventSource>()?,
+            from: a.from,
             markers: markers.clone(),
             ..EventOptions::default()
         })

@@ -5,30 +5,8 @@
 
 use anyhow::Result;
 use c3dfix::targets::Target;
-use rayon::prelude::*;
 use std::io::{IsTerminal, Write};
 use std::sync::Mutex;
-
-/// Most threads a run starts, whatever `--jobs` says: enough to keep a disk busy with
-/// syncs while others compute, far below what would exhaust the system's threads.
-pub const MAX_THREADS: usize = 256;
-
-/// Threads for `files` jobs when `--jobs` asked for `jobs` (None: one per core): never more
-/// than there are files, nor than [`MAX_THREADS`]; 0 lets the pool pick one per core.
-fn threads(jobs: Option<usize>, files: usize) -> usize {
-    match jobs {
-        None => 0,
-        Some(j) => j.min(files.max(1)).min(MAX_THREADS),
-    }
-}
-
-/// A pool of threads for `files` jobs when `--jobs` asked for `jobs` (see [`threads`]).
-pub(crate) fn pool(jobs: Option<usize>, files: usize) -> Result<rayon::ThreadPool> {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads(jobs, files))
-        .build()
-        .map_err(|e| anyhow::anyhow!("cannot start worker threads: {e}"))
-}
 
 /// Run `work` on every target with `jobs` threads (None: one per core). With `json`, each
 /// file's line is `{"file", "ok": true, key: result}` or `{"file", "ok": false, "error"}`;
@@ -36,7 +14,7 @@ pub(crate) fn pool(jobs: Option<usize>, files: usize) -> Result<rayon::ThreadPoo
 /// errors as their full message.
 pub fn run_each<T, W>(
     targets: &[Target],
-    jobs: Option<usize>,
+    jobs: Option<c3dfix::Jobs>,
     json: bool,
     work: W,
     key: &str,
@@ -52,7 +30,6 @@ where
             Err(e) => serde_json::json!({"file": file, "ok": false, "error": e}),
         }
     };
-    let pool = pool(jobs, targets.len())?;
     let bar = (!json && std::io::stderr().is_terminal()).then(|| {
         let b = indicatif::ProgressBar::new(targets.len() as u64);
         b.set_style(
@@ -63,45 +40,26 @@ where
     });
     // One writer at a time, so lines from parallel jobs never interleave.
     let out_lock = Mutex::new(());
-    let results = pool.install(|| {
-        targets
-            .par_iter()
-            .map(|t| {
-                let r = work(t).map_err(|e| crate::console::describe(&e));
-                let _guard = out_lock.lock();
-                if json {
-                    let mut so = std::io::stdout().lock();
-                    let _ = writeln!(so, "{}", line(t, &r));
-                } else if let Err(e) = &r {
-                    match &bar {
-                        Some(b) => b.println(format!("failed: {e}")),
-                        None => crate::console::errln!("failed: {e}"),
-                    }
-                }
-                if let Some(b) = &bar {
-                    b.set_message(crate::output::file_name(&t.input));
-                    b.inc(1);
-                }
-                r
-            })
-            .collect()
-    });
+    let results = jobs.unwrap_or_default().each(targets, |t| {
+        let r = work(t).map_err(|e| crate::console::describe(&e));
+        let _guard = out_lock.lock();
+        if json {
+            let mut so = std::io::stdout().lock();
+            let _ = writeln!(so, "{}", line(t, &r));
+        } else if let Err(e) = &r {
+            match &bar {
+                Some(b) => b.println(format!("failed: {e}")),
+                None => crate::console::errln!("failed: {e}"),
+            }
+        }
+        if let Some(b) = &bar {
+            b.set_message(crate::output::file_name(&t.input));
+            b.inc(1);
+        }
+        r
+    })?;
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
     Ok(results)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn threads_are_capped_by_files_and_the_maximum() {
-        assert_eq!(threads(None, 10), 0);
-        assert_eq!(threads(Some(2), 10), 2);
-        assert_eq!(threads(Some(usize::MAX), 3), 3);
-        assert_eq!(threads(Some(usize::MAX), 100_000), MAX_THREADS);
-        assert_eq!(threads(Some(4), 0), 1);
-    }
 }

@@ -59,7 +59,7 @@ pub struct RepairArgs {
     /// gaps for the fill; `report` (the default: on untouched trials `fix` would change 2.8
     /// finds per 10 000 frames, not all shown to be label errors) lists every find and
     /// changes nothing; `off` skips it.
-    #[arg(long, default_value_t = RepairOptions::default().swaps, value_parser = swaps_arg)]
+    #[arg(long, default_value_t = RepairOptions::default().swaps, value_parser = crate::ranges::choice::<c3dfix::SwapsMode>)]
     pub swaps: c3dfix::SwapsMode,
     /// Labels (a glob: `*` any text, `?` one character, case-insensitive) that also mark a
     /// point as unlabelled, beside the common placeholders (`*51`, `Unlabeled 3`,
@@ -71,7 +71,7 @@ pub struct RepairArgs {
     /// the fills (docs/reclaim.md): `on` moves the settled ones into their markers (recorded
     /// values, residuals and camera masks; the unlabelled point is marked missing there);
     /// `report` (the default) lists them and changes nothing; `off` skips it.
-    #[arg(long, default_value_t = RepairOptions::default().reclaim, value_parser = reclaim_arg)]
+    #[arg(long, default_value_t = RepairOptions::default().reclaim, value_parser = crate::ranges::choice::<c3dfix::ReclaimMode>)]
     pub reclaim: c3dfix::ReclaimMode,
 }
 
@@ -122,18 +122,6 @@ fn expected_error_arg(s: &str) -> std::result::Result<ExpectedError, String> {
     c3dfix::max_expected_error(s)
         .map(ExpectedError)
         .map_err(|e| e.to_string())
-}
-
-/// `--reclaim on|report|off`, checked while the command line is parsed.
-fn reclaim_arg(s: &str) -> std::result::Result<c3dfix::ReclaimMode, String> {
-    s.parse()
-        .map_err(|e: c3dfix::Error| crate::flags::phrase(&e))
-}
-
-/// `--swaps fix|report|off`, checked while the command line is parsed.
-fn swaps_arg(s: &str) -> std::result::Result<c3dfix::SwapsMode, String> {
-    s.parse()
-        .map_err(|e: c3dfix::Error| crate::flags::phrase(&e))
 }
 
 #[cfg(test)]

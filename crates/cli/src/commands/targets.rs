@@ -34,8 +34,8 @@ pub struct TargetArgs {
     #[arg(long)]
     pub force: bool,
     /// Files worked on at once, 1 to 256 (default: one per core; never more than the files).
-    #[arg(long, value_parser = crate::ranges::jobs)]
-    pub jobs: Option<usize>,
+    #[arg(long, value_parser = crate::ranges::choice::<c3dfix::Jobs>)]
+    pub jobs: Option<c3dfix::Jobs>,
     /// One JSON line per file, then a JSON summary line.
     #[arg(long)]
     pub json: bool,

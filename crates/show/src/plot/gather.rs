@@ -125,7 +125,7 @@ enum Stage {
 /// stage; with both, a refilled sample is a spike and any other change the filter's. A file
 /// without the record (repaired by another program, or by hand) cannot say: a replaced
 /// sample is shown as a spike there, as it always was.
-fn stage_of_changes(record: &c3dfix::rerun::Record, refilled: bool) -> Stage {
+fn stage_of_changes(record: &c3dfix::RepairRecord, refilled: bool) -> Stage {
     match (&record.spikes, &record.filter) {
         (None, None) => Stage::Spike,
         (Some(_), None) => Stage::Spike,
@@ -135,7 +135,7 @@ fn stage_of_changes(record: &c3dfix::rerun::Record, refilled: bool) -> Stage {
 }
 
 /// Per frame of point `point`, whether the record lists it among c3dfix's fills.
-fn refilled_frames(record: &c3dfix::rerun::Record, point: usize, frames: usize) -> Vec<bool> {
+fn refilled_frames(record: &c3dfix::RepairRecord, point: usize, frames: usize) -> Vec<bool> {
     let mut out = vec![false; frames];
     for &(p, a, b) in &record.filled {
         if p == point {
@@ -173,7 +173,7 @@ impl Plot {
                 most: MAX_MARKERS,
             });
         }
-        let record = c3dfix::rerun::Record::read(c);
+        let record = c3dfix::RepairRecord::read(c);
         let mut out = Vec::new();
         for m in markers {
             let i = marker_index(c, m, name)?;

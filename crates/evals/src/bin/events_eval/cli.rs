@@ -2,7 +2,7 @@
 //! and what it prints besides the tables.
 
 use c3dfix::events::EventOptions;
-use c3dfix::events_session::CalibrationTruth;
+use c3dfix::CalibrationTruth;
 use clap::Parser;
 use std::path::PathBuf;
 

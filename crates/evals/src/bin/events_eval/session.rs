@@ -3,7 +3,7 @@
 //! from the lab's other trials, and from each single other trial.
 
 use super::{Run, Settings, Timed};
-use c3dfix::events_session::CalibrationTruth;
+use c3dfix::CalibrationTruth;
 use gait::Event;
 use std::collections::BTreeMap;
 
