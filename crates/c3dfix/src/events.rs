@@ -61,7 +61,7 @@ pub struct EventOptions {
     /// held-out labs' plates (docs/events.md).
     pub correlate: Option<gait::CorrelateOptions>,
     /// The offsets learned from other trials of the session
-    /// ([`crate::events_session`]): added to the kinematic events of each kind, except in
+    /// ([`crate::session_from`]): added to the kinematic events of each kind, except in
     /// `auto` for a kind the trial's own plates calibrate.
     pub session: Option<crate::session_calibration::SessionCalibration>,
 }

@@ -158,7 +158,7 @@ pub fn session_lags(
 /// command line's `--calibrate-from` and Python's `calibrate_from=` read, so both fronts take
 /// the same trials. A name that is neither a file nor a folder, or a folder without a C3D
 /// file, is an error (a typo must not leave a trial silently uncalibrated); a trial that
-/// gives no lag is skipped with why ([`session_lags`]).
+/// gives no lag is skipped with why.
 pub fn session_from(
     named: &[PathBuf],
     opts: &EventOptions,

@@ -66,7 +66,8 @@ pub use error::{Conflict, Error, Result, Setting, PLATES_NEED_FEET};
 pub use evaluate::{evaluate, EvaluateOptions, Evaluation};
 pub use events::{detect_events, Detected, EventOptions, EventSource, TrialEvent};
 pub use events_session::{
-    lab_events, session_from, CalibrationTruth, KindReport, SessionLags, SessionReport,
+    lab_events, session_from, CalibrationTruth, KindReport, SessionCalibration, SessionLags,
+    SessionReport,
 };
 pub use feet::Feet;
 pub use gait_params::{gait_parameters, GaitOptions, GaitReport};
