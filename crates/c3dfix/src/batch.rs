@@ -5,7 +5,7 @@
 use crate::error::Result;
 use crate::files::Destination;
 use crate::options::RepairOptions;
-use crate::repair::Summary;
+use crate::repair::{RepairBrief, Summary};
 use crate::save::{refuse_own_input, write_atomic};
 use crate::tally::Tally;
 use crate::targets::Target;
@@ -31,7 +31,11 @@ pub const NO_POINTS: &str = "no points";
 /// replacing is asked for, then the file repaired as `c3dfix repair` does. A trial without
 /// points has nothing to repair: it is skipped ([`Summary::skipped`]) and, unless in place,
 /// copied unchanged so that the output folder holds every trial.
-pub fn repair_target(t: &Target, dest: RunDestination, opts: &RepairOptions) -> Result<Summary> {
+pub fn repair_target(
+    t: &Target,
+    dest: RunDestination,
+    opts: &RepairOptions,
+) -> Result<RepairBrief> {
     let (input, output) = (&t.input, &t.output);
     let overwrite = dest.force || dest.in_place;
     if !dest.in_place {
@@ -43,12 +47,12 @@ pub fn repair_target(t: &Target, dest: RunDestination, opts: &RepairOptions) -> 
         if !dest.in_place {
             write_atomic(output, c.source_bytes().unwrap_or_default(), overwrite)?;
         }
-        return Ok(Summary {
+        return Ok(RepairBrief::of_summary(Summary {
             file: input.display().to_string(),
             output: output.display().to_string(),
             skipped: Some(NO_POINTS.into()),
             ..Summary::default()
-        });
+        }));
     }
     drop(c);
     let dest = Destination {
@@ -57,7 +61,7 @@ pub fn repair_target(t: &Target, dest: RunDestination, opts: &RepairOptions) -> 
         backup: dest.backup,
         force: dest.force,
     };
-    Ok(crate::files::repair(input, &dest, opts, None)?.summary)
+    Ok(crate::files::repair(input, &dest, opts, None)?.brief())
 }
 
 /// What a run did over all its files: how many were repaired, skipped, left unchanged or
@@ -90,17 +94,19 @@ pub struct BatchTotals {
 
 impl BatchTotals {
     /// The totals of a run's results, one per file (`Err`: why the file failed).
-    pub fn of<E>(results: &[std::result::Result<Summary, E>]) -> BatchTotals {
-        let ok: Vec<&Summary> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
+    pub fn of<E>(results: &[std::result::Result<RepairBrief, E>]) -> BatchTotals {
+        let ok: Vec<&RepairBrief> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
+        let lists = &ok;
+        let ok: Vec<&Summary> = ok.iter().map(|b| &b.summary).collect();
         let skipped = ok.iter().filter(|s| s.skipped.is_some()).count();
         let mut left_because = Tally::default();
         for s in &ok {
             left_because.add_all(&s.left_because);
         }
         let left = left_because.total();
-        let left_at_trial_ends = ok
+        let left_at_trial_ends = lists
             .iter()
-            .flat_map(|s| &s.gap_list)
+            .flat_map(|b| &b.gap_list)
             .filter(|g| g.reason.is_some() && g.at_trial_end)
             .count();
         let sum = |f: fn(&Summary) -> usize| ok.iter().map(|s| f(s)).sum::<usize>();
@@ -118,7 +124,7 @@ impl BatchTotals {
             left_inside: left.saturating_sub(left_at_trial_ends),
             spikes: sum(|s| s.spikes),
             samples_changed: sum(|s| s.samples_changed),
-            swaps_found: sum(|s| s.swap_list.len()),
+            swaps_found: lists.iter().map(|b| b.swap_list.len()).sum(),
             swaps_undone: sum(|s| s.swaps_undone),
             jumps_to_gaps: sum(|s| s.jumps_to_gaps),
         }

@@ -87,7 +87,7 @@ pub use reclaim_stage::{
     reclaim, Reclaim, ReclaimAction, ReclaimBrief, Reclaimed, UnsettledBrief, UnsettledWhy,
 };
 pub use repair::{
-    repair, GapBrief, GapRow, MarkerChange, Repaired, SegmentRow, SpikeRow, Summary,
+    repair, GapBrief, GapRow, MarkerChange, RepairBrief, Repaired, SegmentRow, SpikeRow, Summary,
     UnlabelledBrief,
 };
 pub use rerun::Record as RepairRecord;

@@ -14,7 +14,8 @@ use repair::{FillMethod, FillOutcome, SkipKind};
 use serde::Serialize;
 use std::path::Path;
 
-/// What one repair did, in numbers: what `c3dfix repair` prints and `batch` emits per file.
+/// What one repair did, in counts: the report's `summary`. The lists behind the counts stand
+/// beside it: in the report (`gaps`, `swaps`, `reclaim`) and in a [`RepairBrief`].
 #[derive(Debug, Clone, Serialize, Default, PartialEq)]
 pub struct Summary {
     pub file: String,
@@ -51,29 +52,15 @@ pub struct Summary {
     pub expected_error_mm_max: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub expected_error_mm_mean: Option<f64>,
-    /// Every gap: where, what became of it, and its expected error in mm.
-    pub gap_list: Vec<GapBrief>,
     /// Label swaps exchanged back and label jumps made gaps by the first stage
     /// (`--swaps fix`).
     #[serde(skip_serializing_if = "is_zero")]
     pub swaps_undone: usize,
     #[serde(skip_serializing_if = "is_zero")]
     pub jumps_to_gaps: usize,
-    /// Every label swap and jump found (`--swaps fix` or `report`), frames in the file's
-    /// numbering, with its evidence and what was done with it.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub swap_list: Vec<SwapBrief>,
     /// Recorded samples moved from unlabelled points into their markers (`--reclaim on`).
     #[serde(skip_serializing_if = "is_zero")]
     pub reclaimed: usize,
-    /// Every settled piece of unlabelled samples found in a marker's gap (`--reclaim on` or
-    /// `report`), frames in the file's numbering, with its fit and what was done with it.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub reclaim_list: Vec<ReclaimBrief>,
-    /// Pieces that fit a marker's gap and are not settled (a rival fits as well, or too
-    /// few segment distances to tell): reported, never moved.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub reclaim_unsettled: Vec<UnsettledBrief>,
     /// Why the swap stage checked nothing (too little to judge), if so.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub swaps_note: Option<String>,
@@ -89,6 +76,39 @@ pub struct Summary {
     /// Why the file was left as it was (batch only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub skipped: Option<String>,
+}
+
+/// One repair in brief, as `c3dfix repair --json` prints it and `batch` emits per file: the
+/// summary's counts, then every gap, swap and reclaimed piece behind them, each in a line a
+/// person can act on (frames in the file's numbering).
+#[derive(Debug, Clone, Serialize, Default, PartialEq)]
+pub struct RepairBrief {
+    #[serde(flatten)]
+    pub summary: Summary,
+    /// Every gap: where, what became of it, and its expected error in mm.
+    pub gap_list: Vec<GapBrief>,
+    /// Every label swap and jump found (`--swaps fix` or `report`), with its evidence and
+    /// what was done with it.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub swap_list: Vec<SwapBrief>,
+    /// Every settled piece of unlabelled samples found in a marker's gap (`--reclaim on` or
+    /// `report`), with its fit and what was done with it.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub reclaim_list: Vec<ReclaimBrief>,
+    /// Pieces that fit a marker's gap and are not settled (a rival fits as well, or too
+    /// few segment distances to tell): reported, never moved.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub reclaim_unsettled: Vec<UnsettledBrief>,
+}
+
+impl RepairBrief {
+    /// A trial left as it was, with the summary that says why.
+    pub fn of_summary(summary: Summary) -> RepairBrief {
+        RepairBrief {
+            summary,
+            ..RepairBrief::default()
+        }
+    }
 }
 
 /// A trial's unlabelled points in a summary.
@@ -137,6 +157,9 @@ pub struct GapBrief {
 #[derive(Debug, Clone)]
 pub struct Repaired {
     pub summary: Summary,
+    /// Every gap of the markers in scope in brief (with its times), as [`RepairBrief`]
+    /// lists it.
+    pub gap_list: Vec<GapBrief>,
     /// The configuration the trial was repaired with, in the file's units.
     pub config: repair::RepairConfig,
     /// Every label swap and jump found, with what was done with it.
@@ -208,6 +231,17 @@ pub struct MarkerChange {
 }
 
 impl Repaired {
+    /// The repair in brief: the summary and the lists behind it.
+    pub fn brief(&self) -> RepairBrief {
+        RepairBrief {
+            summary: self.summary.clone(),
+            gap_list: self.gap_list.clone(),
+            swap_list: self.swaps.clone(),
+            reclaim_list: self.reclaim.settled.clone(),
+            reclaim_unsettled: self.reclaim.unsettled.clone(),
+        }
+    }
+
     /// The full report, as `c3dfix repair --report` writes it: the configuration, the
     /// summary, every label swap and jump found (with its evidence and what was done), every
     /// gap (with its outcome), spike and filtered segment, and the samples
@@ -317,14 +351,11 @@ pub(crate) fn repair_configured(
         samples_at_origin: at_origin(&trial, &in_scope),
         swaps_undone: count_action(&stage.briefs, SwapAction::Undone),
         jumps_to_gaps: count_action(&stage.briefs, SwapAction::Gap),
-        swap_list: stage.briefs.clone(),
         swaps_note: stage.note.clone(),
         reclaimed: reclaim.samples_moved,
-        reclaim_list: reclaim.settled.clone(),
-        reclaim_unsettled: reclaim.unsettled.clone(),
         ..Summary::default()
     };
-    let gaps = gap_summary(c, &report, &in_scope, &row_label, &mut s);
+    let (gaps, gap_list) = gap_summary(c, &report, &in_scope, &row_label, &mut s);
     let rows = Rows {
         points: &points,
         row_of: &row_of,
@@ -361,6 +392,7 @@ pub(crate) fn repair_configured(
         summary: s,
         config: cfg,
         gaps,
+        gap_list,
         spikes,
         spike_mode: report.spike_mode,
         segments,
@@ -368,16 +400,17 @@ pub(crate) fn repair_configured(
     })
 }
 
-/// Every gap of the markers in scope, into the summary's counts and gap list, and as the
-/// report's gap rows (each with its expected error in millimetres).
+/// Every gap of the markers in scope, into the summary's counts, as the report's gap rows
+/// and in brief (each with its expected error in millimetres).
 fn gap_summary(
     c: &c3d::C3d,
     report: &repair::RepairReport,
     in_scope: &dyn Fn(usize) -> bool,
     row_label: &dyn Fn(usize) -> String,
     s: &mut Summary,
-) -> Vec<GapRow> {
+) -> (Vec<GapRow>, Vec<GapBrief>) {
     let mut gaps = Vec::new();
+    let mut list = Vec::new();
     let mm = mm_per_unit(&c.point_units());
     let mut expected = Vec::new();
     for g in report.gaps.iter().filter(|g| in_scope(g.gap.marker)) {
@@ -425,13 +458,13 @@ fn gap_summary(
             outcome: g.outcome,
             expected_error_mm: brief.expected_error_mm,
         });
-        s.gap_list.push(brief);
+        list.push(brief);
     }
     if !expected.is_empty() {
         s.expected_error_mm_max = Some(expected.iter().copied().fold(0.0, f64::max));
         s.expected_error_mm_mean = Some(expected.iter().sum::<f64>() / expected.len() as f64);
     }
-    gaps
+    (gaps, list)
 }
 
 /// This run's settings as the file's record writes them.

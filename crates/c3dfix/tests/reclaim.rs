@@ -26,12 +26,13 @@ fn fast_walk_reclaimed_keeps_recorded_samples_and_reruns_to_the_same_bytes() {
     let mut c = original.clone();
     let done = c3dfix::repair(&mut c, &on(), &path).unwrap();
     let s = &done.summary;
-    let moved: Vec<_> = s
-        .reclaim_list
+    let moved: Vec<_> = done
+        .reclaim
+        .settled
         .iter()
         .filter(|b| b.action == ReclaimAction::Moved)
         .collect();
-    assert!(!moved.is_empty(), "{:?}", s.reclaim_list);
+    assert!(!moved.is_empty(), "{:?}", done.reclaim.settled);
     assert_eq!(s.reclaimed, moved.iter().map(|b| b.samples).sum::<usize>());
     let (a, b) = (original.points(), c.points());
     let filled = c3dfix::RepairRecord::read(&c).filled;
@@ -85,7 +86,7 @@ fn no_unlabelled_points_no_change() {
         };
         let dx = c3dfix::repair(&mut x, &on(), &path).unwrap();
         c3dfix::repair(&mut y, &off, &path).unwrap();
-        assert!(dx.summary.unlabelled.is_none() && dx.summary.reclaim_list.is_empty());
+        assert!(dx.summary.unlabelled.is_none() && dx.reclaim.settled.is_empty());
         assert_eq!(x.to_bytes().unwrap(), y.to_bytes().unwrap(), "{name}");
     }
 }
@@ -105,13 +106,13 @@ fn the_listing_is_what_the_repair_moves() {
     let done = c3dfix::repair(&mut c, &on(), &path).unwrap();
     let key = |b: &c3dfix::ReclaimBrief| (b.point, b.source_point, b.first_index, b.last_index);
     let a: Vec<_> = listed.settled.iter().map(key).collect();
-    let b: Vec<_> = done.summary.reclaim_list.iter().map(key).collect();
+    let b: Vec<_> = done.reclaim.settled.iter().map(key).collect();
     assert_eq!(a, b);
     assert!(listed
         .settled
         .iter()
         .all(|b| b.action == ReclaimAction::Reported));
-    assert_eq!(listed.unsettled, done.summary.reclaim_unsettled);
+    assert_eq!(listed.unsettled, done.reclaim.unsettled);
 }
 
 /// A small trial written in memory: `labels` points over `frames` frames at 100 Hz, in mm,
@@ -181,11 +182,7 @@ fn bad_input_one_frame_nan_and_duplicate_labels() {
     };
     let mut c = made(300, &labels, at);
     let done = c3dfix::repair(&mut c, &on(), name).unwrap();
-    assert_eq!(
-        done.summary.reclaimed, 40,
-        "{:?}",
-        done.summary.reclaim_list
-    );
+    assert_eq!(done.summary.reclaimed, 40, "{:?}", done.reclaim.settled);
     assert!((80..120).all(|f| c.points().is_valid(f, 0) && !c.points().is_valid(f, 4)));
     // NaN in the unlabelled samples: missing by the one rule, never moved.
     let nan = |f: usize, m: usize| {
@@ -204,10 +201,10 @@ fn bad_input_one_frame_nan_and_duplicate_labels() {
     let mut c = made(300, &twice, both);
     let done = c3dfix::repair(&mut c, &on(), name).unwrap();
     assert_eq!(done.summary.reclaimed, 0);
-    assert_eq!(done.summary.reclaim_unsettled.len(), 2);
+    assert_eq!(done.reclaim.unsettled.len(), 2);
     assert!(done
-        .summary
-        .reclaim_unsettled
+        .reclaim
+        .unsettled
         .iter()
         .all(|u| matches!(u.why, c3dfix::UnsettledWhy::Ambiguous { .. })));
 }

@@ -5,12 +5,12 @@
 use c3dfix::files::Destination;
 use c3dfix::report::{report, report_trials, ReportOptions, TrialInput};
 use c3dfix::targets::{plan, Destination as To};
-use c3dfix::{RepairOptions, Summary};
+use c3dfix::{RepairBrief, RepairOptions};
 use std::path::{Path, PathBuf};
 
 /// Every trial of `dir` repaired into `out` as `batch --out-dir` does (the library's one
 /// repair of a file), with its summary.
-fn repair_all(dir: &Path, out: &Path) -> Vec<(PathBuf, PathBuf, Summary)> {
+fn repair_all(dir: &Path, out: &Path) -> Vec<(PathBuf, PathBuf, RepairBrief)> {
     let p = plan(&[dir.to_path_buf()], To::OutDir(out), None).unwrap();
     p.targets
         .iter()
@@ -22,7 +22,7 @@ fn repair_all(dir: &Path, out: &Path) -> Vec<(PathBuf, PathBuf, Summary)> {
             };
             let done =
                 c3dfix::files::repair(&t.input, &dest, &RepairOptions::default(), None).unwrap();
-            (t.input.clone(), t.output.clone(), done.summary)
+            (t.input.clone(), t.output.clone(), done.brief())
         })
         .collect()
 }
@@ -66,7 +66,8 @@ fn rows_equal_the_repairs_summaries_and_records_on_c3d_more() {
     })
     .unwrap();
     let mut filled = 0;
-    for (k, (input, output, s)) in done.iter().enumerate() {
+    for (k, (input, output, brief)) in done.iter().enumerate() {
+        let s = &brief.summary;
         let a = &from_summaries.trials[k];
         let b = &from_records.trials[k];
         let name = testkit::short(input);
@@ -79,9 +80,9 @@ fn rows_equal_the_repairs_summaries_and_records_on_c3d_more() {
         assert_eq!(a.left, Some(s.left), "{name}");
         assert_eq!(a.left_because, s.left_because, "{name}");
         assert_eq!(a.spikes, Some(s.spikes), "{name}");
-        assert_eq!(a.swaps_found, Some(s.swap_list.len()), "{name}");
+        assert_eq!(a.swaps_found, Some(brief.swap_list.len()), "{name}");
         assert_eq!(a.expected_error_mm_max, s.expected_error_mm_max, "{name}");
-        let at_ends = s
+        let at_ends = brief
             .gap_list
             .iter()
             .filter(|g| g.reason.is_some() && g.at_trial_end)
@@ -189,7 +190,7 @@ fn a_trial_without_its_repaired_copy_says_so() {
     })
     .unwrap();
     assert_eq!(rep.trials[0].repair_source, Some("record"));
-    assert_eq!(rep.trials[0].filled, Some(done[0].2.filled));
+    assert_eq!(rep.trials[0].filled, Some(done[0].2.summary.filled));
     let r = &rep.trials[1];
     assert!(r.error.is_none());
     let e = r.repaired_error.as_deref().expect("the missing copy said");

@@ -21,9 +21,9 @@ fn fast_walk_speaks_of_its_51_labelled_markers_and_leaves_29_unlabelled_as_recor
     let u = s.unlabelled.as_ref().unwrap();
     assert_eq!((u.points, u.samples), (29, 12590));
     assert_eq!(s.left_because.get(c3dfix::SkipKind::Implausible), 0);
-    assert!(s.gap_list.iter().all(|g| !g.label.starts_with('*')));
-    assert!(s
-        .swap_list
+    assert!(done.gap_list.iter().all(|g| !g.label.starts_with('*')));
+    assert!(done
+        .swaps
         .iter()
         .all(|b| b.find.markers.iter().all(|m| !m.starts_with('*'))));
     // Every unlabelled point's samples are the recorded ones, bit for bit.
@@ -74,7 +74,7 @@ fn a_pattern_adds_the_labs_own_placeholder() {
     let s = &done.summary;
     assert_eq!(s.markers, 50);
     assert_eq!(s.unlabelled.as_ref().map(|u| u.points), Some(30));
-    assert!(s.gap_list.iter().all(|g| g.label != "LTH3"));
+    assert!(done.gap_list.iter().all(|g| g.label != "LTH3"));
     let record = c3dfix::RepairRecord::read(&c);
     assert!(
         record

@@ -397,10 +397,14 @@ def test_reclaim_lists_what_repair_moves():
     assert listed["settled"] and all(b["action"] == "reported" for b in listed["settled"])
     _, report = c3dfix.repair(c, reclaim="on")
     moved = [(b["marker"], b["source"], b["first_frame"], b["last_frame"])
-             for b in report["summary"]["reclaim_list"]]
+             for b in report["reclaim"]["settled"]]
     assert moved == [(b["marker"], b["source"], b["first_frame"], b["last_frame"])
                      for b in listed["settled"]]
     assert report["summary"]["unlabelled"]["points"] == 29
+    # Issue 46 item 5: the summary carries counts; the lists stand beside it.
+    assert report["summary"]["reclaimed"] == report["reclaim"]["samples_moved"] > 0
+    assert not {"gap_list", "swap_list", "reclaim_list"} & report["summary"].keys()
+    assert len(report["gaps"]) == report["summary"]["gaps"]
     with pytest.raises(c3dfix.C3dError):
         c3dfix.repair(c, reclaim="maybe")
 

@@ -6,7 +6,7 @@ use crate::gaps::gaps;
 use crate::markers::split_unlabelled;
 use crate::rerun::Record;
 use crate::tally::Tally;
-use crate::{Direction, EventOptions, ForceOptions, ForcePlatforms, GaitOptions, Summary};
+use crate::{Direction, EventOptions, ForceOptions, ForcePlatforms, GaitOptions, RepairBrief};
 use repair::SkipKind;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -21,7 +21,7 @@ pub struct TrialInput {
     pub repaired: Option<PathBuf>,
     /// The repair's own summary, when the report is made by the run that repaired it: `Err`
     /// holds why the repair failed.
-    pub summary: Option<std::result::Result<Summary, String>>,
+    pub summary: Option<std::result::Result<RepairBrief, String>>,
 }
 
 /// One trial: what it holds, what its repair did, and the first thing worth a look.
@@ -173,7 +173,7 @@ pub(super) fn row(t: &TrialInput) -> TrialRow {
     r.missing_after = after.as_ref().map(|a| a.iter().map(|g| g.length).sum());
     let mut fills = Vec::new();
     match &t.summary {
-        Some(Ok(s)) if s.skipped.is_none() => from_summary(s, &mut r, &mut fills),
+        Some(Ok(b)) if b.summary.skipped.is_none() => from_summary(b, &mut r, &mut fills),
         Some(Ok(_)) => {}
         Some(Err(e)) => r.repaired_error = Some(e.clone()),
         None => from_record(copy.as_ref().unwrap_or(&c), &mut r),
@@ -234,23 +234,24 @@ fn trial_numbers(c: &c3d::C3d, r: &mut TrialRow) {
 
 /// The repair's numbers from its own summary; `fills` gets every filled gap with its
 /// expected error.
-fn from_summary(s: &Summary, r: &mut TrialRow, fills: &mut Vec<Fill>) {
+fn from_summary(b: &RepairBrief, r: &mut TrialRow, fills: &mut Vec<Fill>) {
+    let s = &b.summary;
     r.repair_source = Some("summary");
     r.filled = Some(s.filled);
     r.left = Some(s.left);
     r.left_because = s.left_because.clone();
-    r.left_at_trial_end = s
+    r.left_at_trial_end = b
         .gap_list
         .iter()
         .filter(|g| g.reason.is_some() && g.at_trial_end)
         .count();
     r.expected_error_mm_max = s.expected_error_mm_max;
-    r.swaps_found = Some(s.swap_list.len());
+    r.swaps_found = Some(b.swap_list.len());
     r.swaps_undone = s.swaps_undone;
     r.jumps_to_gaps = s.jumps_to_gaps;
     r.spikes = Some(s.spikes);
     fills.extend(
-        s.gap_list
+        b.gap_list
             .iter()
             .filter(|g| g.method.is_some())
             .map(|g| Fill {

@@ -12,7 +12,7 @@ use crate::console::outln;
 use anyhow::{bail, Result};
 use c3dfix::batch::{BatchTotals, RunDestination};
 use c3dfix::targets::plan;
-use c3dfix::Summary;
+use c3dfix::RepairBrief;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
@@ -56,7 +56,7 @@ pub fn run(a: Args) -> Result<i32> {
         &plan.targets,
         t.jobs,
         t.json,
-        |job| -> Result<Summary> { Ok(c3dfix::batch::repair_target(job, run_dest, &opts)?) },
+        |job| -> Result<RepairBrief> { Ok(c3dfix::batch::repair_target(job, run_dest, &opts)?) },
         "summary",
     )?;
     if let Some(page) = &a.report_html {
@@ -70,7 +70,7 @@ pub fn run(a: Args) -> Result<i32> {
         summary["shard"] = t.shard.map(|s| s.to_string()).into();
         outln!("{}", serde_json::json!({ "summary": summary }))?;
     } else {
-        let ok: Vec<&Summary> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
+        let ok: Vec<&RepairBrief> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
         if ok.len() <= 3 {
             for s in &ok {
                 print_summary(s)?;
@@ -129,7 +129,7 @@ fn print_totals(n: &BatchTotals) -> Result<()> {
 /// repair's own summary (in place, the file as it is now: the recorded one is gone).
 fn session_page(
     targets: &[c3dfix::targets::Target],
-    results: &[std::result::Result<Summary, String>],
+    results: &[std::result::Result<RepairBrief, String>],
     in_place: bool,
     page: &Path,
     force: bool,

@@ -7,7 +7,7 @@ use anyhow::Result;
 use c3dfix::files::Destination;
 use c3dfix::ReclaimAction;
 use c3dfix::SwapAction;
-use c3dfix::{SkipKind, Summary};
+use c3dfix::{RepairBrief, SkipKind};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -53,7 +53,7 @@ pub fn run(a: Args) -> Result<i32> {
     if profiling {
         eprint!("{}", repair::profile::take());
     }
-    let s = done.summary;
+    let s = done.brief();
     if a.json {
         outln!("{}", serde_json::to_string_pretty(&s)?)?;
     } else {
@@ -63,17 +63,19 @@ pub fn run(a: Args) -> Result<i32> {
 }
 
 /// The few lines a person reads after a repair.
-pub fn print_summary(s: &Summary) -> Result<()> {
+pub fn print_summary(b: &RepairBrief) -> Result<()> {
+    let s = &b.summary;
     outln!("repaired {} -> {}", s.file, s.output)?;
-    print_gaps(s)?;
-    print_swaps(s)?;
-    print_reclaim(s)?;
-    print_changes(s)
+    print_gaps(b)?;
+    print_swaps(b)?;
+    print_reclaim(b)?;
+    print_changes(b)
 }
 
 /// The gaps found, filled and left (by method and reason), the unlabelled points and the
 /// fills' expected error, and each gap left as uncertain.
-fn print_gaps(s: &Summary) -> Result<()> {
+fn print_gaps(b: &RepairBrief) -> Result<()> {
+    let s = &b.summary;
     let by: Vec<String> = s
         .filled_by
         .iter()
@@ -111,7 +113,7 @@ fn print_gaps(s: &Summary) -> Result<()> {
     if let (Some(mean), Some(max)) = (s.expected_error_mm_mean, s.expected_error_mm_max) {
         outln!("  expected fill error {mean:.2} mm on average, {max:.2} mm at most")?;
     }
-    for g in s
+    for g in b
         .gap_list
         .iter()
         .filter(|g| g.reason == Some(SkipKind::Uncertain))
@@ -128,11 +130,12 @@ fn print_gaps(s: &Summary) -> Result<()> {
 }
 
 /// Every label swap and jump found, and what was done with it (or why none was looked for).
-fn print_swaps(s: &Summary) -> Result<()> {
+fn print_swaps(b: &RepairBrief) -> Result<()> {
+    let s = &b.summary;
     if let Some(note) = &s.swaps_note {
         outln!("  swaps    not checked: {note}")?;
     }
-    for b in &s.swap_list {
+    for b in &b.swap_list {
         let x = &b.find;
         let kind = match x.kind {
             repair::swaps::FindKind::Swap => "swap",
@@ -163,8 +166,8 @@ fn print_swaps(s: &Summary) -> Result<()> {
 
 /// Every piece of unlabelled samples settled into a marker's gap, and how many fit one
 /// without being settled.
-fn print_reclaim(s: &Summary) -> Result<()> {
-    for b in &s.reclaim_list {
+fn print_reclaim(brief: &RepairBrief) -> Result<()> {
+    for b in &brief.reclaim_list {
         let action = match b.action {
             ReclaimAction::Moved => "moved",
             ReclaimAction::Reported => "reported (--reclaim on moves it)",
@@ -180,10 +183,10 @@ fn print_reclaim(s: &Summary) -> Result<()> {
             b.fit.rms_mm
         )?;
     }
-    if !s.reclaim_unsettled.is_empty() {
+    if !brief.reclaim_unsettled.is_empty() {
         outln!(
             "  reclaim  {} pieces fit a gap and are not settled (c3dfix reclaim lists them): left as they are",
-            s.reclaim_unsettled.len()
+            brief.reclaim_unsettled.len()
         )?;
     }
     Ok(())
@@ -191,7 +194,8 @@ fn print_reclaim(s: &Summary) -> Result<()> {
 
 /// The steps an earlier repair did, the spikes and filtered segments, the samples changed,
 /// what was kept as recorded, and the backup.
-fn print_changes(s: &Summary) -> Result<()> {
+fn print_changes(b: &RepairBrief) -> Result<()> {
+    let s = &b.summary;
     for done in &s.already_applied {
         outln!("  skipped  {done}: the file records it as done by an earlier repair")?;
     }
