@@ -101,79 +101,7 @@ fn every_corpus_plate_equals_the_reference() {
                 )
             });
             plates += 1;
-            assert_eq!(p.kind as i64, rp["type"].as_i64().expect("type"), "{key}");
-            assert_eq!(
-                p.force.len(),
-                rp["samples"].as_u64().expect("n") as usize,
-                "{key}"
-            );
-            assert_eq!(
-                p.origin_corrected,
-                rp["origin_corrected"].as_bool().expect("corrected"),
-                "{key} plate {index}"
-            );
-            let origin = v3(&rp["origin"]).expect("origin");
-            assert!(
-                p.origin
-                    .iter()
-                    .zip(origin)
-                    .all(|(a, b)| (a - b).abs() < 1e-4),
-                "{key} plate {index}: origin {:?} against {origin:?}",
-                p.origin
-            );
-            let check: Vec<usize> = rp["check"]
-                .as_array()
-                .expect("check")
-                .iter()
-                .map(|v| v.as_u64().expect("index") as usize)
-                .collect();
-            samples += check.len();
-            let kistler = rp.get("cop_poly").is_some();
-            let cop_ref = if kistler {
-                &rp["cop_poly"]["cop_corrected"]
-            } else {
-                &rp["cop"]
-            };
-            let size = {
-                let c = p.corners;
-                let d = |a: [f64; 3], b: [f64; 3]| {
-                    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-                };
-                d(c[0], c[2]).max(d(c[1], c[3]))
-            };
-            for (name, ours_v, theirs, scale) in [
-                ("force", &p.force, &rp["force"], magnitude(&p.force)),
-                ("moment", &p.moment, &rp["moment"], magnitude(&p.moment)),
-                ("cop", &p.cop, cop_ref, magnitude(&p.cop).max(size)),
-                (
-                    "free_moment",
-                    &p.free_moment,
-                    &rp["free_moment"],
-                    magnitude(&p.moment),
-                ),
-            ] {
-                if name == "free_moment" && kistler {
-                    // The reference's free moment is about the uncorrected COP.
-                    continue;
-                }
-                let (d, at) = worst(ours_v, theirs, &check);
-                assert!(
-                    d <= 6e-6 * scale.max(1e-9) + 1e-9,
-                    "{key} plate {index} {name}: off by {d} at sample {at} (scale {scale})"
-                );
-            }
-            // Where one says a COP and the other none, the push is at the threshold.
-            for (j, &s) in check.iter().enumerate() {
-                let theirs_none = cop_ref[j][0].is_null();
-                let ours_none = p.cop[s][0].is_nan();
-                if theirs_none != ours_none {
-                    assert!(
-                        (p.push[s] - 10.0).abs() < 1e-3,
-                        "{key} plate {index} sample {s}: COP defined by one reading only (push {})",
-                        p.push[s]
-                    );
-                }
-            }
+            samples += check_plate(key, index, p, rp);
         }
     }
     if skipped > 0 {
@@ -184,6 +112,85 @@ fn every_corpus_plate_equals_the_reference() {
         skipped > 0 || plates >= 150,
         "only {plates} plates compared"
     );
+}
+
+/// One plate of ours against the reference's reading of it: type, samples, origin, and
+/// force, moment, COP and free moment at the reference's check samples; returns how many
+/// samples were checked.
+fn check_plate(key: &str, index: usize, p: &c3dfix::Platform, rp: &serde_json::Value) -> usize {
+    assert_eq!(p.kind as i64, rp["type"].as_i64().expect("type"), "{key}");
+    assert_eq!(
+        p.force.len(),
+        rp["samples"].as_u64().expect("n") as usize,
+        "{key}"
+    );
+    assert_eq!(
+        p.origin_corrected,
+        rp["origin_corrected"].as_bool().expect("corrected"),
+        "{key} plate {index}"
+    );
+    let origin = v3(&rp["origin"]).expect("origin");
+    assert!(
+        p.origin
+            .iter()
+            .zip(origin)
+            .all(|(a, b)| (a - b).abs() < 1e-4),
+        "{key} plate {index}: origin {:?} against {origin:?}",
+        p.origin
+    );
+    let check: Vec<usize> = rp["check"]
+        .as_array()
+        .expect("check")
+        .iter()
+        .map(|v| v.as_u64().expect("index") as usize)
+        .collect();
+    let kistler = rp.get("cop_poly").is_some();
+    let cop_ref = if kistler {
+        &rp["cop_poly"]["cop_corrected"]
+    } else {
+        &rp["cop"]
+    };
+    let size = {
+        let c = p.corners;
+        let d = |a: [f64; 3], b: [f64; 3]| {
+            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+        };
+        d(c[0], c[2]).max(d(c[1], c[3]))
+    };
+    for (name, ours_v, theirs, scale) in [
+        ("force", &p.force, &rp["force"], magnitude(&p.force)),
+        ("moment", &p.moment, &rp["moment"], magnitude(&p.moment)),
+        ("cop", &p.cop, cop_ref, magnitude(&p.cop).max(size)),
+        (
+            "free_moment",
+            &p.free_moment,
+            &rp["free_moment"],
+            magnitude(&p.moment),
+        ),
+    ] {
+        if name == "free_moment" && kistler {
+            // The reference's free moment is about the uncorrected COP.
+            continue;
+        }
+        let (d, at) = worst(ours_v, theirs, &check);
+        assert!(
+            d <= 6e-6 * scale.max(1e-9) + 1e-9,
+            "{key} plate {index} {name}: off by {d} at sample {at} (scale {scale})"
+        );
+    }
+    // Where one says a COP and the other none, the push is at the threshold.
+    for (j, &s) in check.iter().enumerate() {
+        let theirs_none = cop_ref[j][0].is_null();
+        let ours_none = p.cop[s][0].is_nan();
+        if theirs_none != ours_none {
+            assert!(
+                (p.push[s] - 10.0).abs() < 1e-3,
+                "{key} plate {index} sample {s}: COP defined by one reading only (push {})",
+                p.push[s]
+            );
+        }
+    }
+    check.len()
 }
 
 /// The options that keep the channels as stored (no unloaded level removed).
@@ -475,9 +482,17 @@ fn a_bad_plate_is_left_out_and_named() {
             assert!(same(&other.cop, &base.platforms[0].cop), "{what}");
         }
     }
+}
 
-    // NaN in the analog data: those samples of that plate have no force; a warning says how
-    // many; the rest of the plate and the other plate are as before.
+/// NaN in the analog data: those samples of that plate have no force; a warning says how
+/// many; the rest of the plate and the other plate are as before.
+#[test]
+fn nan_analog_samples_are_counted_and_the_rest_kept() {
+    let Some(good) = sample("sample_10/TYPE-4a.c3d") else {
+        return;
+    };
+    let opts = raw();
+    let base = force_platforms(&good, &opts).expect("plates");
     let mut c = good.clone();
     let nch = c.analog().channels();
     for s in 100..110 {
