@@ -36,6 +36,40 @@ fn a_plate_that_only_pulls_gets_no_baseline_and_no_contact() {
 }
 
 #[test]
+fn a_runs_plate_reads_its_level_in_the_flights() {
+    // RBDS' treadmill run (300 Hz) and pyorerun's run (2 kHz, one footfall in 0.4 s): every
+    // quarter-second window holds part of a stance, so the plate once "carried at least
+    // 234 N (552 N) throughout" and nothing was subtracted. Between the steps it reads
+    // nothing: the level is taken in a flight, near zero, and no warning says otherwise.
+    for (name, level_n, contacts) in [
+        (
+            "regifukuchi__BMC-RIC-running-biomechanics__RBDS001runT35",
+            -0.3,
+            100,
+        ),
+        ("pyomeca__pyorerun__Running_0002", -2.0, 1),
+    ] {
+        let Some(path) = labs(name) else {
+            return;
+        };
+        let c = c3dfix::open(&path).unwrap();
+        let fp = force_platforms(&c, &ForceOptions::default()).unwrap();
+        let p = &fp.platforms[0];
+        let b = p.baseline.expect("a level read in a flight");
+        assert_eq!(b.source, c3dfix::BaselineSource::Quiet, "{name}");
+        assert!((b.level - level_n).abs() < 0.05, "{name}: {}", b.level);
+        assert!(
+            fp.warnings
+                .iter()
+                .all(|w| !w.to_string().contains("throughout")),
+            "{name}: {:?}",
+            fp.warnings
+        );
+        assert_eq!(p.contacts.len(), contacts, "{name}");
+    }
+}
+
+#[test]
 fn a_treadmill_plates_origin_written_from_the_other_end_is_read_reversed() {
     // rtosim: each belt's plate shows 8 contacts, but FORCE_PLATFORM:ORIGIN as stored puts
     // the centre of pressure outside the plate in every loaded sample; with x and y

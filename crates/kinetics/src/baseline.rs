@@ -94,9 +94,28 @@ pub fn unloaded(level: f64) -> bool {
 /// no window of finite samples. The level may be above [`MAX_UNLOADED_N`]: the caller
 /// decides (see [`unloaded`]).
 pub fn quiet_stretch(push: &[f64], force: &[[f64; 3]], rate: f64) -> Option<Quiet> {
+    quiet_in_windows(push, force, rate, WINDOW_S)
+}
+
+/// The length of the windows judged when no [`WINDOW_S`] window is unloaded, in seconds:
+/// under the shortest flight of a run (running flights last about 0.08–0.15 s; a plate
+/// under a treadmill's belt is loaded in every quarter second of a run, and unloaded only
+/// in its flights).
+pub const FLIGHT_WINDOW_S: f64 = 0.05;
+
+/// [`quiet_stretch`] for a plate whose every [`WINDOW_S`] window carries a load: the
+/// quietest low stretch among windows of [`FLIGHT_WINDOW_S`], which fit in the flights
+/// between a run's steps. A plate loaded throughout (a subject standing) has none unloaded
+/// here either, and the caller says so.
+pub fn quiet_flight(push: &[f64], force: &[[f64; 3]], rate: f64) -> Option<Quiet> {
+    quiet_in_windows(push, force, rate, FLIGHT_WINDOW_S)
+}
+
+/// The quietest low stretch among windows of `window_s` seconds (at least 5 samples).
+fn quiet_in_windows(push: &[f64], force: &[[f64; 3]], rate: f64, window_s: f64) -> Option<Quiet> {
     let n = push.len().min(force.len());
     let w = if rate.is_finite() && rate > 0.0 {
-        ((WINDOW_S * rate).round() as usize).max(5)
+        ((window_s * rate).round() as usize).max(5)
     } else {
         5
     };

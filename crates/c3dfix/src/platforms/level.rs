@@ -119,7 +119,18 @@ pub(super) fn unloaded_stretch(
             });
         }
     }
-    match kinetics::baseline::quiet_stretch(&raw.push, &raw.force, rate) {
+    // A run's plate (a treadmill belt's above all) is loaded in every quarter second and
+    // unloaded only in the flights between steps: looked for there before the plate is
+    // said to carry a load throughout.
+    let quiet = match kinetics::baseline::quiet_stretch(&raw.push, &raw.force, rate) {
+        Some(q) if !kinetics::baseline::unloaded(q.level) => {
+            kinetics::baseline::quiet_flight(&raw.push, &raw.force, rate)
+                .filter(|f| kinetics::baseline::unloaded(f.level))
+                .or(Some(q))
+        }
+        other => other,
+    };
+    match quiet {
         Some(q) if !kinetics::baseline::steady_pull(q.level, q.spread) => {
             let m = format!(
                 "its quietest low stretch reads a pull of {:.1} N that moves by {:.1} N, pulls coming and going rather than an offset: nothing subtracted (a pull is never a load)",
