@@ -28,7 +28,8 @@
 //! errors per activity, each trial's activity read from its corpus's README, labs and
 //! activities held apart; `--activity-gaps FILE` writes each judged gap with its two
 //! estimates as tab-separated lines), `--donors` (the gap's donors, chosen again from each
-//! record's trial, measured and tried as expected-error features) and `--write-coefficients` (every lab's `auto` gaps written into
+//! record's trial, measured and tried as expected-error features), `--motion` (the marker's
+//! own motion around each gap, measured on its trial and tried likewise) and `--write-coefficients` (every lab's `auto` gaps written into
 //! the committed gaps file, `crates/evals/data/expected_error_gaps.txt`, and the
 //! model fitted on that file into the generated
 //! `crates/repair/src/fill/auto/model/coefficients.rs`). `--refit` fits the committed gaps
