@@ -17,14 +17,13 @@ pub struct RepairArgs {
     pub max_gap: usize,
     /// Leave gaps whose expected fill error is above this many mm (reported as `uncertain`
     /// with the estimate); `off` fills every gap a method can fill. The default, 20 mm, on
-    /// artificial gaps in labs the model was not fitted on leaves 0.4 % of the gaps: 5 of
-    /// the 7 fills worse than 50 mm, 21 of the 55 worse than 20 mm, none of the 8 135
-    /// within 5 mm (15 mm leaves 0.9 %: 6 of 7, 34 of 55, 1 of 8 135). Gaps inside a trial
-    /// have the truth within 2x of the estimate 82 % of the time and above twice it 4 %.
-    /// Gaps at a trial's start or end (only donors can fill them) are filled 2-5x worse and
-    /// less surely: within 2x 80 %, above twice 10 %; there 20 mm leaves 4.4 % of the gaps,
-    /// 15 of the 18 fills worse than 50 mm, 60 of the 98 worse than 20 mm, none of the 1 287
-    /// within 5 mm (docs/fill-evaluation.md, "Gaps at a trial's start or end").
+    /// artificial gaps in the labs nothing was chosen on (c3d-more, c3d-labs), each judged
+    /// by the model fitted to the others, leaves 2.7 % of the gaps, among them 82 % of the
+    /// fills that would have been off by more than 50 mm and 0.05 % of those within 5 mm.
+    /// There the truth is within 2x of the estimate for 76.7 % of gaps and above twice it
+    /// for 4.5 % (walking 80.6 % / 3.1 %; running, jumps and lifting spread wider). Gaps at
+    /// a trial's start or end (only donors can fill them) are filled 2-5x worse and less
+    /// surely (docs/fill-evaluation.md, "Gaps at a trial's start or end").
     #[arg(long, default_value_t = ExpectedError(RepairOptions::default().max_expected_error_mm), value_parser = expected_error_arg)]
     pub max_expected_error: ExpectedError,
     /// Remove spikes first: `hampel[:K[:NSIGMA]]` (window of K samples each side, 1 to 1000,

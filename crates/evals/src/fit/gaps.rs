@@ -5,7 +5,7 @@
 //! ```text
 //! # comments
 //! lab NAME
-//! error scored spread len spread3 spread_holes bend drift refilled rescored donor_err share respread step
+//! error scored spread len spread3 spread_holes bend drift refilled rescored donor_err share respread step accel
 //! ```
 //! An unknown value is `-`; `refilled` is 0 or 1. Four digits, not three: the fit's c₁ is
 //! the best of a grid on a nearly flat criterion (gaps within 2×), and three digits moved
@@ -20,7 +20,7 @@ use super::Sample;
 use repair::fill::Diag;
 
 /// Fields of a gap's line, in order.
-pub const COLUMNS: [&str; 14] = [
+pub const COLUMNS: [&str; 15] = [
     "error",
     "scored",
     "spread",
@@ -35,6 +35,7 @@ pub const COLUMNS: [&str; 14] = [
     "share",
     "respread",
     "step",
+    "accel",
 ];
 
 /// A line of the gaps file that is not what [`read`] expects.
@@ -115,6 +116,7 @@ pub fn write(gaps: &[Sample], header: &str) -> String {
                 opt(d.share),
                 opt(d.respread),
                 opt(d.step),
+                opt(d.accel),
             ];
             let _ = writeln!(out, "{}", fields.join(" "));
         }
@@ -181,6 +183,7 @@ pub fn read(text: &str) -> Result<Gaps, GapsError> {
             respread: opt(12)?,
             step: opt(13)?,
             slowed: None,
+            accel: opt(14)?,
         };
         g.gaps.push((lab, evidence, num(0)?));
     }
@@ -218,6 +221,7 @@ mod tests {
             respread: None,
             step: Some(1.25),
             slowed: None,
+            accel: Some(3.5),
         };
         let s = [
             Sample {
@@ -245,10 +249,10 @@ mod tests {
     fn a_bad_line_is_named() {
         let e = read("lab a\n1 2 3\n").unwrap_err();
         assert_eq!(e.line, 2);
-        assert!(e.to_string().contains("3 fields where 14"), "{e}");
+        assert!(e.to_string().contains("3 fields where 15"), "{e}");
         let e = read("1 2 3\n").unwrap_err();
         assert!(e.to_string().contains("before any `lab NAME`"), "{e}");
-        let e = read("lab a\nx 1 1 5 - - - - 0 - - - - -\n").unwrap_err();
+        let e = read("lab a\nx 1 1 5 - - - - 0 - - - - - -\n").unwrap_err();
         assert!(e.to_string().contains("error: `x` is not a number"), "{e}");
     }
 }

@@ -52,6 +52,7 @@ pub const FEATURE_NAMES: [&str; K] = [
     "ln respread",
     "step excess",
     "one candidate",
+    "ln accel",
 ];
 
 /// The expected-error model: ln(expected / scored) = β · x + c₁ · exp(γ · x) + c₀. `N`
@@ -148,6 +149,18 @@ pub fn ln_real_over_scored(error: f64, scored: f64) -> f64 {
 /// evaluation measures before anything is shipped (`fill_eval --donors`). A feature that
 /// is 0 on every row gets weight 0.
 pub fn fit_rows<const N: usize>(gaps: &[(&str, [f64; N], f64)]) -> Option<Model<N>> {
+    fit_rows_apart(gaps).map(|(m, _)| m)
+}
+
+/// [`fit_rows`], and each gap's ln(expected / scored) as a new lab meets it: under the β
+/// and γ fitted without the gap's lab and the margin the fit chose (`None` for a gap whose
+/// lab's complement cannot be fitted). What the fit's margin is chosen on, so a feature's
+/// worth per activity or lab is read from one fit instead of one fit per lab left out (the
+/// margin itself is then chosen with the judged gaps, which [`fit_rows`] on each
+/// complement does not: a study's shortcut, not the report's figure).
+pub fn fit_rows_apart<const N: usize>(
+    gaps: &[(&str, [f64; N], f64)],
+) -> Option<(Model<N>, Vec<Option<f64>>)> {
     let mut labs: Vec<&str> = gaps.iter().map(|g| g.0).collect();
     labs.sort_unstable();
     labs.dedup();
@@ -155,28 +168,34 @@ pub fn fit_rows<const N: usize>(gaps: &[(&str, [f64; N], f64)]) -> Option<Model<
         .iter()
         .map(|&(lab, x, y)| (labs.binary_search(&lab).unwrap_or_default(), x, y))
         .collect();
-    // Each gap's residual, scale and weight under the β and γ fitted without its lab; the
-    // labs whose complement cannot be fitted are left out of the margin's choice.
-    let unseen: Vec<Vec<(f64, f64, f64)>> = (0..labs.len())
+    // Each gap's residual, scale and weight under the β and γ fitted without its lab (and
+    // the gap's index); the labs whose complement cannot be fitted are left out of the
+    // margin's choice.
+    let unseen: Vec<Vec<(f64, f64, f64, usize)>> = (0..labs.len())
         .into_par_iter()
         .map(|lab| {
-            let (test, train): (Vec<Row<N>>, Vec<Row<N>>) = rows.iter().partition(|r| r.0 == lab);
+            let (test, train): (Vec<usize>, Vec<usize>) =
+                (0..rows.len()).partition(|&i| rows[i].0 == lab);
+            let train: Vec<Row<N>> = train.iter().map(|&i| rows[i]).collect();
             let Some((beta, gamma)) = fit_core(&train) else {
                 return Vec::new();
             };
             let w = 1.0 / test.len() as f64;
             test.iter()
-                .map(|(_, x, y)| {
+                .map(|&i| {
+                    let (_, x, y) = &rows[i];
                     (
                         y - dot(&beta, x),
                         dot(&gamma, x).clamp(-20.0, 20.0).exp(),
                         w,
+                        i,
                     )
                 })
                 .collect()
         })
         .collect();
-    let unseen: Vec<&Vec<(f64, f64, f64)>> = unseen.iter().filter(|u| !u.is_empty()).collect();
+    let unseen: Vec<&Vec<(f64, f64, f64, usize)>> =
+        unseen.iter().filter(|u| !u.is_empty()).collect();
     let (beta, gamma) = fit_core(&rows)?;
     let ln2 = std::f64::consts::LN_2;
     let total: f64 = unseen.iter().flat_map(|u| u.iter()).map(|u| u.2).sum();
@@ -185,7 +204,7 @@ pub fn fit_rows<const N: usize>(gaps: &[(&str, [f64; N], f64)]) -> Option<Model<
         let c1 = -1.0 + 0.05 * f64::from(i);
         let z: Vec<Vec<(f64, f64)>> = unseen
             .iter()
-            .map(|u| u.iter().map(|(r, s, w)| (r - c1 * s, *w)).collect())
+            .map(|u| u.iter().map(|(r, s, w, _)| (r - c1 * s, *w)).collect())
             .collect();
         // The smallest c0 whose labs' over-confidence rates keep a new set of labs' mean at
         // 5 % by a one-sided 90 % prediction bound: new labs are more draws from labs, not
@@ -231,7 +250,13 @@ pub fn fit_rows<const N: usize>(gaps: &[(&str, [f64; N], f64)]) -> Option<Model<
             ));
         }
     }
-    best.map(|b| b.1)
+    let model = best?.1;
+    let mut apart = vec![None; rows.len()];
+    for &(r, s, _, i) in unseen.iter().flat_map(|u| u.iter()) {
+        // ln(real / scored) − residual is the β part; the margin is the chosen model's.
+        apart[i] = Some(rows[i].2 - r + model.c1 * s + model.c0);
+    }
+    Some((model, apart))
 }
 
 /// β and γ of [`fit`].

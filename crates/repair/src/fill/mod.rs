@@ -41,7 +41,9 @@ mod subspace;
 pub(crate) mod test_util;
 
 pub(crate) use apply::{fill_raw, fill_with};
-pub use auto::{calibrated, features, gap_donors, log_ratio, Diag, GapDonors, FEATURES};
+pub use auto::{
+    accel_ratio, calibrated, features, gap_donors, log_ratio, Diag, GapDonors, FEATURES,
+};
 pub(crate) use data::{dist, Data, Span, Target};
 pub(crate) use dispatch::Vetting;
 pub use method::FillMethod;

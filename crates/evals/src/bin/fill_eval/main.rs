@@ -28,7 +28,8 @@
 //! errors per activity, each trial's activity read from its corpus's README, labs and
 //! activities held apart; `--activity-gaps FILE` writes each judged gap with its two
 //! estimates as tab-separated lines), `--donors` (the gap's donors, chosen again from each
-//! record's trial, measured and tried as expected-error features) and `--write-coefficients` (every lab's `auto` gaps written into
+//! record's trial, measured and tried as expected-error features), `--motion` (the marker's
+//! own motion around each gap, measured on its trial and tried likewise) and `--write-coefficients` (every lab's `auto` gaps written into
 //! the committed gaps file, `crates/evals/data/expected_error_gaps.txt`, and the
 //! model fitted on that file into the generated
 //! `crates/repair/src/fill/auto/model/coefficients.rs`). `--refit` fits the committed gaps
@@ -37,6 +38,7 @@
 mod activity;
 mod donors;
 mod fit;
+mod motion;
 mod records;
 mod report;
 
@@ -98,6 +100,9 @@ struct Args {
     /// With `--replay`: the donors' evidence measured on each record's trial and tried as
     /// expected-error features (see `donors`).
     donors: bool,
+    /// With `--replay`: the marker's own motion around each gap measured on its trial and
+    /// tried as expected-error features (see `motion`).
+    motion: bool,
     /// With `--replay`: the shipped model's gaps file and coefficients written anew.
     write_coefficients: bool,
     /// The coefficients fitted again on the committed gaps file.
@@ -182,6 +187,9 @@ struct Cli {
     /// With --replay: the gaps' donors measured and tried as expected-error features.
     #[arg(long)]
     donors: bool,
+    /// With --replay: the marker's motion around each gap tried as expected-error features.
+    #[arg(long)]
+    motion: bool,
     /// With --replay: the committed gaps file and the generated coefficients written anew.
     #[arg(long, requires = "replay")]
     write_coefficients: bool,
@@ -233,6 +241,7 @@ fn args() -> Args {
         activities: c.activities,
         activity_gaps: c.activity_gaps,
         donors: c.donors,
+        motion: c.motion,
         write_coefficients: c.write_coefficients,
         refit: c.refit,
     }
@@ -301,6 +310,9 @@ fn replayed(a: &Args, path: &std::path::Path) {
             }
             if a.donors {
                 donors::donor_study(&recs);
+            }
+            if a.motion {
+                motion::motion_study(&recs);
             }
             if a.write_coefficients {
                 let name = path.file_name().unwrap_or_default().to_string_lossy();

@@ -57,17 +57,16 @@ pub(crate) fn replay(path: &std::path::Path) -> Result<Vec<Rec>, String> {
             .unwrap_or_else(|| Box::leak(s.to_string().into_boxed_str()))
     };
     let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
-    text.lines()
+    let mut recs = text
+        .lines()
         .enumerate()
         .map(|(i, l)| {
             let mut v: Line =
                 serde_json::from_str(l).map_err(|e| format!("line {}: {e}", i + 1))?;
-            // `auto`'s expected error as the model now in the code makes it.
             if let (FillMethod::Auto, Some(mut d)) = (v.gap.method, v.gap.evidence) {
                 // Records made before the fill's step was evidence hold it beside.
                 d.step = d.step.or(Some(v.gap.step_ratio));
                 v.gap.evidence = Some(d);
-                v.gap.expected = Some(repair::fill::calibrated(&d));
             }
             Ok(Rec {
                 file: v.file,
@@ -81,5 +80,14 @@ pub(crate) fn replay(path: &std::path::Path) -> Result<Vec<Rec>, String> {
                 g: v.gap,
             })
         })
-        .collect()
+        .collect::<Result<Vec<Rec>, String>>()?;
+    // Records made before the marker's acceleration was evidence get it from their trials.
+    motion::fill_in_accel(&mut recs);
+    // `auto`'s expected error as the model now in the code makes it.
+    for r in &mut recs {
+        if let (FillMethod::Auto, Some(d)) = (r.g.method, r.g.evidence) {
+            r.g.expected = Some(repair::fill::calibrated(&d));
+        }
+    }
+    Ok(recs)
 }

@@ -33,7 +33,9 @@ use super::{
 use crate::profile::{self, Count, Work};
 use holes::{other_markers, same_marker, score, Scoring};
 use kind::Kind;
-pub use model::{calibrated, features, gap_donors, log_ratio, Diag, GapDonors, FEATURES};
+pub use model::{
+    accel_ratio, calibrated, features, gap_donors, log_ratio, Diag, GapDonors, FEATURES,
+};
 use model::{deviation, prior};
 use real::{apart, Candidates, Fills};
 
@@ -300,6 +302,7 @@ fn chosen(
         // How far the step rule moved the fill from its methods' predictions.
         slowed: Some(blend.iter().map(|&(c, w)| w * kinds[c].moved).sum::<f64>())
             .filter(|&d| d > 0.0),
+        accel: accel_ratio(&t.data.xyz[t.m], |f| t.ok(f), span.first, len),
     };
     let choice = Choice {
         skeleton: blend.iter().any(|&(c, _)| kinds[c].skel),

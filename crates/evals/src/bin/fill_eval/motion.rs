@@ -1,0 +1,352 @@
+//! The marker's own motion around a gap as expected-error features (issue 45 item 7),
+//! measured after the fact on replayed records (`--replay FILE --motion`): each record's
+//! trial is read again as the records' run read it, the gap knocked out of its marker, and
+//! what the marker does beside the gap and over the whole trial measured. Each measure is
+//! then added to the shipped features in turn and judged per activity, each lab's gaps by
+//! the β and γ fitted without that lab (see [`evals::fit::fit_rows_apart`]), on the older
+//! corpora's labs (where a feature is chosen) and on `c3d-labs`' (where it is reported).
+//!
+//! Why these: a drop jump's landing or a lift's swing and a walk's stretch of the same
+//! speed get the same evidence from the shipped features, and the activities beyond
+//! walking miss the goal both ways. What differs is how hard the marker accelerates next to
+//! the gap, against its pace and against the score its artificial gaps gave.
+
+use super::activity::activities_of;
+use super::*;
+use evals::fit::{fit_rows_apart, ln_real_over_scored};
+use rayon::prelude::*;
+use repair::fill::{accel_ratio, features, FEATURES};
+use repair::Trial;
+
+/// The measures tried, each one feature (ln of the measure less its median).
+const MEASURES: [&str; 8] = [
+    "acceleration beside the gap x len^2 / scored",
+    "acceleration beside the gap / the marker's mean acceleration",
+    "speed beside the gap / the marker's mean speed",
+    "scored / step beside the gap",
+    "acceleration beside the gap x len / step beside it",
+    "largest acceleration beside the gap / the marker's mean acceleration",
+    "the marker's mean acceleration x len^2 / scored",
+    "the marker's mean acceleration / its mean step",
+];
+const NM: usize = MEASURES.len();
+
+/// One record with its measures (`None` where a measure has nothing to read).
+type Measured<'a> = (&'a Rec, [Option<f64>; NM]);
+
+/// The study: the measures for every record whose trial can be read, then per measure
+/// the per-activity figures with it added to the model.
+pub(crate) fn motion_study(recs: &[Rec]) {
+    let mut by_file: BTreeMap<&str, Vec<(usize, &Rec)>> = BTreeMap::new();
+    for (i, r) in recs.iter().enumerate() {
+        if r.g.method == FillMethod::Auto && r.g.evidence.is_some() && (r.held || r.tuned) {
+            by_file.entry(r.file.as_str()).or_default().push((i, r));
+        }
+    }
+    let mut measured: Vec<(usize, Measured)> = by_file
+        .par_iter()
+        .flat_map_iter(|(file, rs)| match measure_trial(file, rs) {
+            Ok(v) => v,
+            Err(e) => {
+                eprintln!("{file}: {e}: left out of the motion study");
+                Vec::new()
+            }
+        })
+        .collect();
+    measured.sort_by_key(|m| m.0);
+    let measured: Vec<Measured> = measured.into_iter().map(|m| m.1).collect();
+    let act = activities_of(recs);
+    println!(
+        "\n### the marker's motion as expected-error features\n\n{} records matched (of {}).\n",
+        measured.len(),
+        by_file.values().map(Vec::len).sum::<usize>()
+    );
+    for (k, name) in MEASURES.iter().enumerate() {
+        let known: Vec<f64> = measured.iter().filter_map(|m| m.1[k]).collect();
+        println!(
+            "- {}. {name}: known on {} records, median {:.4}",
+            k + 1,
+            known.len(),
+            evals::stats::median(known).unwrap_or(f64::NAN)
+        );
+    }
+    let labs_corpus = |r: &Rec| FILES.iter().any(|f| f.3 == r.file && f.2 == "labs");
+    let mut names: Vec<&str> = measured.iter().map(|m| act[&m.0.file]).collect();
+    names.sort_unstable();
+    names.dedup();
+    // Activities with gaps from two labs or more.
+    let names: Vec<&str> = names
+        .into_iter()
+        .filter(|n| {
+            let mut l: Vec<&str> = measured
+                .iter()
+                .filter(|m| act[&m.0.file] == *n)
+                .map(|m| m.0.lab)
+                .collect();
+            l.sort_unstable();
+            l.dedup();
+            l.len() >= 2
+        })
+        .collect();
+    println!(
+        "\nEach cell: within 2x / over twice %, each lab by the β and γ fitted without it; older corpora's labs | c3d-labs' labs | every lab.\n"
+    );
+    println!("| feature added | all | {} |", names.join(" | "));
+    println!("|---|---|{}", "---|".repeat(names.len()));
+    let variants: Vec<Option<usize>> = std::iter::once(None).chain((0..NM).map(Some)).collect();
+    let rows: Vec<String> = variants
+        .iter()
+        .map(|&k| {
+            let est = judge(&measured, k.map(|k| column(&measured, k)).as_deref());
+            let cell = |keep: &dyn Fn(&Rec) -> bool| {
+                let part = |f: &dyn Fn(&Rec) -> bool| {
+                    let v: Vec<GapScore> = est
+                        .iter()
+                        .zip(&measured)
+                        .filter(|(_, m)| keep(m.0) && f(m.0))
+                        .filter_map(|(e, _)| *e)
+                        .collect();
+                    if v.is_empty() {
+                        return "–".to_string();
+                    }
+                    let c = calibration(&v, 0.0);
+                    format!("{:.1}/{:.1}", 100.0 * c.within_2x, 100.0 * c.over_confident)
+                };
+                format!(
+                    "{} \\| {} \\| {}",
+                    part(&|r| !labs_corpus(r)),
+                    part(&|r| labs_corpus(r)),
+                    part(&|_| true)
+                )
+            };
+            let mut cells = vec![cell(&|_| true)];
+            cells.extend(names.iter().map(|n| cell(&|r: &Rec| act[&r.file] == *n)));
+            format!(
+                "| {} | {} |",
+                k.map_or("none (the shipped features)".to_string(), |k| format!(
+                    "{}. {}",
+                    k + 1,
+                    MEASURES[k]
+                )),
+                cells.join(" | ")
+            )
+        })
+        .collect();
+    rows.iter().for_each(|r| println!("{r}"));
+}
+
+/// Each `auto` record without the marker's acceleration beside its gap (see
+/// [`repair::fill::Diag::accel`]; records made before it was evidence) gets it from its
+/// trial, read as the records' run read it, with `auto`'s own function. A trial that cannot
+/// be read or matched leaves its records without it (the feature then reads as typical),
+/// said on stderr.
+pub(crate) fn fill_in_accel(recs: &mut [Rec]) {
+    let mut by_file: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    for (i, r) in recs.iter().enumerate() {
+        if r.g.method == FillMethod::Auto && r.g.evidence.is_some_and(|d| d.accel.is_none()) {
+            by_file.entry(r.file.clone()).or_default().push(i);
+        }
+    }
+    if by_file.is_empty() {
+        return;
+    }
+    let found: Vec<(usize, Option<f64>)> = by_file
+        .par_iter()
+        .flat_map_iter(|(file, idx)| {
+            let rs: Vec<(usize, &Rec)> = idx.iter().map(|&i| (i, &recs[i])).collect();
+            match read_trial(file, &rs) {
+                Ok(t) => rs
+                    .iter()
+                    .map(|&(i, r)| {
+                        let (m, a) = (r.g.marker, r.g.first);
+                        let ok = |f: usize| t.valid[m][f] && !(a..a + r.g.gap_len).contains(&f);
+                        (i, accel_ratio(&t.xyz[m], ok, a, r.g.gap_len))
+                    })
+                    .collect::<Vec<_>>(),
+                Err(e) => {
+                    eprintln!("{file}: {e}: its records keep no acceleration beside the gap");
+                    Vec::new()
+                }
+            }
+        })
+        .collect();
+    eprintln!(
+        "the marker's acceleration beside the gap read from the trials for {} records",
+        found.len()
+    );
+    for (i, v) in found {
+        if let Some(d) = recs[i].g.evidence.as_mut() {
+            d.accel = v;
+        }
+    }
+}
+
+/// Measure `k` of every record as a feature: ln of the measure, less its median over the
+/// records that have it (so a record without it reads as a typical one).
+fn column(measured: &[Measured], k: usize) -> Vec<f64> {
+    let med = evals::stats::median(
+        measured
+            .iter()
+            .filter_map(|m| m.1[k])
+            .map(|v| v.clamp(1e-4, 1e4).ln()),
+    )
+    .unwrap_or(0.0);
+    measured
+        .iter()
+        .map(|m| m.1[k].map_or(0.0, |v| v.clamp(1e-4, 1e4).ln() - med))
+        .collect()
+}
+
+/// Every record's estimate as a new lab meets it, with the shipped features and `extra`.
+fn judge(measured: &[Measured], extra: Option<&[f64]>) -> Vec<Option<GapScore>> {
+    let shipped = |i: usize| {
+        measured[i]
+            .0
+            .g
+            .evidence
+            .as_ref()
+            .map_or([0.0; FEATURES], features)
+    };
+    match extra {
+        None => judge_n(measured, &shipped),
+        Some(e) => judge_n(measured, &|i| -> [f64; FEATURES + 1] {
+            let mut x = [e[i]; FEATURES + 1];
+            x[..FEATURES].copy_from_slice(&shipped(i));
+            x
+        }),
+    }
+}
+
+fn judge_n<const N: usize>(
+    measured: &[Measured],
+    x: &(dyn Fn(usize) -> [f64; N] + Sync),
+) -> Vec<Option<GapScore>> {
+    let rows: Vec<(&str, [f64; N], f64)> = measured
+        .iter()
+        .enumerate()
+        .map(|(i, (r, _))| {
+            let scored = r.g.evidence.map_or(0.0, |d| d.scored);
+            (r.lab, x(i), ln_real_over_scored(r.g.mean, scored))
+        })
+        .collect();
+    let Some((_, apart)) = fit_rows_apart(&rows) else {
+        return vec![None; rows.len()];
+    };
+    apart
+        .iter()
+        .zip(measured)
+        .map(|(l, (r, _))| {
+            let scored = r.g.evidence?.scored.max(1e-12);
+            Some(GapScore {
+                expected: Some(scored * l.as_ref()?.exp()),
+                ..r.g
+            })
+        })
+        .collect()
+}
+
+/// One record's trial as the records' run read it, checked against its records' gaps.
+fn read_trial(file: &str, rs: &[(usize, &Rec)]) -> Result<Trial, String> {
+    let corpus = FILES
+        .iter()
+        .find(|f| f.3 == file)
+        .map(|f| f.2)
+        .ok_or("not in the corpus list")?;
+    let root = corpus::roots()
+        .get(corpus)
+        .cloned()
+        .flatten()
+        .ok_or("corpus not on this machine")?;
+    let path = root.join(file);
+    let trial = if corpus::holds_fills(corpus) {
+        load_recorded(&path)?
+    } else {
+        load(&path)?
+    };
+    matches(&trial, rs)?;
+    Ok(trial)
+}
+
+/// Whether every record's gap lies where `trial` has its marker recorded (its frames held
+/// the truth the gap was scored on).
+fn matches(trial: &Trial, rs: &[(usize, &Rec)]) -> Result<(), String> {
+    for (_, r) in rs {
+        let (m, a, len) = (r.g.marker, r.g.first, r.g.gap_len);
+        if m >= trial.markers()
+            || a + len > trial.frames()
+            || !trial.valid[m][a..a + len].iter().all(|&v| v)
+        {
+            return Err(format!(
+                "marker {m}'s gap at frame {a} is not recorded in the trial as read now"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The measures of every record of one trial, read as the records' run read it.
+fn measure_trial<'a>(
+    file: &str,
+    rs: &[(usize, &'a Rec)],
+) -> Result<Vec<(usize, Measured<'a>)>, String> {
+    let trial = read_trial(file, rs)?;
+    Ok(rs
+        .iter()
+        .map(|&(i, r)| {
+            let scored = r.g.evidence.map_or(0.0, |d| d.scored);
+            let v = measure(&trial, r.g.marker, r.g.first, r.g.gap_len, scored);
+            (i, (r, v))
+        })
+        .collect())
+}
+
+/// The measures of marker `m`'s gap over frames `a..a + len`, scored `scored`.
+fn measure(t: &Trial, m: usize, a: usize, len: usize, scored: f64) -> [Option<f64>; NM] {
+    let n = t.frames();
+    let ok = |f: usize| t.valid[m][f] && !(a..a + len).contains(&f);
+    let p = |f: usize| t.xyz[m][f];
+    let w = len.max(10);
+    let beside: Vec<usize> = (a.saturating_sub(w)..a)
+        .chain(a + len..(a + len + w).min(n))
+        .collect();
+    let step = |f: usize| (f >= 1 && ok(f) && ok(f - 1)).then(|| dist(p(f), p(f - 1)));
+    let acc = |f: usize| {
+        (f >= 1 && f + 1 < n && ok(f - 1) && ok(f) && ok(f + 1)).then(|| {
+            let (q0, q1, q2) = (p(f - 1), p(f), p(f + 1));
+            dist(
+                [q2[0] - q1[0], q2[1] - q1[1], q2[2] - q1[2]],
+                [q1[0] - q0[0], q1[1] - q0[1], q1[2] - q0[2]],
+            )
+        })
+    };
+    let step_b = mean(beside.iter().filter_map(|&f| step(f)));
+    let acc_b = mean(beside.iter().filter_map(|&f| acc(f)));
+    let peak_b = beside.iter().filter_map(|&f| acc(f)).reduce(f64::max);
+    let step_t = mean((0..n).filter_map(step));
+    let acc_t = mean((0..n).filter_map(acc));
+    let l = len as f64;
+    let s = (scored > 0.0).then_some(scored);
+    let ratio = |x: Option<f64>, y: Option<f64>| match (x, y) {
+        (Some(x), Some(y)) if y > 0.0 => Some(x / y),
+        _ => None,
+    };
+    [
+        ratio(acc_b.map(|v| v * l * l), s),
+        ratio(acc_b, acc_t),
+        ratio(step_b, step_t),
+        ratio(s, step_b),
+        ratio(acc_b.map(|v| v * l), step_b),
+        ratio(peak_b, acc_t),
+        ratio(acc_t.map(|v| v * l * l), s),
+        ratio(acc_t, step_t),
+    ]
+}
+
+fn mean(v: impl Iterator<Item = f64>) -> Option<f64> {
+    let (s, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
+    (n > 0).then(|| s / n as f64)
+}
+
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
