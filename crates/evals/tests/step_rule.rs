@@ -3,8 +3,9 @@
 //! POINT:SCALE, 32-bit floats elsewhere), every fill as read back steps at most 1.5× the
 //! marker's largest recorded step. (HansUniVie's trial has 130 fills in its 26 markers; its
 //! 154 bone points, virtual points and muscle lengths are model outputs, not filled; puppeteer's
-//! has 177 in its markers, its 76 bone points, stored among them, being a segment's axes, and
-//! its 14 unlabelled points `*1`… left as recorded (issue 47: with them 227).)
+//! has 172 in its markers (177 before issue 45 item 7's refitted expected errors left 5 more
+//! `uncertain`, as hockey's 252 became 251), its 76 bone points, stored among them, being a
+//! segment's axes, and its 14 unlabelled points `*1`… left as recorded.)
 
 use evals::step;
 
@@ -14,8 +15,8 @@ fn stored_fills_keep_to_the_step_rule() {
         return;
     };
     let want = [
-        ("PhilD001__biomechZoo__hockey_wristshot009.c3d", 252),
-        ("martinfelis__puppeteer__testdata.c3d", 177),
+        ("PhilD001__biomechZoo__hockey_wristshot009.c3d", 251),
+        ("martinfelis__puppeteer__testdata.c3d", 172),
         ("HansUniVie__MuscleLength__test.c3d", 130),
     ];
     // Every trial is read back before any count is compared, so a change shows them all.
