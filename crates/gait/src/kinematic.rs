@@ -495,16 +495,29 @@ pub fn zeni(
     let stride = signal::period(&heel[start..start + keep], lo, hi);
     let reach = stride.map_or(prep.reach, |t| prep.reach.max(t / 3));
     let extremes = |x: &[f64]| match (signal::quantile(x, 0.05), signal::quantile(x, 0.95)) {
-        (Some(a), Some(b)) => signal::maxima_cut(
-            x,
-            prep.half,
-            reach,
-            (0.25 * (b - a)).max(40.0),
-            Some(signal::Cut {
-                min_samples: 2,
-                min_fall: opts.cut_min_fall,
-            }),
-        ),
+        (Some(a), Some(b)) => {
+            let prominence = (0.25 * (b - a)).max(40.0);
+            let mut found = signal::maxima_cut(
+                x,
+                prep.half,
+                reach,
+                prominence,
+                Some(signal::Cut {
+                    min_samples: 2,
+                    min_fall: opts.cut_min_fall,
+                    edge_min_fall: opts.edge_min_fall,
+                }),
+            );
+            found.extend(signal::edge_maxima(
+                x,
+                prep.half,
+                reach,
+                prominence,
+                opts.edge_beyond_s * rate,
+            ));
+            found.sort_by(f64::total_cmp);
+            found
+        }
         _ => Vec::new(),
     };
     (extremes(&heel), extremes(&toe))
@@ -886,7 +899,7 @@ mod tests {
         let f = walk(400);
         let e = |method, offset_s| Estimate { method, offset_s };
         let opts = KinematicOptions {
-            // Zeni's strikes at t = 1, 2, 3 s, once as is and once 40 ms later; Desailly's
+            // Zeni's strikes at t = 0, 1, 2, 3 s, once as is and once 40 ms later; Desailly's
             // shifted 0.5 s away from every one of them, so it joins none.
             strike: vec![
                 e(Method::Zeni, 0.0),
@@ -899,8 +912,9 @@ mod tests {
         let ev = kinematic_events(&f, 100.0, &opts).unwrap();
         assert!(ev.iter().all(|e| e.kind == Kind::FootStrike), "{ev:?}");
         let s = times(&ev, Side::Left, Kind::FootStrike);
-        assert_eq!(s.len(), 3, "{s:?}");
-        for (got, want) in s.iter().zip([1.02, 2.02, 3.02]) {
+        // The walk's heel also peaks at its first frame (t = 0: an extreme at the edge).
+        assert_eq!(s.len(), 4, "{s:?}");
+        for (got, want) in s.iter().zip([0.02, 1.02, 2.02, 3.02]) {
             assert!((got - want).abs() < 0.001, "{s:?}");
         }
     }

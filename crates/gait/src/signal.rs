@@ -130,8 +130,13 @@ pub fn maxima(x: &[f64], half: usize, reach: usize, prominence: f64) -> Vec<f64>
 pub struct Cut {
     /// Known samples after (or before) the peak, up to the cut, at least.
     pub min_samples: usize,
-    /// The fall over those samples, as a fraction of the full prominence, at least.
+    /// The fall over those samples, as a fraction of the full prominence, at least, where
+    /// a gap cuts the side.
     pub min_fall: f64,
+    /// The same where the trial's edge cuts it. A marker's last samples before a gap can
+    /// be its worst (it is being lost), so a gap's side needs a clear fall; the capture's
+    /// start or end hides nothing of the marker, so a fall above its noise is a turn seen.
+    pub edge_min_fall: f64,
 }
 
 /// As [`maxima`], and with `cut`, a peak next to a gap or the trial's edge: a side that
@@ -160,24 +165,28 @@ pub fn maxima_cut(
             continue;
         }
         // Prominence on each side, within the finite run around the peak: (the lowest
-        // sample, how many samples were seen, whether the run ended before `reach`).
+        // sample, how many samples were seen, whether the run ended before `reach`, and
+        // whether a gap ended it rather than the trial's edge).
         let side = |range: &mut dyn Iterator<Item = usize>, avail: usize| {
             let mut m = f64::INFINITY;
             let mut seen = 0;
             for j in range {
                 if !x[j].is_finite() {
-                    return (m, seen, true);
+                    return (m, seen, true, true);
                 }
                 m = m.min(x[j]);
                 seen += 1;
             }
-            (m, seen, avail < reach)
+            (m, seen, avail < reach, false)
         };
         let left = side(&mut (i.saturating_sub(reach)..i).rev(), i);
         let right = side(&mut (i + 1..(i + reach + 1).min(n)), n - 1 - i);
-        let full = |s: (f64, usize, bool)| v - s.0 >= prominence;
-        let partial = |s: (f64, usize, bool)| {
-            cut.is_some_and(|c| s.2 && s.1 >= c.min_samples && v - s.0 >= c.min_fall * prominence)
+        let full = |s: (f64, usize, bool, bool)| v - s.0 >= prominence;
+        let partial = |s: (f64, usize, bool, bool)| {
+            cut.is_some_and(|c| {
+                let fall = if s.3 { c.min_fall } else { c.edge_min_fall };
+                s.2 && s.1 >= c.min_samples && v - s.0 >= fall * prominence
+            })
         };
         let ok = (full(left) && full(right))
             || (full(left) && partial(right))
@@ -185,6 +194,58 @@ pub fn maxima_cut(
         if ok {
             out.push(i as f64 + parabolic(x[i - 1], v, x[i + 1]));
         }
+    }
+    out
+}
+
+/// Maxima of `x` at or just beyond its ends, which [`maxima_cut`] cannot see (it needs a
+/// sample either side): where the trial starts (or ends) on a falling side, the parabola
+/// through its first (last) three samples, opening downwards, peaks within `beyond`
+/// samples outside the trial or within half a sample inside, the first sample is above
+/// every other within `half`, and the signal falls by the full `prominence` within
+/// `reach`. Positions are fractional and may lie outside `0..len` (by at most `beyond`):
+/// an event there is the trial's only if the estimate's own offset brings it in. A lab
+/// that crops its trials at its events puts its first strike on the first frame; the
+/// extreme that marks it lies a few milliseconds before.
+pub fn edge_maxima(x: &[f64], half: usize, reach: usize, prominence: f64, beyond: f64) -> Vec<f64> {
+    let n = x.len();
+    if n < 3 || beyond <= 0.0 {
+        return Vec::new();
+    }
+    // The peak's position beyond `x[0]` (negative: before it) for samples read from the
+    // start outward in `at`.
+    let edge = |at: &dyn Fn(usize) -> f64| -> Option<f64> {
+        let (y0, y1, y2) = (at(0), at(1), at(2));
+        if !(y0.is_finite() && y1.is_finite() && y2.is_finite()) {
+            return None;
+        }
+        let den = y0 - 2.0 * y1 + y2;
+        if den >= 0.0 || !den.is_finite() {
+            return None;
+        }
+        let pos = 1.0 + 0.5 * (y0 - y2) / den;
+        if !(-beyond..0.5).contains(&pos) {
+            return None;
+        }
+        let mut low = f64::INFINITY;
+        for k in 1..=reach.min(n - 1) {
+            let v = at(k);
+            if !v.is_finite() {
+                break;
+            }
+            if k <= half && v >= y0 {
+                return None;
+            }
+            low = low.min(v);
+        }
+        (y0 - low >= prominence).then_some(pos)
+    };
+    let mut out = Vec::new();
+    if let Some(p) = edge(&|k| x[k]) {
+        out.push(p);
+    }
+    if let Some(p) = edge(&|k| x[n - 1 - k]) {
+        out.push((n - 1) as f64 - p);
     }
     out
 }
@@ -293,6 +354,7 @@ mod tests {
             Some(Cut {
                 min_samples: 2,
                 min_fall,
+                edge_min_fall: min_fall,
             })
         };
         let m = maxima_cut(&s, 10, 20, 50.0, cut(0.1));
@@ -312,6 +374,50 @@ mod tests {
         assert_eq!(maxima(&g, 10, 20, 50.0), Vec::<f64>::new());
         assert_eq!(maxima_cut(&g, 10, 20, 50.0, cut(0.1)).len(), 1);
         assert_eq!(maxima_cut(&g, 10, 20, 50.0, cut(0.05)).len(), 2);
+    }
+
+    #[test]
+    fn a_peak_cut_by_the_trials_edge_needs_less_fall_than_one_cut_by_a_gap() {
+        // A cosine of 100 peaking at sample 117 of 120: 2 samples after it fall 1.1.
+        let s: Vec<f64> = (0..120)
+            .map(|i| 100.0 * (2.0 * std::f64::consts::PI * (i as f64 - 117.0) / 60.0).cos())
+            .collect();
+        let cut = |min_fall, edge_min_fall| {
+            Some(Cut {
+                min_samples: 2,
+                min_fall,
+                edge_min_fall,
+            })
+        };
+        let last = |m: Vec<f64>| m.last().copied().unwrap_or(f64::NAN);
+        assert!((last(maxima_cut(&s, 10, 20, 50.0, cut(0.1, 0.02))) - 117.0).abs() < 0.05);
+        assert!((last(maxima_cut(&s, 10, 20, 50.0, cut(0.1, 0.1))) - 57.0).abs() < 0.05);
+        // The same peak before a gap keeps the gap's fall.
+        let mut g = s.clone();
+        g.extend([f64::NAN; 5]);
+        g.extend(s.iter().take(20));
+        assert!((last(maxima_cut(&g[..125], 10, 20, 50.0, cut(0.1, 0.02))) - 57.0).abs() < 0.05);
+    }
+
+    #[test]
+    fn a_peak_just_beyond_the_ends_is_found_by_its_parabola() {
+        // Peaks 1.5 samples before the start and after the end (sample 118.5); the
+        // parabola through three samples of the cosine places them within 0.2.
+        let s: Vec<f64> = (0..117)
+            .map(|i| 100.0 * (2.0 * std::f64::consts::PI * (i as f64 + 1.5) / 60.0).cos())
+            .collect();
+        let m = edge_maxima(&s, 10, 20, 50.0, 3.0);
+        assert_eq!(m.len(), 2, "{m:?}");
+        assert!(
+            (m[0] + 1.5).abs() < 0.2 && (m[1] - 118.5).abs() < 0.2,
+            "{m:?}"
+        );
+        // Farther out than allowed: none.
+        assert!(edge_maxima(&s, 10, 20, 50.0, 1.0).is_empty());
+        // A start that rises (a minimum beyond it) or falls too little gives none.
+        let rising: Vec<f64> = s.iter().map(|v| -v).collect();
+        assert!(edge_maxima(&rising, 10, 20, 50.0, 3.0).is_empty());
+        assert!(edge_maxima(&s, 10, 20, 500.0, 3.0).is_empty());
     }
 
     #[test]
