@@ -36,8 +36,45 @@ pub fn walking_direction(
     rate: f64,
     opts: &KinematicOptions,
 ) -> Vec<[f64; 3]> {
-    let n = pelvis.len();
     let h = ((opts.direction_window_s * rate).round() as usize).max(1);
+    let dir = direction_over(pelvis, vertical, rate, opts, h);
+    if dir.iter().any(|d| d[0].is_finite()) {
+        return dir;
+    }
+    // A pelvis seen for less than the window (MOtoNMS' run: its sacrum seen for 0.5 s
+    // while the feet cross the plates) gets the window its longest seen run allows, down
+    // to 0.2 s: the speed test still decides whether it travels.
+    let seen = longest_run(pelvis);
+    let short = seen.saturating_sub(1) / 2;
+    if short < h && short as f64 >= 0.1 * rate {
+        return direction_over(pelvis, vertical, rate, opts, short);
+    }
+    dir
+}
+
+/// The length of the longest run of frames where every coordinate of `x` is known.
+fn longest_run(x: &[[f64; 3]]) -> usize {
+    let (mut best, mut run) = (0, 0);
+    for p in x {
+        run = if p.iter().all(|v| v.is_finite()) {
+            run + 1
+        } else {
+            0
+        };
+        best = best.max(run);
+    }
+    best
+}
+
+/// [`walking_direction`] over a window of `h` frames either side.
+fn direction_over(
+    pelvis: &[[f64; 3]],
+    vertical: Vertical,
+    rate: f64,
+    opts: &KinematicOptions,
+    h: usize,
+) -> Vec<[f64; 3]> {
+    let n = pelvis.len();
     let mut dir: Vec<[f64; 3]> = (0..n)
         .map(|i| {
             let (a, b) = (i.saturating_sub(h), (i + h).min(n - 1));
@@ -478,8 +515,14 @@ pub fn zeni(
 ) -> (Vec<f64>, Vec<f64>) {
     let smooth = ((opts.smooth_s * prep.rate / 2.0).round()) as usize;
     let (heel, toe) = feet.foot(side);
-    let heel = signal::smooth(&along(heel, &prep.pelvis, &prep.dir), smooth);
-    let toe: Vec<f64> = signal::smooth(&along(toe, &prep.pelvis, &prep.dir), smooth)
+    let bridge = (opts.bridge_s * prep.rate).round() as usize;
+    let bridged = |m: &[[f64; 3]]| {
+        let mut x = along(m, &prep.pelvis, &prep.dir);
+        signal::bridge_short(&mut x, bridge);
+        x
+    };
+    let heel = signal::smooth(&bridged(heel), smooth);
+    let toe: Vec<f64> = signal::smooth(&bridged(toe), smooth)
         .into_iter()
         .map(|v| -v)
         .collect();

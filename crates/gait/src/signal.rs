@@ -39,6 +39,45 @@ pub fn fill_short(x: &mut [[f64; 3]], max: usize) {
     }
 }
 
+/// Bridge runs of NaN no longer than `max` samples with the cubic (Hermite) that meets
+/// the samples either side with their slopes (each from its last two known samples);
+/// runs at the ends, longer ones, or without two known samples on each side stay NaN.
+/// A foot marker lost for a few frames around its strike (a plate's edge, the other
+/// foot) peaks inside the gap: the cubic keeps the turn that a straight line would put on
+/// the gap's edge.
+pub fn bridge_short(x: &mut [f64], max: usize) {
+    let n = x.len();
+    let mut i = 0;
+    while i < n {
+        if x[i].is_finite() {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        while i < n && !x[i].is_finite() {
+            i += 1;
+        }
+        if start < 2 || i + 1 >= n || i - start > max {
+            continue;
+        }
+        let (a0, a1, b0, b1) = (x[start - 2], x[start - 1], x[i], x[i + 1]);
+        if !(a0.is_finite() && b1.is_finite()) {
+            continue;
+        }
+        // Positions in samples from `start - 1` (0) to `i` (h); slopes per sample.
+        let h = (i - start + 1) as f64;
+        let (m0, m1) = ((a1 - a0) * h, (b1 - b0) * h);
+        for (k, slot) in x[start..i].iter_mut().enumerate() {
+            let t = (k + 1) as f64 / h;
+            let (t2, t3) = (t * t, t * t * t);
+            *slot = (2.0 * t3 - 3.0 * t2 + 1.0) * a1
+                + (t3 - 2.0 * t2 + t) * m0
+                + (-2.0 * t3 + 3.0 * t2) * b0
+                + (t3 - t2) * m1;
+        }
+    }
+}
+
 /// Extend `x` past its first and last known samples by up to `max` samples each, along
 /// the straight line through the known sample at the end and the one `fit` samples
 /// inwards (constant velocity). Used for the pelvis, which moves steadily over a quarter
@@ -418,6 +457,28 @@ mod tests {
         let rising: Vec<f64> = s.iter().map(|v| -v).collect();
         assert!(edge_maxima(&rising, 10, 20, 50.0, 3.0).is_empty());
         assert!(edge_maxima(&s, 10, 20, 500.0, 3.0).is_empty());
+    }
+
+    #[test]
+    fn a_short_gap_is_bridged_by_a_cubic_that_keeps_its_turn() {
+        // A parabola peaking at sample 10, samples 8 to 12 lost: the cubic through the
+        // slopes either side peaks inside the gap, where a straight line would be flat.
+        let p = |i: f64| 100.0 - (i - 10.0).powi(2);
+        let mut x: Vec<f64> = (0..20).map(|i| p(i as f64)).collect();
+        for v in x.iter_mut().skip(8).take(5) {
+            *v = f64::NAN;
+        }
+        let mut short = x.clone();
+        bridge_short(&mut short, 4);
+        assert!(short[10].is_nan(), "a gap longer than max stays");
+        bridge_short(&mut x, 5);
+        let top = (0..20).max_by(|&a, &b| x[a].total_cmp(&x[b])).unwrap();
+        assert_eq!(top, 10, "{x:?}");
+        assert!((x[10] - 100.0).abs() < 2.0, "{x:?}");
+        // A gap at an end stays.
+        let mut e = vec![f64::NAN, f64::NAN, 1.0, 2.0, 3.0];
+        bridge_short(&mut e, 5);
+        assert!(e[0].is_nan() && e[1].is_nan());
     }
 
     #[test]

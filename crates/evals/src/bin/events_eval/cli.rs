@@ -35,6 +35,9 @@ pub struct Cli {
     /// How far beyond the trial's ends an extreme may peak (s; 0: none).
     #[arg(long, value_name = "S")]
     edge_beyond: Option<f64>,
+    /// Zeni's signals bridged over gaps this short (s; 0: none).
+    #[arg(long, value_name = "S")]
+    bridge: Option<f64>,
     /// Landing: height as a fraction of the swing.
     #[arg(long, value_name = "F")]
     landing_height: Option<f64>,
@@ -209,6 +212,7 @@ impl Cli {
             (self.cut_min_fall, &mut k.cut_min_fall),
             (self.edge_min_fall, &mut k.edge_min_fall),
             (self.edge_beyond, &mut k.edge_beyond_s),
+            (self.bridge, &mut k.bridge_s),
             (self.landing_height, &mut k.landing_height_frac),
             (self.landing_speed, &mut k.landing_speed_frac),
             (self.landing_vspeed, &mut k.landing_vspeed_frac),
