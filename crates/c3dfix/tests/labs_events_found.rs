@@ -1,15 +1,17 @@
-//! Lab strikes found from the markers alone on `c3d-labs` that earlier builds missed: at a
-//! trial's first or last frames (labs crop one-cycle trials at their strikes), where the
-//! heel marker drops out for a few frames just before its strike, and where the pelvis is
-//! seen for under a second (a walkway run). Each is pinned against the lab's own event.
+//! Lab events found from the markers alone that earlier builds missed (c3d-labs' strikes,
+//! and one c3d-samples off): at a trial's first or last frames (labs crop one-cycle trials
+//! at their strikes), where the heel marker drops out for a few frames just before its
+//! strike, and where the pelvis is seen for under a second (a walkway run). Each is pinned
+//! against the lab's own event.
 
 use c3dfix::events::{detect_events, EventOptions, EventSource};
 use gait::{Kind, Side};
+use std::path::PathBuf;
 
-/// The signed error (s) of the kinematic strike of `side` nearest the lab's strike at
-/// `lab_s` in c3d-labs' trial `name`; None when the corpus is absent.
-fn strike_error(name: &str, side: Side, lab_s: f64) -> Option<f64> {
-    let path = testkit::c3d_labs()?.join(format!("{name}.c3d"));
+/// The signed error (s) of the kinematic event of `side` and `kind` nearest the lab's at
+/// `lab_s` in the trial at `path` (None: its corpus is absent).
+fn error_at(path: Option<PathBuf>, side: Side, kind: Kind, lab_s: f64) -> Option<f64> {
+    let path = path?;
     let c = c3dfix::open(&path).unwrap();
     let opts = EventOptions {
         from: EventSource::Kinematics,
@@ -19,17 +21,24 @@ fn strike_error(name: &str, side: Side, lab_s: f64) -> Option<f64> {
     // The lab's event is in the file as the test says.
     assert!(
         c.events().iter().any(|e| {
-            c3dfix::event_labels::gait_event(&e.context, &e.label) == Some((side, Kind::FootStrike))
+            c3dfix::event_labels::gait_event(&e.context, &e.label) == Some((side, kind))
                 && (e.time - lab_s).abs() < 0.001
         }),
-        "{name}: no lab strike at {lab_s} s"
+        "{}: no lab event at {lab_s} s",
+        path.display()
     );
     d.events
         .iter()
-        .filter(|e| e.side == side && e.kind == Kind::FootStrike)
+        .filter(|e| e.side == side && e.kind == kind)
         .map(|e| e.time - lab_s)
         .min_by(|a, b| a.abs().total_cmp(&b.abs()))
         .or(Some(f64::INFINITY))
+}
+
+/// [`error_at`] for a strike of c3d-labs' trial `name`.
+fn strike_error(name: &str, side: Side, lab_s: f64) -> Option<f64> {
+    let path = testkit::c3d_labs().map(|d| d.join(format!("{name}.c3d")));
+    error_at(path, side, Kind::FootStrike, lab_s)
 }
 
 #[test]
@@ -78,4 +87,17 @@ fn a_run_whose_pelvis_is_seen_for_half_a_second_gets_its_strike() {
         return;
     };
     assert!(e.abs() < 0.025, "{e}");
+}
+
+#[test]
+fn an_off_one_frame_before_the_trials_end_is_found() {
+    // Motion Analysis' Walk1 (c3d-samples, 60 Hz) ends 2 frames after its lab's last left
+    // off (2.467 s, context `LTO`); the toe's backward extreme lies one frame before the
+    // end, with one sample after it.
+    let path =
+        testkit::c3d_samples().map(|d| d.join("sample_00/Motion Analysis Corporation/Walk1.c3d"));
+    let Some(e) = error_at(path, Side::Left, Kind::FootOff, 2.4667) else {
+        return;
+    };
+    assert!(e.abs() < 0.005, "{e}");
 }

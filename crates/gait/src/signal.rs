@@ -237,22 +237,23 @@ pub fn maxima_cut(
     out
 }
 
-/// Maxima of `x` at or just beyond its ends, which [`maxima_cut`] cannot see (it needs a
-/// sample either side): where the trial starts (or ends) on a falling side, the parabola
-/// through its first (last) three samples, opening downwards, peaks within `beyond`
-/// samples outside the trial or within half a sample inside, the first sample is above
-/// every other within `half`, and the signal falls by the full `prominence` within
-/// `reach`. Positions are fractional and may lie outside `0..len` (by at most `beyond`):
-/// an event there is the trial's only if the estimate's own offset brings it in. A lab
-/// that crops its trials at its events puts its first strike on the first frame; the
-/// extreme that marks it lies a few milliseconds before.
+/// Maxima of `x` at or just beyond its ends, which [`maxima_cut`] cannot see (it needs
+/// two samples on a cut side): where the trial starts (or ends) on a falling side, the
+/// parabola through its first (last) three samples, opening downwards, peaks between
+/// `beyond` samples outside the trial and 1.5 samples inside (nearer the edge than the
+/// third sample, which [`maxima_cut`] covers), the higher of the two edge samples is above
+/// every other within `half`, and the signal falls from it by the full `prominence`
+/// within `reach`. Positions are fractional and may lie outside `0..len` (by at most
+/// `beyond`): an event there is the trial's only if the estimate's own offset brings it
+/// in. A lab that crops its trials at its events puts its first strike on the first
+/// frame; the extreme that marks it lies a few milliseconds before.
 pub fn edge_maxima(x: &[f64], half: usize, reach: usize, prominence: f64, beyond: f64) -> Vec<f64> {
     let n = x.len();
     if n < 3 || beyond <= 0.0 {
         return Vec::new();
     }
-    // The peak's position beyond `x[0]` (negative: before it) for samples read from the
-    // start outward in `at`.
+    // The peak's position from `at(0)` inwards (negative: beyond it) for samples read
+    // from the edge inwards in `at`.
     let edge = |at: &dyn Fn(usize) -> f64| -> Option<f64> {
         let (y0, y1, y2) = (at(0), at(1), at(2));
         if !(y0.is_finite() && y1.is_finite() && y2.is_finite()) {
@@ -263,21 +264,22 @@ pub fn edge_maxima(x: &[f64], half: usize, reach: usize, prominence: f64, beyond
             return None;
         }
         let pos = 1.0 + 0.5 * (y0 - y2) / den;
-        if !(-beyond..0.5).contains(&pos) {
+        if !(-beyond..1.5).contains(&pos) {
             return None;
         }
+        let top = y0.max(y1);
         let mut low = f64::INFINITY;
-        for k in 1..=reach.min(n - 1) {
+        for k in 2..=reach.min(n - 1) {
             let v = at(k);
             if !v.is_finite() {
                 break;
             }
-            if k <= half && v >= y0 {
+            if k <= half && v >= top {
                 return None;
             }
             low = low.min(v);
         }
-        (y0 - low >= prominence).then_some(pos)
+        (top - low >= prominence).then_some(pos)
     };
     let mut out = Vec::new();
     if let Some(p) = edge(&|k| x[k]) {
@@ -457,6 +459,17 @@ mod tests {
         let rising: Vec<f64> = s.iter().map(|v| -v).collect();
         assert!(edge_maxima(&rising, 10, 20, 50.0, 3.0).is_empty());
         assert!(edge_maxima(&s, 10, 20, 500.0, 3.0).is_empty());
+        // A peak one sample inside the end, with one sample after it, is the edge's too
+        // (maxima_cut needs two); one three samples inside is not (maxima_cut's).
+        let inside = |at: f64| -> Vec<f64> {
+            let s: Vec<f64> = (0..117)
+                .map(|i| 100.0 * (2.0 * std::f64::consts::PI * (i as f64 - at) / 60.0).cos())
+                .collect();
+            edge_maxima(&s, 10, 20, 50.0, 3.0)
+        };
+        let m = inside(115.0);
+        assert!(m.len() == 1 && (m[0] - 115.0).abs() < 0.2, "{m:?}");
+        assert!(inside(113.0).is_empty());
     }
 
     #[test]
