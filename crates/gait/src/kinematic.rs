@@ -14,10 +14,15 @@
 //! step either side of each frame ([`KinematicOptions::direction_window_s`]), so it follows
 //! curved paths and turns and either direction of travel; frames where the pelvis moves
 //! slower than [`KinematicOptions::min_speed_mm_s`] are no walking and get no events.
-//! Gaps: an extremum needs known neighbours, and on a side that a gap or the trial's edge
-//! cuts short only a tenth of the fall the other side needs
-//! ([`KinematicOptions::cut_min_fall`]): a foot that lands just after the capture starts or
-//! just before its markers drop out is found, a marker's last sample before a gap is not.
+//! Gaps: a heel's or toe's gap up to [`KinematicOptions::bridge_s`] is bridged by a cubic
+//! first; an extremum needs known neighbours, and on a side that a gap cuts short only a
+//! tenth of the fall the other side needs ([`KinematicOptions::cut_min_fall`]), on a side
+//! the trial's edge cuts short a fall above marker noise
+//! ([`KinematicOptions::edge_min_fall`]): a foot that lands just after the capture starts
+//! or just before its markers drop out is found, a marker's last sample before a gap is
+//! not. An extreme just beyond the trial's ends, or one sample inside, is seen from the
+//! parabola through the last three samples ([`KinematicOptions::edge_beyond_s`]). A
+//! pelvis seen for less than the direction's window gets a window it fills.
 
 use crate::axes::Vertical;
 use crate::error::{Error, Result};

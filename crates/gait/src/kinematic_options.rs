@@ -153,13 +153,13 @@ pub struct KinematicOptions {
     /// shows the turn. BMC's one-cycle trial, cropped at its strikes, ends 20 ms after
     /// its last heel extreme, which falls 6 mm over those two frames.
     pub edge_min_fall: f64,
-    /// Zeni's extremes just beyond the trial's ends ([`crate::signal::edge_maxima`]):
+    /// Zeni's extremes just beyond the trial's ends (`signal::edge_maxima`):
     /// how far outside (s) the parabola through the first or last three samples may peak.
     /// An event is kept only where its estimate's offset brings it into the trial. 0:
     /// none.
     pub edge_beyond_s: f64,
     /// Zeni's heel and toe signals bridged over gaps this short (s) by a cubic
-    /// ([`crate::signal::bridge_short`]) before their extremes are looked for. 0: none.
+    /// (`signal::bridge_short`) before their extremes are looked for. 0: none.
     /// Chosen on c3d-labs (the tuning labs have no foot-marker gap near an event, so
     /// none of their figures moves at any value up to 0.2 s): MOtoNMS' right heels, lost
     /// for 83 ms (5 frames at 60 Hz) just before their strikes, need 0.1.
