@@ -22,9 +22,10 @@
 //! same trials' uncalibrated events ("before"). Here c3d-samples' `sample_00` is four labs
 //! (one per vendor folder), since its trials come from different systems.
 //!
-//! Every C3D file of `c3d-samples`, `c3d-more`, `c3d-extra` and `c3d-fullbody` whose foot
-//! and pelvis markers are found is read once (copies of one trial in other formats are
-//! counted once: same frame count and same left-heel trajectory). Two truths:
+//! Every C3D file of `c3d-samples`, `c3d-more`, `c3d-extra`, `c3d-fullbody` and `c3d-labs`
+//! whose foot and pelvis markers are found and hold marker data (not every sample at
+//! (0, 0, 0)) is read once (copies of one trial in other formats are counted once: same
+//! frame count and same left-heel trajectory). Two truths:
 //!
 //! - **lab**: the file's own Foot Strike / Foot Off events (EVENT group, Left/Right);
 //! - **plate**: foot strikes and offs where one foot alone loads a force plate
@@ -40,7 +41,12 @@
 //! Labs: each `sample_NN` folder of c3d-samples is a lab, each `owner__repository` of
 //! c3d-more (and its trial's name, for the three labs of `tsalemink__C3D-parser`), c3d-extra
 //! is BTK's, c3d-fullbody's CMU and numediart. Constants are chosen on the c3d-samples labs
-//! ("tuning") and reported on the others ("held out"), printed apart.
+//! ("tuning") and reported on the others ("held out"), printed apart. Each table ends with
+//! the walking and running trials pooled (`ALL walking and running`: the activity by the
+//! corpus README's words, so drop jumps, cutting and free movement stay out), the share of
+//! events found that issue 45 sets its goal on.
+//! `--edge-min-fall`, `--edge-beyond` and `--bridge` vary the rules for extremes at a
+//! trial's edges and across short gaps.
 //!
 //! The time base check: where a file has both its lab's events and plate events, the signed
 //! median of (plate − lab) per event kind shows whether EVENT:TIMES and `frame_time` share
