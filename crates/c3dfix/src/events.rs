@@ -522,10 +522,15 @@ pub fn calibrated(
     });
     let kinematic = session.as_deref().unwrap_or(kinematic);
     let k = gait::calibrate(plates, kinematic, CALIBRATE_WINDOW_S * rate);
-    match &opts.correlate {
+    let mut k = match &opts.correlate {
         Some(c) => gait::correlate(feet, rate, plates, &k, c),
         None => k,
-    }
+    };
+    // A shift can carry an event found at the trial's edge past it: an event the trial
+    // does not hold is none of its frames.
+    let last = feet.frames().saturating_sub(1) as f64;
+    k.retain(|e| (0.0..=last).contains(&e.index));
+    k
 }
 
 /// Detect the gait events of `c` (`path` names it in messages).

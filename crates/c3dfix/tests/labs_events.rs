@@ -224,8 +224,8 @@ fn running_foot_offs_from_the_markers_come_where_the_toe_leaves_the_belt() {
     assert_eq!(err.len(), 84);
     assert!((err[err.len() / 2].abs() - 0.0074).abs() < 0.001, "{err:?}");
     assert!(err[err.len() * 95 / 100].abs() < 0.027, "{err:?}");
-    // The sprint (5 plates): of its three plate offs, the two the markers see (the last
-    // comes after the markers' last off) within 2 ms, where Zeni's were 44-48 ms late.
+    // The sprint (5 plates): its three plate offs within 2 ms, where Zeni's were 44-48 ms
+    // late (the last, 0.06 s before the trial's end, since extremes at the edge count).
     let Some(path) = labs("basgoncalves__msk_modelling_python__sprint_1") else {
         return;
     };
@@ -235,7 +235,7 @@ fn running_foot_offs_from_the_markers_come_where_the_toe_leaves_the_belt() {
         .into_iter()
         .filter(|e| e.abs() <= 0.15)
         .collect();
-    assert_eq!(err.len(), 2, "{err:?}");
+    assert_eq!(err.len(), 3, "{err:?}");
     assert!(err.iter().all(|e| e.abs() < 0.002), "{err:?}");
 }
 

@@ -14,10 +14,15 @@
 //! step either side of each frame ([`KinematicOptions::direction_window_s`]), so it follows
 //! curved paths and turns and either direction of travel; frames where the pelvis moves
 //! slower than [`KinematicOptions::min_speed_mm_s`] are no walking and get no events.
-//! Gaps: an extremum needs known neighbours, and on a side that a gap or the trial's edge
-//! cuts short only a tenth of the fall the other side needs
-//! ([`KinematicOptions::cut_min_fall`]): a foot that lands just after the capture starts or
-//! just before its markers drop out is found, a marker's last sample before a gap is not.
+//! Gaps: a heel's or toe's gap up to [`KinematicOptions::bridge_s`] is bridged by a cubic
+//! first; an extremum needs known neighbours, and on a side that a gap cuts short only a
+//! tenth of the fall the other side needs ([`KinematicOptions::cut_min_fall`]), on a side
+//! the trial's edge cuts short a fall above marker noise
+//! ([`KinematicOptions::edge_min_fall`]): a foot that lands just after the capture starts
+//! or just before its markers drop out is found, a marker's last sample before a gap is
+//! not. An extreme just beyond the trial's ends, or one sample inside, is seen from the
+//! parabola through the last three samples ([`KinematicOptions::edge_beyond_s`]). A
+//! pelvis seen for less than the direction's window gets a window it fills.
 
 use crate::axes::Vertical;
 use crate::error::{Error, Result};
@@ -36,8 +41,45 @@ pub fn walking_direction(
     rate: f64,
     opts: &KinematicOptions,
 ) -> Vec<[f64; 3]> {
-    let n = pelvis.len();
     let h = ((opts.direction_window_s * rate).round() as usize).max(1);
+    let dir = direction_over(pelvis, vertical, rate, opts, h);
+    if dir.iter().any(|d| d[0].is_finite()) {
+        return dir;
+    }
+    // A pelvis seen for less than the window (MOtoNMS' run: its sacrum seen for 0.5 s
+    // while the feet cross the plates) gets the window its longest seen run allows, down
+    // to 0.2 s: the speed test still decides whether it travels.
+    let seen = longest_run(pelvis);
+    let short = seen.saturating_sub(1) / 2;
+    if short < h && short as f64 >= 0.1 * rate {
+        return direction_over(pelvis, vertical, rate, opts, short);
+    }
+    dir
+}
+
+/// The length of the longest run of frames where every coordinate of `x` is known.
+fn longest_run(x: &[[f64; 3]]) -> usize {
+    let (mut best, mut run) = (0, 0);
+    for p in x {
+        run = if p.iter().all(|v| v.is_finite()) {
+            run + 1
+        } else {
+            0
+        };
+        best = best.max(run);
+    }
+    best
+}
+
+/// [`walking_direction`] over a window of `h` frames either side.
+fn direction_over(
+    pelvis: &[[f64; 3]],
+    vertical: Vertical,
+    rate: f64,
+    opts: &KinematicOptions,
+    h: usize,
+) -> Vec<[f64; 3]> {
+    let n = pelvis.len();
     let mut dir: Vec<[f64; 3]> = (0..n)
         .map(|i| {
             let (a, b) = (i.saturating_sub(h), (i + h).min(n - 1));
@@ -478,8 +520,14 @@ pub fn zeni(
 ) -> (Vec<f64>, Vec<f64>) {
     let smooth = ((opts.smooth_s * prep.rate / 2.0).round()) as usize;
     let (heel, toe) = feet.foot(side);
-    let heel = signal::smooth(&along(heel, &prep.pelvis, &prep.dir), smooth);
-    let toe: Vec<f64> = signal::smooth(&along(toe, &prep.pelvis, &prep.dir), smooth)
+    let bridge = (opts.bridge_s * prep.rate).round() as usize;
+    let bridged = |m: &[[f64; 3]]| {
+        let mut x = along(m, &prep.pelvis, &prep.dir);
+        signal::bridge_short(&mut x, bridge);
+        x
+    };
+    let heel = signal::smooth(&bridged(heel), smooth);
+    let toe: Vec<f64> = signal::smooth(&bridged(toe), smooth)
         .into_iter()
         .map(|v| -v)
         .collect();
@@ -495,16 +543,29 @@ pub fn zeni(
     let stride = signal::period(&heel[start..start + keep], lo, hi);
     let reach = stride.map_or(prep.reach, |t| prep.reach.max(t / 3));
     let extremes = |x: &[f64]| match (signal::quantile(x, 0.05), signal::quantile(x, 0.95)) {
-        (Some(a), Some(b)) => signal::maxima_cut(
-            x,
-            prep.half,
-            reach,
-            (0.25 * (b - a)).max(40.0),
-            Some(signal::Cut {
-                min_samples: 2,
-                min_fall: opts.cut_min_fall,
-            }),
-        ),
+        (Some(a), Some(b)) => {
+            let prominence = (0.25 * (b - a)).max(40.0);
+            let mut found = signal::maxima_cut(
+                x,
+                prep.half,
+                reach,
+                prominence,
+                Some(signal::Cut {
+                    min_samples: 2,
+                    min_fall: opts.cut_min_fall,
+                    edge_min_fall: opts.edge_min_fall,
+                }),
+            );
+            found.extend(signal::edge_maxima(
+                x,
+                prep.half,
+                reach,
+                prominence,
+                opts.edge_beyond_s * rate,
+            ));
+            found.sort_by(f64::total_cmp);
+            found
+        }
         _ => Vec::new(),
     };
     (extremes(&heel), extremes(&toe))
@@ -886,7 +947,7 @@ mod tests {
         let f = walk(400);
         let e = |method, offset_s| Estimate { method, offset_s };
         let opts = KinematicOptions {
-            // Zeni's strikes at t = 1, 2, 3 s, once as is and once 40 ms later; Desailly's
+            // Zeni's strikes at t = 0, 1, 2, 3 s, once as is and once 40 ms later; Desailly's
             // shifted 0.5 s away from every one of them, so it joins none.
             strike: vec![
                 e(Method::Zeni, 0.0),
@@ -899,8 +960,9 @@ mod tests {
         let ev = kinematic_events(&f, 100.0, &opts).unwrap();
         assert!(ev.iter().all(|e| e.kind == Kind::FootStrike), "{ev:?}");
         let s = times(&ev, Side::Left, Kind::FootStrike);
-        assert_eq!(s.len(), 3, "{s:?}");
-        for (got, want) in s.iter().zip([1.02, 2.02, 3.02]) {
+        // The walk's heel also peaks at its first frame (t = 0: an extreme at the edge).
+        assert_eq!(s.len(), 4, "{s:?}");
+        for (got, want) in s.iter().zip([0.02, 1.02, 2.02, 3.02]) {
             assert!((got - want).abs() < 0.001, "{s:?}");
         }
     }

@@ -148,6 +148,22 @@ pub struct KinematicOptions {
     /// the lab's strike) is found with 0.05 or 0.1, not 0.2. At 1 or more, every side
     /// needs the full prominence, as before.
     pub cut_min_fall: f64,
+    /// As [`Self::cut_min_fall`] where the trial's edge (not a gap) cuts the side: a fall
+    /// above the marker's noise (0.02 of the prominence, 0.8 mm at the least prominence)
+    /// shows the turn. BMC's one-cycle trial, cropped at its strikes, ends 20 ms after
+    /// its last heel extreme, which falls 6 mm over those two frames.
+    pub edge_min_fall: f64,
+    /// Zeni's extremes just beyond the trial's ends (`signal::edge_maxima`):
+    /// how far outside (s) the parabola through the first or last three samples may peak.
+    /// An event is kept only where its estimate's offset brings it into the trial. 0:
+    /// none.
+    pub edge_beyond_s: f64,
+    /// Zeni's heel and toe signals bridged over gaps this short (s) by a cubic
+    /// (`signal::bridge_short`) before their extremes are looked for. 0: none.
+    /// Chosen on c3d-labs (the tuning labs have no foot-marker gap near an event, so
+    /// none of their figures moves at any value up to 0.2 s): MOtoNMS' right heels, lost
+    /// for 83 ms (5 frames at 60 Hz) just before their strikes, need 0.1.
+    pub bridge_s: f64,
     /// [`Method::Landing`]: a heel or toe has landed when it stands within this fraction
     /// of its swing height above its stance level.
     pub landing_height_frac: f64,
@@ -223,6 +239,9 @@ impl Default for KinematicOptions {
             impact_after_s: 0.25,
             pelvis_extend_s: 0.0,
             cut_min_fall: 0.1,
+            edge_min_fall: 0.02,
+            edge_beyond_s: 0.03,
+            bridge_s: 0.1,
             landing_height_frac: 0.1,
             landing_speed_frac: 0.0,
             landing_vspeed_frac: 0.0,

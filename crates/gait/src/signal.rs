@@ -39,6 +39,45 @@ pub fn fill_short(x: &mut [[f64; 3]], max: usize) {
     }
 }
 
+/// Bridge runs of NaN no longer than `max` samples with the cubic (Hermite) that meets
+/// the samples either side with their slopes (each from its last two known samples);
+/// runs at the ends, longer ones, or without two known samples on each side stay NaN.
+/// A foot marker lost for a few frames around its strike (a plate's edge, the other
+/// foot) peaks inside the gap: the cubic keeps the turn that a straight line would put on
+/// the gap's edge.
+pub fn bridge_short(x: &mut [f64], max: usize) {
+    let n = x.len();
+    let mut i = 0;
+    while i < n {
+        if x[i].is_finite() {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        while i < n && !x[i].is_finite() {
+            i += 1;
+        }
+        if start < 2 || i + 1 >= n || i - start > max {
+            continue;
+        }
+        let (a0, a1, b0, b1) = (x[start - 2], x[start - 1], x[i], x[i + 1]);
+        if !(a0.is_finite() && b1.is_finite()) {
+            continue;
+        }
+        // Positions in samples from `start - 1` (0) to `i` (h); slopes per sample.
+        let h = (i - start + 1) as f64;
+        let (m0, m1) = ((a1 - a0) * h, (b1 - b0) * h);
+        for (k, slot) in x[start..i].iter_mut().enumerate() {
+            let t = (k + 1) as f64 / h;
+            let (t2, t3) = (t * t, t * t * t);
+            *slot = (2.0 * t3 - 3.0 * t2 + 1.0) * a1
+                + (t3 - 2.0 * t2 + t) * m0
+                + (-2.0 * t3 + 3.0 * t2) * b0
+                + (t3 - t2) * m1;
+        }
+    }
+}
+
 /// Extend `x` past its first and last known samples by up to `max` samples each, along
 /// the straight line through the known sample at the end and the one `fit` samples
 /// inwards (constant velocity). Used for the pelvis, which moves steadily over a quarter
@@ -130,8 +169,13 @@ pub fn maxima(x: &[f64], half: usize, reach: usize, prominence: f64) -> Vec<f64>
 pub struct Cut {
     /// Known samples after (or before) the peak, up to the cut, at least.
     pub min_samples: usize,
-    /// The fall over those samples, as a fraction of the full prominence, at least.
+    /// The fall over those samples, as a fraction of the full prominence, at least, where
+    /// a gap cuts the side.
     pub min_fall: f64,
+    /// The same where the trial's edge cuts it. A marker's last samples before a gap can
+    /// be its worst (it is being lost), so a gap's side needs a clear fall; the capture's
+    /// start or end hides nothing of the marker, so a fall above its noise is a turn seen.
+    pub edge_min_fall: f64,
 }
 
 /// As [`maxima`], and with `cut`, a peak next to a gap or the trial's edge: a side that
@@ -160,24 +204,28 @@ pub fn maxima_cut(
             continue;
         }
         // Prominence on each side, within the finite run around the peak: (the lowest
-        // sample, how many samples were seen, whether the run ended before `reach`).
+        // sample, how many samples were seen, whether the run ended before `reach`, and
+        // whether a gap ended it rather than the trial's edge).
         let side = |range: &mut dyn Iterator<Item = usize>, avail: usize| {
             let mut m = f64::INFINITY;
             let mut seen = 0;
             for j in range {
                 if !x[j].is_finite() {
-                    return (m, seen, true);
+                    return (m, seen, true, true);
                 }
                 m = m.min(x[j]);
                 seen += 1;
             }
-            (m, seen, avail < reach)
+            (m, seen, avail < reach, false)
         };
         let left = side(&mut (i.saturating_sub(reach)..i).rev(), i);
         let right = side(&mut (i + 1..(i + reach + 1).min(n)), n - 1 - i);
-        let full = |s: (f64, usize, bool)| v - s.0 >= prominence;
-        let partial = |s: (f64, usize, bool)| {
-            cut.is_some_and(|c| s.2 && s.1 >= c.min_samples && v - s.0 >= c.min_fall * prominence)
+        let full = |s: (f64, usize, bool, bool)| v - s.0 >= prominence;
+        let partial = |s: (f64, usize, bool, bool)| {
+            cut.is_some_and(|c| {
+                let fall = if s.3 { c.min_fall } else { c.edge_min_fall };
+                s.2 && s.1 >= c.min_samples && v - s.0 >= fall * prominence
+            })
         };
         let ok = (full(left) && full(right))
             || (full(left) && partial(right))
@@ -185,6 +233,60 @@ pub fn maxima_cut(
         if ok {
             out.push(i as f64 + parabolic(x[i - 1], v, x[i + 1]));
         }
+    }
+    out
+}
+
+/// Maxima of `x` at or just beyond its ends, which [`maxima_cut`] cannot see (it needs
+/// two samples on a cut side): where the trial starts (or ends) on a falling side, the
+/// parabola through its first (last) three samples, opening downwards, peaks between
+/// `beyond` samples outside the trial and 1.5 samples inside (nearer the edge than the
+/// third sample, which [`maxima_cut`] covers), the higher of the two edge samples is above
+/// every other within `half`, and the signal falls from it by the full `prominence`
+/// within `reach`. Positions are fractional and may lie outside `0..len` (by at most
+/// `beyond`): an event there is the trial's only if the estimate's own offset brings it
+/// in. A lab that crops its trials at its events puts its first strike on the first
+/// frame; the extreme that marks it lies a few milliseconds before.
+pub fn edge_maxima(x: &[f64], half: usize, reach: usize, prominence: f64, beyond: f64) -> Vec<f64> {
+    let n = x.len();
+    if n < 3 || beyond <= 0.0 {
+        return Vec::new();
+    }
+    // The peak's position from `at(0)` inwards (negative: beyond it) for samples read
+    // from the edge inwards in `at`.
+    let edge = |at: &dyn Fn(usize) -> f64| -> Option<f64> {
+        let (y0, y1, y2) = (at(0), at(1), at(2));
+        if !(y0.is_finite() && y1.is_finite() && y2.is_finite()) {
+            return None;
+        }
+        let den = y0 - 2.0 * y1 + y2;
+        if den >= 0.0 || !den.is_finite() {
+            return None;
+        }
+        let pos = 1.0 + 0.5 * (y0 - y2) / den;
+        if !(-beyond..1.5).contains(&pos) {
+            return None;
+        }
+        let top = y0.max(y1);
+        let mut low = f64::INFINITY;
+        for k in 2..=reach.min(n - 1) {
+            let v = at(k);
+            if !v.is_finite() {
+                break;
+            }
+            if k <= half && v >= top {
+                return None;
+            }
+            low = low.min(v);
+        }
+        (top - low >= prominence).then_some(pos)
+    };
+    let mut out = Vec::new();
+    if let Some(p) = edge(&|k| x[k]) {
+        out.push(p);
+    }
+    if let Some(p) = edge(&|k| x[n - 1 - k]) {
+        out.push((n - 1) as f64 - p);
     }
     out
 }
@@ -293,6 +395,7 @@ mod tests {
             Some(Cut {
                 min_samples: 2,
                 min_fall,
+                edge_min_fall: min_fall,
             })
         };
         let m = maxima_cut(&s, 10, 20, 50.0, cut(0.1));
@@ -312,6 +415,83 @@ mod tests {
         assert_eq!(maxima(&g, 10, 20, 50.0), Vec::<f64>::new());
         assert_eq!(maxima_cut(&g, 10, 20, 50.0, cut(0.1)).len(), 1);
         assert_eq!(maxima_cut(&g, 10, 20, 50.0, cut(0.05)).len(), 2);
+    }
+
+    #[test]
+    fn a_peak_cut_by_the_trials_edge_needs_less_fall_than_one_cut_by_a_gap() {
+        // A cosine of 100 peaking at sample 117 of 120: 2 samples after it fall 1.1.
+        let s: Vec<f64> = (0..120)
+            .map(|i| 100.0 * (2.0 * std::f64::consts::PI * (i as f64 - 117.0) / 60.0).cos())
+            .collect();
+        let cut = |min_fall, edge_min_fall| {
+            Some(Cut {
+                min_samples: 2,
+                min_fall,
+                edge_min_fall,
+            })
+        };
+        let last = |m: Vec<f64>| m.last().copied().unwrap_or(f64::NAN);
+        assert!((last(maxima_cut(&s, 10, 20, 50.0, cut(0.1, 0.02))) - 117.0).abs() < 0.05);
+        assert!((last(maxima_cut(&s, 10, 20, 50.0, cut(0.1, 0.1))) - 57.0).abs() < 0.05);
+        // The same peak before a gap keeps the gap's fall.
+        let mut g = s.clone();
+        g.extend([f64::NAN; 5]);
+        g.extend(s.iter().take(20));
+        assert!((last(maxima_cut(&g[..125], 10, 20, 50.0, cut(0.1, 0.02))) - 57.0).abs() < 0.05);
+    }
+
+    #[test]
+    fn a_peak_just_beyond_the_ends_is_found_by_its_parabola() {
+        // Peaks 1.5 samples before the start and after the end (sample 118.5); the
+        // parabola through three samples of the cosine places them within 0.2.
+        let s: Vec<f64> = (0..117)
+            .map(|i| 100.0 * (2.0 * std::f64::consts::PI * (i as f64 + 1.5) / 60.0).cos())
+            .collect();
+        let m = edge_maxima(&s, 10, 20, 50.0, 3.0);
+        assert_eq!(m.len(), 2, "{m:?}");
+        assert!(
+            (m[0] + 1.5).abs() < 0.2 && (m[1] - 118.5).abs() < 0.2,
+            "{m:?}"
+        );
+        // Farther out than allowed: none.
+        assert!(edge_maxima(&s, 10, 20, 50.0, 1.0).is_empty());
+        // A start that rises (a minimum beyond it) or falls too little gives none.
+        let rising: Vec<f64> = s.iter().map(|v| -v).collect();
+        assert!(edge_maxima(&rising, 10, 20, 50.0, 3.0).is_empty());
+        assert!(edge_maxima(&s, 10, 20, 500.0, 3.0).is_empty());
+        // A peak one sample inside the end, with one sample after it, is the edge's too
+        // (maxima_cut needs two); one three samples inside is not (maxima_cut's).
+        let inside = |at: f64| -> Vec<f64> {
+            let s: Vec<f64> = (0..117)
+                .map(|i| 100.0 * (2.0 * std::f64::consts::PI * (i as f64 - at) / 60.0).cos())
+                .collect();
+            edge_maxima(&s, 10, 20, 50.0, 3.0)
+        };
+        let m = inside(115.0);
+        assert!(m.len() == 1 && (m[0] - 115.0).abs() < 0.2, "{m:?}");
+        assert!(inside(113.0).is_empty());
+    }
+
+    #[test]
+    fn a_short_gap_is_bridged_by_a_cubic_that_keeps_its_turn() {
+        // A parabola peaking at sample 10, samples 8 to 12 lost: the cubic through the
+        // slopes either side peaks inside the gap, where a straight line would be flat.
+        let p = |i: f64| 100.0 - (i - 10.0).powi(2);
+        let mut x: Vec<f64> = (0..20).map(|i| p(i as f64)).collect();
+        for v in x.iter_mut().skip(8).take(5) {
+            *v = f64::NAN;
+        }
+        let mut short = x.clone();
+        bridge_short(&mut short, 4);
+        assert!(short[10].is_nan(), "a gap longer than max stays");
+        bridge_short(&mut x, 5);
+        let top = (0..20).max_by(|&a, &b| x[a].total_cmp(&x[b])).unwrap();
+        assert_eq!(top, 10, "{x:?}");
+        assert!((x[10] - 100.0).abs() < 2.0, "{x:?}");
+        // A gap at an end stays.
+        let mut e = vec![f64::NAN, f64::NAN, 1.0, 2.0, 3.0];
+        bridge_short(&mut e, 5);
+        assert!(e[0].is_nan() && e[1].is_nan());
     }
 
     #[test]

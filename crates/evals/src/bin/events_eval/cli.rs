@@ -29,6 +29,15 @@ pub struct Cli {
     /// The least fall of an extreme at a cut.
     #[arg(long, value_name = "F")]
     cut_min_fall: Option<f64>,
+    /// The least fall of an extreme where the trial's edge cuts it.
+    #[arg(long, value_name = "F")]
+    edge_min_fall: Option<f64>,
+    /// How far beyond the trial's ends an extreme may peak (s; 0: none).
+    #[arg(long, value_name = "S")]
+    edge_beyond: Option<f64>,
+    /// Zeni's signals bridged over gaps this short (s; 0: none).
+    #[arg(long, value_name = "S")]
+    bridge: Option<f64>,
     /// Landing: height as a fraction of the swing.
     #[arg(long, value_name = "F")]
     landing_height: Option<f64>,
@@ -201,6 +210,9 @@ impl Cli {
             (self.impact_hz, &mut k.impact_lowpass_hz),
             (self.pelvis_extend, &mut k.pelvis_extend_s),
             (self.cut_min_fall, &mut k.cut_min_fall),
+            (self.edge_min_fall, &mut k.edge_min_fall),
+            (self.edge_beyond, &mut k.edge_beyond_s),
+            (self.bridge, &mut k.bridge_s),
             (self.landing_height, &mut k.landing_height_frac),
             (self.landing_speed, &mut k.landing_speed_frac),
             (self.landing_vspeed, &mut k.landing_vspeed_frac),

@@ -22,9 +22,10 @@
 //! same trials' uncalibrated events ("before"). Here c3d-samples' `sample_00` is four labs
 //! (one per vendor folder), since its trials come from different systems.
 //!
-//! Every C3D file of `c3d-samples`, `c3d-more`, `c3d-extra` and `c3d-fullbody` whose foot
-//! and pelvis markers are found is read once (copies of one trial in other formats are
-//! counted once: same frame count and same left-heel trajectory). Two truths:
+//! Every C3D file of `c3d-samples`, `c3d-more`, `c3d-extra`, `c3d-fullbody` and `c3d-labs`
+//! whose foot and pelvis markers are found and hold marker data (not every sample at
+//! (0, 0, 0)) is read once (copies of one trial in other formats are counted once: same
+//! frame count and same left-heel trajectory). Two truths:
 //!
 //! - **lab**: the file's own Foot Strike / Foot Off events (EVENT group, Left/Right);
 //! - **plate**: foot strikes and offs where one foot alone loads a force plate
@@ -40,7 +41,12 @@
 //! Labs: each `sample_NN` folder of c3d-samples is a lab, each `owner__repository` of
 //! c3d-more (and its trial's name, for the three labs of `tsalemink__C3D-parser`), c3d-extra
 //! is BTK's, c3d-fullbody's CMU and numediart. Constants are chosen on the c3d-samples labs
-//! ("tuning") and reported on the others ("held out"), printed apart.
+//! ("tuning") and reported on the others ("held out"), printed apart. Each table ends with
+//! the walking and running trials pooled (`ALL walking and running`: the activity by the
+//! corpus README's words, so drop jumps, cutting and free movement stay out), the share of
+//! events found that issue 45 sets its goal on.
+//! `--edge-min-fall`, `--edge-beyond` and `--bridge` vary the rules for extremes at a
+//! trial's edges and across short gaps.
 //!
 //! The time base check: where a file has both its lab's events and plate events, the signed
 //! median of (plate − lab) per event kind shows whether EVENT:TIMES and `frame_time` share
@@ -76,6 +82,10 @@ pub use cli::Settings;
 pub struct Run {
     /// (truth, detector) → lab → tally.
     table: BTreeMap<(&'static str, &'static str), BTreeMap<String, Tally>>,
+    /// (truth, detector) → the walking and running trials' tally, every lab pooled (the
+    /// goal's share of events found is set on these activities; a drop jump's landing or a
+    /// cutting step is not gait).
+    gait: BTreeMap<(&'static str, &'static str), Tally>,
     /// Each counted trial's frame count and left heel's sum: copies are counted once.
     seen: Vec<(usize, i64)>,
     /// Trials left out, and why (printed with `-v`).
@@ -101,6 +111,8 @@ pub struct Detected {
     /// The trial's short name (`testkit::short`).
     name: String,
     lab: String,
+    /// The trial's activity by its corpus README's words (`evals::corpus::activity`).
+    activity: &'static str,
     rate: f64,
     /// The kinematic events as detected and as compared (None: the markers gave none).
     kin_raw: Option<Vec<Event>>,
@@ -210,6 +222,12 @@ impl Run {
             }
         };
         let feet = events::feet(&c, &mut choice, path).ok()?;
+        if no_marker_data(&feet) {
+            self.skipped.push(format!(
+                "{name}: no marker data: every sample of its foot and pelvis markers is (0, 0, 0)"
+            ));
+            return None;
+        }
         let labels = c.point_labels();
         let names = |r: &[usize]| -> Vec<String> {
             r.iter()
@@ -242,6 +260,9 @@ impl Run {
             peers::list_line(out, path, roles);
         }
         let lab = evals::labs::of_trial(corpus, path, root);
+        let readme = std::fs::read_to_string(root.join("README.md")).ok();
+        let rel = path.strip_prefix(root).unwrap_or(path).to_string_lossy();
+        let activity = evals::corpus::activity(readme.as_deref(), &rel, "walking");
         let rate = c.point_rate() as f64;
         let kin_raw = match gait::kinematic::kinematic_gait(&feet, rate, &opts.kinematic) {
             Ok((k, running)) => {
@@ -272,6 +293,7 @@ impl Run {
             corpus,
             name,
             lab,
+            activity,
             rate,
             kin_raw,
             kin: None,
@@ -395,12 +417,7 @@ impl Run {
                 ("plate (side by side)", &t.plates[..], false),
             ] {
                 if !events.is_empty() {
-                    self.table
-                        .entry((truth, name))
-                        .or_default()
-                        .entry(t.lab.clone())
-                        .or_default()
-                        .add(events, &found, extra);
+                    self.put((truth, name), t, events, &found, extra);
                 }
             }
         }
@@ -410,53 +427,32 @@ impl Run {
     /// the lab's events; the kinematics, as detected and calibrated leave one out, against
     /// the plates.
     fn tally(&mut self, t: &Detected, lab_events: &[Timed]) {
-        let (table, lab) = (&mut self.table, &t.lab);
         let (kin, plates, auto, loo) = (&t.kin, &t.plates, &t.auto, &t.loo);
         if !lab_events.is_empty() {
             if let Some(k) = kin {
-                table
-                    .entry(("lab", "kinematics"))
-                    .or_default()
-                    .entry(lab.clone())
-                    .or_default()
-                    .add(lab_events, k, true);
+                self.put(("lab", "kinematics"), t, lab_events, k, true);
             }
             if !plates.is_empty() {
-                table
-                    .entry(("lab", "plates"))
-                    .or_default()
-                    .entry(lab.clone())
-                    .or_default()
-                    .add(lab_events, plates, false);
+                self.put(("lab", "plates"), t, lab_events, plates, false);
             }
-        }
-        if !lab_events.is_empty() {
             if let Some(a) = auto {
-                table
-                    .entry(("lab", "auto (plates, calibrated kinematics elsewhere)"))
-                    .or_default()
-                    .entry(lab.clone())
-                    .or_default()
-                    .add(lab_events, a, true);
+                let key = ("lab", "auto (plates, calibrated kinematics elsewhere)");
+                self.put(key, t, lab_events, a, true);
             }
         }
         if !plates.is_empty() {
             if let Some(k) = kin {
-                table
-                    .entry(("plate", "kinematics"))
-                    .or_default()
-                    .entry(lab.clone())
-                    .or_default()
-                    .add(plates, k, false);
+                self.put(("plate", "kinematics"), t, plates, k, false);
             }
             if !loo.is_empty() {
-                let t = table
+                let t = self
+                    .table
                     .entry((
                         "plate",
                         "kinematics calibrated on the trial's other plate events",
                     ))
                     .or_default()
-                    .entry(lab.clone())
+                    .entry(t.lab.clone())
                     .or_default();
                 t.trials += 1;
                 for (truth, found) in loo {
@@ -465,6 +461,42 @@ impl Run {
             }
         }
     }
+
+    /// Trial `t`'s `found` against `truth` added to its lab's tally under `key`, and to
+    /// the walking and running trials' when it is one.
+    fn put(
+        &mut self,
+        key: (&'static str, &'static str),
+        t: &Detected,
+        truth: &[Timed],
+        found: &[Timed],
+        extra: bool,
+    ) {
+        self.table
+            .entry(key)
+            .or_default()
+            .entry(t.lab.clone())
+            .or_default()
+            .add(truth, found, extra);
+        if matches!(t.activity, "walking" | "running") {
+            self.gait.entry(key).or_default().add(truth, found, extra);
+        }
+    }
+}
+
+/// Whether every sample of the trial's foot and pelvis markers sits exactly at (0, 0, 0):
+/// a file that stores no marker data (BTK's `parameterOverflow`, a parameter-section test
+/// whose events are a template's), whose events no marker method can find.
+fn no_marker_data(feet: &gait::Feet) -> bool {
+    [
+        &feet.left_heel,
+        &feet.left_toe,
+        &feet.right_heel,
+        &feet.right_toe,
+        &feet.pelvis,
+    ]
+    .iter()
+    .all(|m| m.iter().all(|p| p.iter().all(|v| *v == 0.0)))
 }
 
 /// Whether both feet leave the plates together and land together: a jump or a landing, not

@@ -70,5 +70,11 @@ pub fn print(run: &Run, s: &Settings) {
         for (g, t) in &groups {
             println!("{}", t.line(g, truth.starts_with("lab")));
         }
+        if let Some(t) = run.gait.get(&(*truth, *detector)) {
+            println!(
+                "{}",
+                t.line("ALL walking and running", truth.starts_with("lab"))
+            );
+        }
     }
 }
