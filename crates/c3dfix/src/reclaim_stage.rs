@@ -140,6 +140,16 @@ pub(crate) fn run(
     if mode == ReclaimMode::Off || points.unlabelled.is_empty() || points.labelled.is_empty() {
         return Ok(out);
     }
+    // Markers without a gap (every sample data, and finite) leave no piece to judge: the
+    // unlabelled points are not read.
+    let whole = |(v, x): (&Vec<bool>, &Vec<[f64; 3]>)| {
+        v.iter()
+            .zip(x)
+            .all(|(&ok, p)| ok && p.iter().all(|c| c.is_finite()))
+    };
+    if points.data.iter().zip(&trial.xyz).all(whole) {
+        return Ok(out);
+    }
     let cands = to_trial(c, points.unlabelled, points.zero_invalid)?;
     let mm = mm_per_unit(&c.point_units());
     // The markers judged are the trial's coordinates with the data's validity: the trial

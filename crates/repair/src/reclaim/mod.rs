@@ -77,18 +77,21 @@ pub fn find_reclaims_sharing(
         return Reclaims::default();
     }
     let (m, u) = (in_mm(markers, mm_per_unit), in_mm(candidates, mm_per_unit));
-    let (links, link_pairs) = segment_links_with(&m, opts, known);
+    // Learned when a piece first passes the path: a trial whose pieces all stray from it
+    // (or that has none) needs no links.
+    let links = std::cell::OnceCell::new();
+    let learn = || segment_links_with(&m, opts, known);
     let runs = pieces::Runs::of(&u);
     let mut live = Vec::new();
     let total = runs.each_near_end(&m, opts, |p| {
-        let fit = score::score(&p, &m, &u, &links[p.marker], opts);
+        let fit = score::score(&p, &m, &u, || &links.get_or_init(learn).0[p.marker], opts);
         if fit.verdict != Verdict::Off {
             live.push((p, fit));
         }
     });
     let mut out = decide::decide(&live, opts);
     out.pieces = total;
-    out.link_pairs = link_pairs;
+    out.link_pairs = links.get().map(|l| l.1).unwrap_or_default();
     out
 }
 
@@ -108,7 +111,7 @@ pub fn judge(
     let links = segment_links(&m, opts);
     pieces::all(&m, &u)
         .into_iter()
-        .map(|p| (p, score::score(&p, &m, &u, &links[p.marker], opts)))
+        .map(|p| (p, score::score(&p, &m, &u, || &links[p.marker], opts)))
         .collect()
 }
 
