@@ -13,7 +13,7 @@ use crate::error::{Error, Result};
 use crate::markers::{mm_per_unit, split_unlabelled};
 use crate::options::ReclaimMode;
 use crate::trial::to_trial;
-use repair::reclaim::{find_reclaims, Fit, Piece, ReclaimOptions, Why};
+use repair::reclaim::{find_reclaims_sharing, Fit, Piece, ReclaimOptions, Why};
 use serde::Serialize;
 use std::path::Path;
 
@@ -98,6 +98,11 @@ pub struct Reclaim {
     /// What was moved, for the record.
     #[serde(skip)]
     pub moved: Vec<Reclaimed>,
+    /// Pairs of markers whose links the judging learned, of all: those the swap stage had
+    /// learned on the same samples were taken from it
+    /// ([`repair::swaps::LearnedLinks::learn_again`]).
+    #[serde(skip)]
+    pub link_pairs: repair::swaps::Relearned,
 }
 
 /// The trial's labelled markers and unlabelled points, read once, and which of the
@@ -109,6 +114,9 @@ pub(crate) struct Points<'a> {
     pub data: &'a [Vec<bool>],
     /// Samples at exactly (0, 0, 0) count as missing.
     pub zero_invalid: bool,
+    /// The links an earlier stage learned from the labelled markers (the swap stage's),
+    /// for the judging to learn again only the pairs whose samples differ.
+    pub links: Option<&'a repair::swaps::LearnedLinks>,
 }
 
 /// Judge the unlabelled points of `c` against the gaps of its labelled markers and, for
@@ -132,16 +140,29 @@ pub(crate) fn run(
     if mode == ReclaimMode::Off || points.unlabelled.is_empty() || points.labelled.is_empty() {
         return Ok(out);
     }
-    let cands = to_trial(c, points.unlabelled, points.zero_invalid)?;
-    let judged = repair::Trial {
-        rate_hz: trial.rate_hz,
-        xyz: trial.xyz.clone(),
-        valid: points.data.to_vec(),
+    // Markers without a gap (every sample data, and finite) leave no piece to judge: the
+    // unlabelled points are not read.
+    let whole = |(v, x): (&Vec<bool>, &Vec<[f64; 3]>)| {
+        v.iter()
+            .zip(x)
+            .all(|(&ok, p)| ok && p.iter().all(|c| c.is_finite()))
     };
+    if points.data.iter().zip(&trial.xyz).all(whole) {
+        return Ok(out);
+    }
+    let cands = to_trial(c, points.unlabelled, points.zero_invalid)?;
     let mm = mm_per_unit(&c.point_units());
-    let found =
-        forkpool::install(|| find_reclaims(&judged, &cands, mm, &ReclaimOptions::default()));
+    // The markers judged are the trial's coordinates with the data's validity: the trial
+    // lends its coordinates for the judging (its validity set aside meanwhile) rather than
+    // a copy of them being made.
+    let mut valid = points.data.to_vec();
+    std::mem::swap(&mut trial.valid, &mut valid);
+    let found = forkpool::install(|| {
+        find_reclaims_sharing(trial, &cands, mm, &ReclaimOptions::default(), points.links)
+    });
+    std::mem::swap(&mut trial.valid, &mut valid);
     out.pieces = found.pieces;
+    out.link_pairs = found.link_pairs;
     let labels = c.point_labels();
     let name_of = |p: usize| labels[p].trim().to_string();
     let marker = |pc: &Piece| points.labelled[pc.marker];
@@ -269,6 +290,7 @@ pub fn reclaim(
             unlabelled: &split.unlabelled,
             data: &data,
             zero_invalid,
+            links: None,
         },
         &mut trial,
         &|_| false,

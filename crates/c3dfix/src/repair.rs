@@ -313,6 +313,7 @@ pub(crate) fn repair_configured(
         unlabelled: &split.unlabelled,
         data: &[],
         zero_invalid: opts.zero_invalid,
+        links: stage.links.as_ref(),
     };
     let reclaim = match (&record.reclaim, &reclaim_settings) {
         (Some(done), Some(_)) => {

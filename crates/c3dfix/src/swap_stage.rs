@@ -51,6 +51,9 @@ pub struct Stage {
     pub exchanged: usize,
     /// Why the trial was not checked (too little to judge), if so.
     pub note: Option<String>,
+    /// The links the finding learned from the markers, for the reclaim stage to take
+    /// where its markers sample the same ([`repair::swaps::LearnedLinks::learn_again`]).
+    pub links: Option<repair::swaps::LearnedLinks>,
 }
 
 /// Find swaps and jumps among the markers of `c` and, for [`SwapsMode::Fix`], exchange the
@@ -75,7 +78,7 @@ pub fn run(
     if mode == SwapsMode::Off {
         return Ok(stage);
     }
-    let found = match swaps_with(
+    let (found, links) = match swaps_with(
         c,
         name,
         &SwapOptions::default(),
@@ -88,6 +91,7 @@ pub fn run(
         }
         Err(e) => return Err(e),
     };
+    stage.links = links;
     // The most confident first: a find overlapping one acted on (a marker and frames in
     // common) is left reported, since the first exchange already moved its samples.
     let mut finds = found.swaps;

@@ -6,7 +6,7 @@
 use crate::error::{Error, Result};
 use crate::markers::mm_per_unit;
 use crate::trial::to_trial;
-use repair::swaps::{find_swaps, Evidence, FindKind, SwapOptions};
+use repair::swaps::{find_swaps_learned, Evidence, FindKind, LearnedLinks, SwapOptions};
 use serde::Serialize;
 use std::path::Path;
 
@@ -50,7 +50,7 @@ pub struct Swaps {
 /// fewer than 3 frames, every sample missing. Coordinates that are not finite count as
 /// missing, as [`c3d::is_missing`] says.
 pub fn swaps(c: &c3d::C3d, path: &Path, opts: &SwapOptions) -> Result<Swaps> {
-    swaps_with(c, path, opts, None)
+    Ok(swaps_with(c, path, opts, None)?.0)
 }
 
 /// [`swaps`] on the trial a repair built of the file's markers: `points` are
@@ -63,7 +63,7 @@ pub(crate) fn swaps_with(
     path: &Path,
     opts: &SwapOptions,
     repairing: Option<(&[usize], &mut repair::Trial)>,
-) -> Result<Swaps> {
+) -> Result<(Swaps, Option<LearnedLinks>)> {
     let trial_err = |what: String| Error::Trial {
         path: path.to_path_buf(),
         what,
@@ -123,7 +123,7 @@ pub(crate) fn swaps_with(
             ));
         }
     }
-    let finds = match trial {
+    let (finds, learned) = match trial {
         Some(t) => find_on_trial(c, path, opts, &points, t)?,
         None => find_on_trial(c, path, opts, &points, &mut to_trial(c, &points, false)?)?,
     };
@@ -142,15 +142,17 @@ pub(crate) fn swaps_with(
             last_index: x.last,
         })
         .collect();
-    Ok(Swaps {
+    let found = Swaps {
         frames: c.frames(),
         markers: points.len(),
         swaps,
         warnings,
-    })
+    };
+    Ok((found, learned))
 }
 
-/// The finds among `points` of `c`, whose trajectories `trial` holds in the file's units
+/// The finds among `points` of `c`, with the links learned to find them (for the repair's
+/// reclaim stage, which would learn the same), whose trajectories `trial` holds in the file's units
 /// (as [`to_trial`] gives them, with any validity): a repair passes its own trial, so that a
 /// long trial is held once. The samples the finding leaves out (at the origin, residual 0,
 /// see [`drop_processed`]; c3dfix's own fills, see [`drop_own_fills`]) are left out for the
@@ -161,7 +163,7 @@ pub(crate) fn find_on_trial(
     opts: &SwapOptions,
     points: &[usize],
     trial: &mut repair::Trial,
-) -> Result<Vec<repair::swaps::Find>> {
+) -> Result<(Vec<repair::swaps::Find>, Option<LearnedLinks>)> {
     let trial_err = |what: String| Error::Trial {
         path: path.to_path_buf(),
         what,
@@ -184,7 +186,7 @@ pub(crate) fn find_on_trial(
         let mm = mm_per_unit(&c.point_units());
         // In the process's own pool, so that a forked process finds too (see forkpool).
         let run = |t: &repair::Trial| {
-            forkpool::install(|| find_swaps(t, opts)).map_err(|source| Error::Repair {
+            forkpool::install(|| find_swaps_learned(t, opts)).map_err(|source| Error::Repair {
                 path: path.to_path_buf(),
                 source,
             })

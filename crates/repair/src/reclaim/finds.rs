@@ -120,6 +120,12 @@ pub struct Reclaims {
     pub unsettled: Vec<Unsettled>,
     /// Pieces judged (unlabelled stretches inside labelled gaps).
     pub pieces: usize,
+    /// The pairs of markers whose links were learned here, of all: fewer when an earlier
+    /// stage's learning was handed on ([`super::find_reclaims_sharing`]), none when no piece
+    /// passed the path (no link was asked for). The same links either way; this says only
+    /// what they cost.
+    #[serde(skip)]
+    pub link_pairs: crate::swaps::Relearned,
 }
 
 /// How a piece fits the marker it is judged for.

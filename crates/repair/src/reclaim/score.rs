@@ -10,7 +10,15 @@ fn dist(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 }
 
 /// The piece `p` judged for its marker, with that marker's `links`; `m` and `u` in mm.
-pub(super) fn score(p: &Piece, m: &Trial, u: &Trial, links: &[Link], opts: &ReclaimOptions) -> Fit {
+/// The links are asked for only when the piece passes the path, so that a trial none of
+/// whose pieces does is judged without learning them.
+pub(super) fn score<'l>(
+    p: &Piece,
+    m: &Trial,
+    u: &Trial,
+    links: impl FnOnce() -> &'l [Link],
+    opts: &ReclaimOptions,
+) -> Fit {
     // The path first: it is cheap, and most pieces (another point's samples) fail it.
     let (path_ok, path_mm, ends) = path(p, m, u, opts);
     let off = |checks, fails| Fit {
@@ -25,6 +33,7 @@ pub(super) fn score(p: &Piece, m: &Trial, u: &Trial, links: &[Link], opts: &Recl
     if !path_ok || ends < opts.min_ends {
         return off(0, 0);
     }
+    let links = links();
     let (mut sum, mut sq, mut checks, mut fails) = (0.0, 0.0, 0, 0);
     // Frames checked by `min_links` links, and by at least one.
     let (mut checked, mut touched) = (0, 0);

@@ -11,7 +11,7 @@ use rayon::prelude::*;
 use std::collections::BTreeMap;
 
 use crate::error::Result;
-use crate::swaps::links::dist;
+use crate::swaps::links::{dist, LearnedLinks};
 use crate::Trial;
 use context::{Ctx, Verdict};
 use jump::{jump_find, leap_jump_find};
@@ -30,13 +30,29 @@ pub use finds::{Evidence, Find, FindKind, SwapOptions};
 /// All swaps and jumps in `trial`, in order of first frame. Coordinates that are not
 /// finite count as missing.
 pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
+    Ok(find_swaps_learned(trial, opts)?.0)
+}
+
+/// [`find_swaps`], with the links it learned from `trial` (`None` when the trial has too
+/// little to learn from: fewer than 2 markers or 3 frames), for a later stage on the same
+/// markers that would learn them again ([`LearnedLinks::learn_again`]).
+pub fn find_swaps_learned(
+    trial: &Trial,
+    opts: &SwapOptions,
+) -> Result<(Vec<Find>, Option<LearnedLinks>)> {
     trial.check()?;
     opts.validate()?;
     let (nm, nf) = (trial.markers(), trial.frames());
     if nm < 2 || nf < 3 {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), None));
     }
-    let cx = Ctx::learned(trial, opts);
+    let learned = LearnedLinks::learn(
+        trial,
+        opts.max_link_spread_mm,
+        opts.min_link_support,
+        opts.max_links,
+    );
+    let cx = Ctx::learned(trial, learned.links.clone());
     let (mut swap_frames, jump_frames) = broken_link_frames(&cx, opts);
     leaps_into_places(&cx, &mut swap_frames);
     let mut finds = Vec::new();
@@ -49,7 +65,7 @@ pub fn find_swaps(trial: &Trial, opts: &SwapOptions) -> Result<Vec<Find>> {
     finds.extend(jumps);
     finds.retain(|x| x.confidence >= opts.min_report);
     finds.sort_by_key(|x| (x.first, x.markers.clone()));
-    Ok(finds)
+    Ok((finds, Some(learned)))
 }
 
 /// Swap frames per pair, jump frames per marker: frames where a marker's links break, and

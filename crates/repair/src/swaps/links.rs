@@ -40,20 +40,118 @@ pub fn learn_links(
     min_support: f64,
     max_links: usize,
 ) -> Vec<Vec<Link>> {
-    let m = trial.markers();
-    let n = trial.frames();
-    let mut out = vec![Vec::new(); m];
-    if n == 0 || m < 2 {
-        return out;
+    LearnedLinks::learn(trial, max_spread_mm, min_support, max_links).links
+}
+
+/// A trial's links with what they were learned from: the frames [`learn_links`] samples
+/// (coordinates, NaN where missing), its parameters and each pair's verdict. A pair's
+/// verdict is a function of its two markers' sampled coordinates alone, so a later stage
+/// that learns the links of the same markers with some samples left out or added (the
+/// reclaim stage after the swap stage, which leaves out the samples a capture system
+/// computed) learns again only the pairs of markers whose samples differ
+/// ([`LearnedLinks::learn_again`]), and gets the very links [`learn_links`] gives.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LearnedLinks {
+    /// Each marker's links, as [`learn_links`] returns them.
+    pub links: Vec<Vec<Link>>,
+    frames: usize,
+    params: (f64, f64, usize),
+    sampled: Vec<[Vec<f64>; 3]>,
+    /// Each marker's links to the markers after it, before each marker's best are kept.
+    pairs: Vec<PairLinks>,
+}
+
+/// One marker's links to the markers after it: `(other, link)`, by other.
+type PairLinks = Vec<(usize, Link)>;
+
+/// What [`LearnedLinks::learn_again`] did: of `pairs` pairs of markers, `learned` were
+/// learned again (the others' samples were the same).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Relearned {
+    pub pairs: usize,
+    pub learned: usize,
+}
+
+impl LearnedLinks {
+    /// [`learn_links`], keeping what the links were learned from.
+    pub fn learn(
+        trial: &Trial,
+        max_spread_mm: f64,
+        min_support: f64,
+        max_links: usize,
+    ) -> LearnedLinks {
+        let sampled = sample(trial);
+        let pairs = pair_links(&sampled, trial.frames(), max_spread_mm, min_support, None);
+        LearnedLinks {
+            links: best_links(&pairs, max_links),
+            frames: trial.frames(),
+            params: (max_spread_mm, min_support, max_links),
+            sampled,
+            pairs,
+        }
     }
+
+    /// The links [`learn_links`] gives on `trial` with these parameters, learning only the
+    /// pairs of markers whose sampled coordinates differ (bit for bit, or missing in one)
+    /// from those these were learned from; every pair when the trial has other markers or
+    /// frames, or the parameters differ. Reading the sampled frames costs a small part of
+    /// learning from them (1 770 pairs for 60 markers).
+    pub fn learn_again(
+        &self,
+        trial: &Trial,
+        max_spread_mm: f64,
+        min_support: f64,
+        max_links: usize,
+    ) -> (Vec<Vec<Link>>, Relearned) {
+        let m = trial.markers();
+        let all = m * m.saturating_sub(1) / 2;
+        let comparable = self.params.0.to_bits() == max_spread_mm.to_bits()
+            && self.params.1.to_bits() == min_support.to_bits()
+            && trial.frames() == self.frames
+            && m == self.sampled.len();
+        if !comparable {
+            let links = learn_links(trial, max_spread_mm, min_support, max_links);
+            let done = Relearned {
+                pairs: all,
+                learned: all,
+            };
+            return (links, done);
+        }
+        let sampled = sample(trial);
+        let same: Vec<bool> = sampled
+            .iter()
+            .zip(&self.sampled)
+            .map(|(a, b)| (0..3).all(|c| bits_equal(&a[c], &b[c])))
+            .collect();
+        let pairs = pair_links(
+            &sampled,
+            trial.frames(),
+            max_spread_mm,
+            min_support,
+            Some((&self.pairs, &same)),
+        );
+        let kept = same.iter().filter(|&&s| s).count();
+        let done = Relearned {
+            pairs: all,
+            learned: all - kept * kept.saturating_sub(1) / 2,
+        };
+        (best_links(&pairs, max_links), done)
+    }
+}
+
+/// The same numbers, NaN included (every missing sample is the one NaN [`sample`] writes).
+fn bits_equal(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+/// Each marker's coordinates at the frames the learning samples, one array per axis, NaN
+/// where the sample is missing: every pair reads them (1 770 pairs for 60 markers), and
+/// read from the trial's rows, a frame apart by the step, each sample was a cache miss and
+/// its validity checked again per pair.
+fn sample(trial: &Trial) -> Vec<[Vec<f64>; 3]> {
+    let (m, n) = (trial.markers(), trial.frames());
     let step = n.div_ceil(LEARN_FRAMES).max(1);
-    // Each marker's coordinates at the sampled frames, one array per axis, NaN where the
-    // sample is missing: every pair reads them (1 770 pairs for 60 markers), and read from
-    // the trial's rows, a frame apart by `step`, each sample was a cache miss and its
-    // validity checked again per pair. Per axis, a pair's distances are computed over all
-    // the frames at once, several at a time, and the missing ones (NaN, as any distance
-    // with a missing end is) dropped after.
-    let sampled: Vec<[Vec<f64>; 3]> = (0..m)
+    (0..m)
         .map(|i| {
             let at = |c: usize| -> Vec<f64> {
                 (0..n)
@@ -70,9 +168,28 @@ pub fn learn_links(
             };
             [at(0), at(1), at(2)]
         })
-        .collect();
-    // Each marker's links to the markers after it, markers in parallel.
-    let found: Vec<Vec<(usize, Link)>> = (0..m)
+        .collect()
+}
+
+/// Each marker's links to the markers after it, `(other, link)` by other, from `sampled`
+/// (from [`sample`] of a trial of `n` frames). With `known` (pairs learned before, and
+/// which markers sample as they did then), a pair of two markers that sample the same
+/// takes its earlier verdict.
+fn pair_links(
+    sampled: &[[Vec<f64>; 3]],
+    n: usize,
+    max_spread_mm: f64,
+    min_support: f64,
+    known: Option<(&[PairLinks], &[bool])>,
+) -> Vec<PairLinks> {
+    let m = sampled.len();
+    if n == 0 || m < 2 {
+        return vec![Vec::new(); m];
+    }
+    // Per axis, a pair's distances are computed over all the sampled frames at once,
+    // several at a time, and the missing ones (NaN, as any distance with a missing end is)
+    // dropped after. Markers in parallel.
+    (0..m)
         .into_par_iter()
         .map(|a| {
             let len = sampled[a][0].len();
@@ -81,6 +198,14 @@ pub fn learn_links(
             let mut all = vec![0.0f64; len];
             let mut mine = Vec::new();
             for b in a + 1..m {
+                if let Some((pairs, same)) = known {
+                    if same[a] && same[b] {
+                        if let Ok(k) = pairs[a].binary_search_by_key(&b, |p| p.0) {
+                            mine.push(pairs[a][k]);
+                        }
+                        continue;
+                    }
+                }
                 let ([xa, ya, za], [xb, yb, zb]) = (&sampled[a], &sampled[b]);
                 // All of one length, so that the loop checks no index.
                 let (xa, ya, za) = (&xa[..len], &ya[..len], &za[..len]);
@@ -109,9 +234,15 @@ pub fn learn_links(
             }
             mine
         })
-        .collect();
-    for (a, mine) in found.into_iter().enumerate() {
-        for (b, l) in mine {
+        .collect()
+}
+
+/// Each marker's links from the pairs' ([`pair_links`]), its best `max_links` (lowest
+/// spread first).
+fn best_links(pairs: &[PairLinks], max_links: usize) -> Vec<Vec<Link>> {
+    let mut out = vec![Vec::new(); pairs.len()];
+    for (a, mine) in pairs.iter().enumerate() {
+        for &(b, l) in mine {
             out[b].push(Link { other: a, ..l });
             out[a].push(l);
         }

@@ -15,6 +15,6 @@ pub mod detect;
 pub mod links;
 pub mod undo;
 
-pub use detect::{find_swaps, Evidence, Find, FindKind, SwapOptions};
-pub use links::{learn_links, Link};
+pub use detect::{find_swaps, find_swaps_learned, Evidence, Find, FindKind, SwapOptions};
+pub use links::{learn_links, LearnedLinks, Link, Relearned};
 pub use undo::undo;

@@ -6,8 +6,7 @@
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 
-use super::finds::SwapOptions;
-use crate::swaps::links::{dist, finite, learn_links, Link};
+use crate::swaps::links::{dist, finite, Link};
 use crate::Trial;
 
 /// A swap's verdict at a frame from the pair's scores as labelled and exchanged, summed
@@ -468,7 +467,8 @@ const MAX_LEAP_SPAN: usize = 120;
 impl<'a> Ctx<'a> {
     /// What the finding reads of `trial`: which samples are data, the links learned from
     /// it, each marker's usual step, and (on trials small enough) the labelled scores.
-    pub(super) fn learned(trial: &'a Trial, opts: &SwapOptions) -> Ctx<'a> {
+    /// The links are `links`, learned from `trial` ([`crate::swaps::LearnedLinks`]).
+    pub(super) fn learned(trial: &'a Trial, links: Vec<Vec<Link>>) -> Ctx<'a> {
         let (nm, nf) = (trial.markers(), trial.frames());
         let ok: Vec<Vec<bool>> = (0..nm)
             .map(|m| {
@@ -477,12 +477,6 @@ impl<'a> Ctx<'a> {
                     .collect()
             })
             .collect();
-        let links = learn_links(
-            trial,
-            opts.max_link_spread_mm,
-            opts.min_link_support,
-            opts.max_links,
-        );
         let mut cx = Ctx {
             t: trial,
             links,
@@ -589,7 +583,8 @@ pub(super) fn median(mut v: Vec<f64>) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{learn_links, medians, sort8, Ctx};
+    use super::{medians, sort8, Ctx};
+    use crate::swaps::links::learn_links;
     use crate::Trial;
 
     /// Each sample's kept scores as labelled are those [`Ctx::link_scores`] computes for it,
