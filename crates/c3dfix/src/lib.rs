@@ -39,6 +39,7 @@ pub mod gait_params;
 mod gaps;
 pub mod info;
 pub mod keyframes;
+mod label_gaps;
 pub mod label_stage;
 mod label_write;
 pub mod markers;

@@ -405,6 +405,8 @@ fn main() {
             .unwrap_or_default();
         more.retain(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("c3d")));
         more.sort();
+        // Trials the shared list already names are not read twice.
+        more.retain(|p| !files.iter().any(|(_, _, q)| q == p));
         for p in more {
             let stem = p
                 .file_name()

@@ -79,6 +79,10 @@ pub enum Reason {
     },
     /// Another fragment of the same marker at the same time had more votes.
     Overlap { marker: usize, with: Fragment },
+    /// Its votes name a marker the trial labels already, but the fragment does not sit on
+    /// that marker's path at its gap's ends (reclaiming's check,
+    /// [`crate::reclaim::judge`]): set by a caller that checks it, left where it was.
+    OffPath { marker: usize },
 }
 
 /// One fragment's answer. `label` and `given` are template marker indices.
