@@ -28,9 +28,9 @@ pub struct LabelOptions {
     /// One frame matched from nothing per this many seconds (the one with the most points).
     pub seed_every_s: f64,
     /// Seed every `seed_every_s` from the start (true), or 8 frames first and then only
-    /// where the labels have not reached (false: 3x faster on the speed bench, 5.5 s
-    /// instead of 17.4 s, and on label_eval 90.08 % right and 0.61 % wrong on the labs held
-    /// apart instead of 90.63 % and 0.56 %).
+    /// where the labels have not reached (false: fewer beam searches, but on label_eval
+    /// 90.08 % right and 0.61 % wrong on the labs held apart instead of 90.63 % and
+    /// 0.56 %).
     pub seed_all: bool,
     /// Frames read per pass: every `step`-th (0: chosen from the trial's length).
     pub step: usize,
