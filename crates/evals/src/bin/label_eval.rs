@@ -63,6 +63,7 @@ fn options(sets: &[String]) -> Result<LabelOptions, String> {
             "seed_frames" => o.seed_frames = x as usize,
             "seed_every_s" => o.seed_every_s = x,
             "seed_all" => o.seed_all = x != 0.0,
+            "seed_chain" => o.seed_chain = x as usize,
             "step" => o.step = x as usize,
             "min_checked" => o.min_checked = x as usize,
             "min_share" => o.min_share = x,

@@ -335,11 +335,32 @@ fn seed_labels(
         .collect();
     frames.dedup();
     use rayon::prelude::*;
+    // Frames in runs of `seed_chain`: the first of a run matched from nothing, each next one
+    // with the fragments the one before placed kept where they are (the search places the
+    // rest). Runs are fixed by the frames alone, so the answer is the same on any threads.
+    let chain = opts.seed_chain.max(1);
     let found: Vec<(usize, Vec<Option<usize>>)> = frames
-        .par_iter()
-        .map(|&f| {
-            let points: Vec<[f64; 3]> = active[f].iter().map(|&g| *pc.at(g as usize, f)).collect();
-            (f, seed::seed(model, &points, opts))
+        .par_chunks(chain)
+        .flat_map_iter(|run| {
+            let mut before: Vec<(u32, usize)> = Vec::new();
+            let mut out = Vec::with_capacity(run.len());
+            for &f in run {
+                let points: Vec<[f64; 3]> =
+                    active[f].iter().map(|&g| *pc.at(g as usize, f)).collect();
+                let fixed: Vec<(usize, usize)> = active[f]
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(p, g)| before.iter().find(|(h, _)| h == g).map(|&(_, m)| (m, p)))
+                    .collect();
+                let at = seed::seed(model, &points, &fixed, opts);
+                before = at
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(m, p)| p.map(|p| (active[f][p], m)))
+                    .collect();
+                out.push((f, at));
+            }
+            out
         })
         .collect();
     let mut votes: Vec<Vec<(usize, u32)>> = vec![Vec::new(); frags.len()];

@@ -32,6 +32,10 @@ pub struct LabelOptions {
     /// 90.08 % right and 0.61 % wrong on the labs held apart instead of 90.63 % and
     /// 0.56 %).
     pub seed_all: bool,
+    /// Seed frames in runs of this many: the first of a run is matched from nothing, each
+    /// next one keeps the fragments the one before placed and searches only the rest (1:
+    /// every seed frame from nothing).
+    pub seed_chain: usize,
     /// Frames read per pass: every `step`-th (0: chosen from the trial's length).
     pub step: usize,
     /// Frames a fragment must be read in to get a label.
@@ -65,6 +69,7 @@ impl Default for LabelOptions {
             seed_frames: 400,
             seed_every_s: 0.5,
             seed_all: true,
+            seed_chain: 1,
             step: 0,
             min_checked: 3,
             min_share: 0.5,

@@ -74,14 +74,28 @@ impl Best {
 /// The best assignment of template markers to `points`: `out[m]` is the point of marker `m`,
 /// kept only where the marker fits its placed pairs with a mean cost of at most
 /// `opts.accept` over at least `opts.min_neighbours` of them.
-pub(crate) fn seed(model: &Model, points: &[[f64; 3]], opts: &LabelOptions) -> Vec<Option<usize>> {
+/// `fixed` places markers on points before the search (`(marker, point)`): the search
+/// places the others around them.
+pub(crate) fn seed(
+    model: &Model,
+    points: &[[f64; 3]],
+    fixed: &[(usize, usize)],
+    opts: &LabelOptions,
+) -> Vec<Option<usize>> {
     let k = model.markers;
     let np = points.len().min(NONE as usize - 1);
-    let mut beam = vec![State {
+    let mut start = State {
         at: vec![NONE; k],
         used: vec![false; np],
         cost: 0.0,
-    }];
+    };
+    for &(m, p) in fixed {
+        if m < k && p < np && start.at[m] == NONE && !start.used[p] {
+            start.at[m] = p as u16;
+            start.used[p] = true;
+        }
+    }
+    let mut beam = vec![start];
     let mut best = Best {
         heap: BinaryHeap::with_capacity(opts.beam + 1),
         size: opts.beam.max(1),
@@ -97,6 +111,9 @@ pub(crate) fn seed(model: &Model, points: &[[f64; 3]], opts: &LabelOptions) -> V
     let mut pairs: Vec<(usize, f64, f64)> = Vec::new();
     let mut hands: Vec<(usize, usize, usize, f64)> = Vec::new();
     for &m in &model.order {
+        if beam.first().is_some_and(|s| s.at[m] != NONE) {
+            continue;
+        }
         rows.iter_mut().for_each(|r| *r = None);
         for (si, s) in beam.iter().enumerate() {
             pairs.clear();
