@@ -74,6 +74,9 @@ pub enum Unlabelled {
     /// Labelled, but no point could take the marker's name without mixing another
     /// marker's samples into it: left where it was.
     NoFreePoint { marker: String },
+    /// Its votes name a marker the trial labels already, but it does not sit on that
+    /// marker's path at its gap's ends (reclaiming's check): left where it was.
+    OffPath { marker: String },
 }
 
 /// What became of one fragment.
@@ -280,6 +283,13 @@ pub fn label(
         path: path.to_path_buf(),
         what: format!("cannot label from {}: {e}", template_path.display()),
     })?;
+    let mut found = found;
+    crate::label_gaps::keep_on_path(
+        &mut found.fragments,
+        &trial,
+        &common,
+        mm_per_unit(&c.point_units()),
+    );
     report.seeded = found.seeded;
     let tname = |m: usize| -> String { bare_keep_case(&tlabels[tsplit.labelled[m]]) };
     let plan = crate::label_write::plan(
@@ -473,6 +483,9 @@ fn outcome(
                     votes,
                     rival: tname(rival),
                     rival_votes,
+                },
+                Reason::OffPath { marker } => Unlabelled::OffPath {
+                    marker: tname(marker),
                 },
                 Reason::Overlap { marker, with } => Unlabelled::Overlap {
                     marker: tname(marker),

@@ -40,6 +40,7 @@ mod gaps;
 pub mod info;
 pub mod jobs;
 pub mod keyframes;
+mod label_gaps;
 pub mod label_stage;
 mod label_write;
 pub mod markers;

@@ -169,3 +169,56 @@ fn another_marker_set_and_duplicate_labels_are_errors_naming_them() {
         "{e}"
     );
 }
+
+/// A partly labelled trial (issue 47 item 3): the UWA fast walk's real unlabelled points go
+/// into a labelled marker's gap only where reclaiming's path check at the gap's ends
+/// accepts them. Before that check `label` moved 6275 samples there (564 of them the ones
+/// `reclaim` settles, none onto another marker than reclaim's); now 942, the same 564
+/// among them, and every moved stretch is one reclaiming judges on the marker's path.
+#[test]
+fn a_partly_labelled_walk_moves_only_what_the_path_at_the_gap_ends_accepts() {
+    let Some(dir) = testkit::c3d_labs() else {
+        return testkit::skipped("c3d-labs not found");
+    };
+    let trial = dir.join("RehabEngGroup__MOtoNMS__Fast_Walking.c3d");
+    let template = dir.join("RehabEngGroup__MOtoNMS__Cross_-_Overs_2.c3d");
+    let mut c = c3d::read_file(&trial).unwrap();
+    let t = c3d::read_file(&template).unwrap();
+    let r = c3dfix::label(&mut c, &trial, &t, &template, &LabelSettings::default()).unwrap();
+    let off_path: usize = r
+        .fragments
+        .iter()
+        .filter(|f| {
+            matches!(
+                &f.outcome,
+                FragmentOutcome::Unlabelled {
+                    why: c3dfix::label_stage::Unlabelled::OffPath { .. }
+                }
+            )
+        })
+        .map(|f| f.samples)
+        .sum();
+    assert_eq!((r.labelled_samples, off_path), (942, 5333));
+    // What reclaim settles, `label` moves to the same marker.
+    let before = c3d::read_file(&trial).unwrap();
+    let settled = c3dfix::reclaim(&before, &trial, &repair::Unlabelled::common(), false).unwrap();
+    assert_eq!(
+        settled.settled.iter().map(|s| s.samples).sum::<usize>(),
+        797
+    );
+    let moved: std::collections::HashSet<(String, String, usize)> = r
+        .fragments
+        .iter()
+        .filter(|f| matches!(f.outcome, FragmentOutcome::Labelled { .. }))
+        .flat_map(|f| {
+            (f.first_frame..=f.last_frame).map(|k| (f.written_to.clone(), f.point.clone(), k))
+        })
+        .collect();
+    let mut agree = 0;
+    for s in &settled.settled {
+        for k in s.first_frame..=s.last_frame {
+            agree += usize::from(moved.contains(&(s.marker.clone(), s.source.clone(), k)));
+        }
+    }
+    assert_eq!(agree, 564);
+}

@@ -63,6 +63,7 @@ fn options(sets: &[String]) -> Result<LabelOptions, String> {
             "seed_frames" => o.seed_frames = x as usize,
             "seed_every_s" => o.seed_every_s = x,
             "seed_all" => o.seed_all = x != 0.0,
+            "seed_chain" => o.seed_chain = x as usize,
             "step" => o.step = x as usize,
             "min_checked" => o.min_checked = x as usize,
             "min_share" => o.min_share = x,
@@ -405,6 +406,8 @@ fn main() {
             .unwrap_or_default();
         more.retain(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("c3d")));
         more.sort();
+        // Trials the shared list already names are not read twice.
+        more.retain(|p| !files.iter().any(|(_, _, q)| q == p));
         for p in more {
             let stem = p
                 .file_name()

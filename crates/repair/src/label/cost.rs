@@ -39,3 +39,63 @@ pub(crate) fn marker_cost<'a>(
     }
     (sum, terms)
 }
+
+/// The three other corners of a tetrahedron and the hand they keep.
+type Hand = ([f64; 3], [f64; 3], [f64; 3], f64);
+
+/// A marker's placed pairs and tetrahedra, gathered once so that many positions can be
+/// costed against them: the same sum as [`marker_cost`], term for term and in the same
+/// order (so the same bits), without asking where each neighbour is again.
+#[derive(Default)]
+pub(crate) struct Around {
+    /// Position of the other marker, the pair's distance and tolerance.
+    pairs: Vec<([f64; 3], f64, f64)>,
+    hands: Vec<Hand>,
+}
+
+impl Around {
+    /// Gather marker `m`'s pairs and tetrahedra whose markers `at` places.
+    pub fn gather<'a>(
+        &mut self,
+        model: &Model,
+        m: usize,
+        at: impl Fn(usize) -> Option<&'a [f64; 3]>,
+    ) {
+        self.pairs.clear();
+        self.hands.clear();
+        for n in &model.nb[m] {
+            if let Some(q) = at(n.other) {
+                self.pairs.push((*q, n.d0, n.sigma));
+            }
+        }
+        for c in &model.chiral[m] {
+            if let (Some(a), Some(b), Some(cc)) = (at(c.a), at(c.b), at(c.c)) {
+                self.hands.push((*a, *b, *cc, c.sign));
+            }
+        }
+    }
+
+    /// Pairs placed.
+    pub fn terms(&self) -> usize {
+        self.pairs.len()
+    }
+
+    /// The cost of the marker at `p`, as [`marker_cost`]'s sum; `None` once it passes
+    /// `limit` (then the rest is not added).
+    pub fn cost(&self, p: &[f64; 3], cap: f64, limit: f64) -> Option<f64> {
+        let mut sum = 0.0;
+        for (q, d0, sigma) in &self.pairs {
+            let e = (super::options::dist(p, q) - d0) / sigma;
+            sum += (e * e).min(cap);
+            if sum > limit {
+                return None;
+            }
+        }
+        for (a, b, c, sign) in &self.hands {
+            if handedness(p, a, b, c) * sign < -0.05 {
+                sum += cap;
+            }
+        }
+        Some(sum)
+    }
+}

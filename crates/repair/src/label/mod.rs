@@ -79,6 +79,10 @@ pub enum Reason {
     },
     /// Another fragment of the same marker at the same time had more votes.
     Overlap { marker: usize, with: Fragment },
+    /// Its votes name a marker the trial labels already, but the fragment does not sit on
+    /// that marker's path at its gap's ends (reclaiming's check,
+    /// [`crate::reclaim::judge`]): set by a caller that checks it, left where it was.
+    OffPath { marker: usize },
 }
 
 /// One fragment's answer. `label` and `given` are template marker indices.
@@ -189,36 +193,38 @@ pub fn label(
     if !model.present.iter().any(|&p| p) {
         return Err(LabelError::EmptyTemplate(k));
     }
-    let t = trial.in_mm(trial_mm_per_unit);
-    let frags = fragments::fragments(&t, opts.max_speed_mm_s / trial.rate_hz);
-    let active = fragments::by_frame(&frags, t.frames());
+    let pc = fragments::Pieces::cut(
+        trial,
+        trial_mm_per_unit,
+        opts.max_speed_mm_s / trial.rate_hz,
+    );
+    let frags = &pc.frags;
     let given_of: Vec<Option<usize>> = frags.iter().map(|g| given[g.row]).collect();
     let seeded = !given_of.iter().any(|g| g.is_some_and(|m| model.present[m]));
     let mut labels = if seeded {
-        seed_labels(&model, &t, &frags, &active, None, opts)
+        seed_labels(&model, &pc, None, opts)
     } else {
         given_of.clone()
     };
     let step = if opts.step > 0 {
         opts.step
     } else {
-        (t.frames() / 2500).clamp(1, 4)
+        (pc.frames() / 2500).clamp(1, 4)
     };
     let mut model = model;
     let mut passes = 0;
     let mut answers;
     let mut round = 0;
     loop {
-        let (a, l, p) = run_passes(&model, &t, &frags, &active, &given_of, labels, step, opts);
+        let (a, l, p) = run_passes(&model, &pc, &given_of, labels, step, opts);
         answers = a;
         labels = l;
         passes += p;
         if seeded && round == 0 && !opts.seed_all {
             // Seeds where the labels have not reached, then the passes again.
-            let more = seed_labels(&model, &t, &frags, &active, Some(&labels), opts);
+            let more = seed_labels(&model, &pc, Some(&labels), opts);
             if more != labels {
-                let (a, l, p) =
-                    run_passes(&model, &t, &frags, &active, &given_of, more, step, opts);
+                let (a, l, p) = run_passes(&model, &pc, &given_of, more, step, opts);
                 answers = a;
                 labels = l;
                 passes += p;
@@ -228,7 +234,7 @@ pub fn label(
             break;
         }
         round += 1;
-        model = model::Model::learn(&with_trial(&tm, &t, &frags, &labels), opts);
+        model = model::Model::learn(&with_trial(&tm, &pc, &labels), opts);
     }
     Ok(Labelling {
         fragments: answers,
@@ -239,12 +245,9 @@ pub fn label(
 
 /// Vote passes from `labels` until no label changes (at most `opts.passes`): the answers,
 /// the labels and the passes run.
-#[allow(clippy::too_many_arguments)]
 fn run_passes(
     model: &model::Model,
-    t: &Trial,
-    frags: &[Fragment],
-    active: &[Vec<u32>],
+    pc: &fragments::Pieces,
     given_of: &[Option<usize>],
     mut labels: Vec<Option<usize>>,
     step: usize,
@@ -252,10 +255,11 @@ fn run_passes(
 ) -> (Vec<FragmentLabel>, Vec<Option<usize>>, usize) {
     let mut answers = Vec::new();
     let mut passes = 0;
-    let mut cache = vote::Cache::new(active.len(), step);
+    let frags = &pc.frags;
+    let mut cache = vote::Cache::new(pc.frames(), step);
     while passes < opts.passes.max(1) {
         passes += 1;
-        let v = vote::vote(model, t, frags, active, &labels, &mut cache, opts);
+        let v = vote::vote(model, pc, &labels, &mut cache, opts);
         answers = decide(frags, given_of, &labels, &v, opts);
         let next: Vec<Option<usize>> = answers.iter().map(|a: &FragmentLabel| a.label).collect();
         let changed: Vec<usize> = (0..next.len()).filter(|&i| next[i] != labels[i]).collect();
@@ -271,18 +275,18 @@ fn run_passes(
 /// The template's frames followed by the trial's frames as labelled so far: the geometry
 /// learned again from both keeps what the template shows and what this subject and this
 /// motion do (a static template keeps every pair; the trial shows which ones move).
-fn with_trial(template: &Trial, t: &Trial, frags: &[Fragment], labels: &[Option<usize>]) -> Trial {
-    let (k, n0, n) = (template.markers(), template.frames(), t.frames());
+fn with_trial(template: &Trial, pc: &fragments::Pieces, labels: &[Option<usize>]) -> Trial {
+    let (k, n0, n) = (template.markers(), template.frames(), pc.frames());
     let mut xyz = template.xyz.clone();
     let mut valid = template.valid.clone();
     for m in 0..k {
         xyz[m].resize(n0 + n, [0.0; 3]);
         valid[m].resize(n0 + n, false);
     }
-    for (g, l) in frags.iter().zip(labels) {
+    for (i, (g, l)) in pc.frags.iter().zip(labels).enumerate() {
         if let Some(m) = *l {
             for f in g.first..=g.last {
-                xyz[m][n0 + f] = t.xyz[g.row][f];
+                xyz[m][n0 + f] = *pc.at(i, f);
                 valid[m][n0 + f] = true;
             }
         }
@@ -299,14 +303,13 @@ fn with_trial(template: &Trial, t: &Trial, frags: &[Fragment], labels: &[Option<
 /// frames give it.
 fn seed_labels(
     model: &model::Model,
-    t: &Trial,
-    frags: &[Fragment],
-    active: &[Vec<u32>],
+    pc: &fragments::Pieces,
     so_far: Option<&[Option<usize>]>,
     opts: &LabelOptions,
 ) -> Vec<Option<usize>> {
+    let (frags, active) = (&pc.frags, &pc.active);
     let n = active.len();
-    let seconds = n as f64 / t.rate_hz;
+    let seconds = n as f64 / pc.rate_hz;
     // One frame per `seed_every_s`; or, without `seed_all`, 8 over the trial first and
     // then one per `seed_every_s` where most of the fragments recorded are still unlabelled.
     let parts = match so_far {
@@ -332,14 +335,32 @@ fn seed_labels(
         .collect();
     frames.dedup();
     use rayon::prelude::*;
+    // Frames in runs of `seed_chain`: the first of a run matched from nothing, each next one
+    // with the fragments the one before placed kept where they are (the search places the
+    // rest). Runs are fixed by the frames alone, so the answer is the same on any threads.
+    let chain = opts.seed_chain.max(1);
     let found: Vec<(usize, Vec<Option<usize>>)> = frames
-        .par_iter()
-        .map(|&f| {
-            let points: Vec<[f64; 3]> = active[f]
-                .iter()
-                .map(|&g| t.xyz[frags[g as usize].row][f])
-                .collect();
-            (f, seed::seed(model, &points, opts))
+        .par_chunks(chain)
+        .flat_map_iter(|run| {
+            let mut before: Vec<(u32, usize)> = Vec::new();
+            let mut out = Vec::with_capacity(run.len());
+            for &f in run {
+                let points: Vec<[f64; 3]> =
+                    active[f].iter().map(|&g| *pc.at(g as usize, f)).collect();
+                let fixed: Vec<(usize, usize)> = active[f]
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(p, g)| before.iter().find(|(h, _)| h == g).map(|&(_, m)| (m, p)))
+                    .collect();
+                let at = seed::seed(model, &points, &fixed, opts);
+                before = at
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(m, p)| p.map(|p| (active[f][p], m)))
+                    .collect();
+                out.push((f, at));
+            }
+            out
         })
         .collect();
     let mut votes: Vec<Vec<(usize, u32)>> = vec![Vec::new(); frags.len()];

@@ -28,10 +28,14 @@ pub struct LabelOptions {
     /// One frame matched from nothing per this many seconds (the one with the most points).
     pub seed_every_s: f64,
     /// Seed every `seed_every_s` from the start (true), or 8 frames first and then only
-    /// where the labels have not reached (false: 3x faster on the speed bench, 5.5 s
-    /// instead of 17.4 s, and on label_eval 90.08 % right and 0.61 % wrong on the labs held
-    /// apart instead of 90.63 % and 0.56 %).
+    /// where the labels have not reached (false: fewer beam searches, but on label_eval
+    /// 90.08 % right and 0.61 % wrong on the labs held apart instead of 90.63 % and
+    /// 0.56 %).
     pub seed_all: bool,
+    /// Seed frames in runs of this many: the first of a run is matched from nothing, each
+    /// next one keeps the fragments the one before placed and searches only the rest (1:
+    /// every seed frame from nothing).
+    pub seed_chain: usize,
     /// Frames read per pass: every `step`-th (0: chosen from the trial's length).
     pub step: usize,
     /// Frames a fragment must be read in to get a label.
@@ -65,6 +69,7 @@ impl Default for LabelOptions {
             seed_frames: 400,
             seed_every_s: 0.5,
             seed_all: true,
+            seed_chain: 1,
             step: 0,
             min_checked: 3,
             min_share: 0.5,

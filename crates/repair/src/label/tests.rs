@@ -168,3 +168,27 @@ fn bad_input_is_an_error_not_a_panic() {
     let one = window(&t, 0, 1);
     assert!(label(&one, 1.0, &one, 1.0, &[None; 6], &opts).is_ok());
 }
+
+#[test]
+fn the_answer_is_the_same_on_one_thread_or_several_and_with_seed_runs() {
+    let t = gait_like(30, 8, 1500, 100.0, 0.3, 21);
+    let template = window(&t, 0, 300);
+    let (trial, _) = fragmented(&t, 300, 1500, 23);
+    let given = vec![None; trial.markers()];
+    for chain in [1, 4] {
+        let opts = LabelOptions {
+            seed_chain: chain,
+            ..LabelOptions::default()
+        };
+        let on = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| label(&template, 1.0, &trial, 1.0, &given, &opts).unwrap())
+        };
+        let one = on(1);
+        assert!(one.seeded);
+        assert_eq!(on(3), one, "seed_chain {chain}");
+    }
+}

@@ -3,10 +3,10 @@
 //! markers; one marker per fragment and one fragment per marker in a frame (the lowest
 //! costs first). Each frame's match is a vote for the fragment's label.
 
-use super::cost::marker_cost;
+use super::cost::Around;
+use super::fragments::Pieces;
 use super::model::Model;
 use super::options::LabelOptions;
-use crate::Trial;
 use rayon::prelude::*;
 
 /// Votes of one pass: `votes[fragment]` as `(marker, frames)` pairs, and the frames each
@@ -55,9 +55,7 @@ impl Cache {
 /// forgotten are read again.
 pub(crate) fn vote(
     model: &Model,
-    t: &Trial,
-    frags: &[super::fragments::Fragment],
-    active: &[Vec<u32>],
+    pc: &Pieces,
     labels: &[Option<usize>],
     cache: &mut Cache,
     opts: &LabelOptions,
@@ -69,14 +67,15 @@ pub(crate) fn vote(
         .into_par_iter()
         .map(|i| {
             let f = frames[i];
-            (i, frame_votes(model, t, frags, &active[f], labels, f, opts))
+            (i, frame_votes(model, pc, labels, f, opts))
         })
         .collect();
     for (i, v) in fresh {
         cache.per[i] = Some(v);
     }
-    let mut votes: Vec<Vec<(usize, u32)>> = vec![Vec::new(); frags.len()];
-    let mut checked = vec![0u32; frags.len()];
+    let n = pc.frags.len();
+    let mut votes: Vec<Vec<(usize, u32)>> = vec![Vec::new(); n];
+    let mut checked = vec![0u32; n];
     for (fv, judged) in cache.per.iter().flatten() {
         for &g in judged {
             checked[g as usize] += 1;
@@ -92,16 +91,18 @@ pub(crate) fn vote(
     Votes { votes, checked }
 }
 
+/// One frame's votes. Each marker's placed pairs are gathered once for the frame; a
+/// fragment that itself holds one of them is costed without it (a point is not its own
+/// neighbour).
 fn frame_votes(
     model: &Model,
-    t: &Trial,
-    frags: &[super::fragments::Fragment],
-    here: &[u32],
+    pc: &Pieces,
     labels: &[Option<usize>],
     f: usize,
     opts: &LabelOptions,
 ) -> FrameVotes {
     let k = model.markers;
+    let here = &pc.active[f];
     // Which fragment holds each marker here (the first, should two claim it).
     let mut holder: Vec<Option<u32>> = vec![None; k];
     for &g in here {
@@ -109,33 +110,49 @@ fn frame_votes(
             holder[m].get_or_insert(g);
         }
     }
-    let pos = |g: u32| &t.xyz[frags[g as usize].row][f];
+    let pos = |g: u32| pc.at(g as usize, f);
     let mut cands: Vec<(f64, u32, u16)> = Vec::new();
-    let mut judged = Vec::new();
-    for &g in here {
-        let p = pos(g);
-        let mut any = false;
-        let at = |n: usize| holder[n].filter(|&h| h != g).map(pos);
-        for m in 0..k {
-            if !model.present[m] {
+    let mut judged = vec![false; here.len()];
+    let (mut shared, mut own) = (Around::default(), Around::default());
+    let mut involved: Vec<u32> = Vec::new();
+    for m in 0..k {
+        if !model.present[m] {
+            continue;
+        }
+        shared.gather(model, m, |n| holder[n].map(pos));
+        involved.clear();
+        involved.extend(model.nb[m].iter().filter_map(|n| holder[n.other]));
+        for c in &model.chiral[m] {
+            involved.extend([c.a, c.b, c.c].iter().filter_map(|&x| holder[x]));
+        }
+        // A mean above `accept` over every pair the marker has is sure once the sum
+        // passes this: no need to add the rest.
+        let limit = opts.accept * model.nb[m].len() as f64;
+        for (j, &g) in here.iter().enumerate() {
+            let around = if involved.contains(&g) {
+                own.gather(model, m, |n| holder[n].filter(|&h| h != g).map(pos));
+                &own
+            } else {
+                &shared
+            };
+            let terms = around.terms();
+            if terms < opts.min_neighbours {
                 continue;
             }
-            // A mean above `accept` over every pair the marker has is sure once the sum
-            // passes this: no need to add the rest.
-            let limit = opts.accept * model.nb[m].len() as f64;
-            let (sum, terms) = marker_cost(model, m, p, at, opts, limit);
-            if terms >= opts.min_neighbours {
-                any = true;
+            judged[j] = true;
+            if let Some(sum) = around.cost(pos(g), opts.cap, limit) {
                 let c = sum / terms as f64;
                 if c <= opts.accept {
                     cands.push((c, g, m as u16));
                 }
             }
         }
-        if any {
-            judged.push(g);
-        }
     }
+    let judged = here
+        .iter()
+        .zip(&judged)
+        .filter_map(|(&g, &j)| j.then_some(g))
+        .collect();
     cands.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
     let mut taken_m = vec![false; k];
     let mut out = Vec::new();
