@@ -212,42 +212,14 @@ pub fn label(
     if c.param(crate::rerun::GROUP, "LABEL").is_some() {
         return Ok(LabelReport::unchanged(LabelStatus::AlreadyLabelled));
     }
-    let tsplit = split_unlabelled(template, &settings.unlabelled);
-    if tsplit.labelled.is_empty() {
-        return Err(Error::Trial {
-            path: template_path.to_path_buf(),
-            what: "the template has no labelled marker".into(),
-        });
-    }
-    let tnames = by_name(template, &tsplit.labelled, template_path)?;
-    let split = split_unlabelled(c, &settings.unlabelled);
-    let names = by_name(c, &split.labelled, path)?;
+    let Matched {
+        tsplit,
+        split,
+        common,
+        not_in_template,
+    } = match_markers(c, path, template, template_path, settings)?;
     let labels = c.point_labels();
     let tlabels = template.point_labels();
-    let tindex: HashMap<usize, usize> = tsplit
-        .labelled
-        .iter()
-        .enumerate()
-        .map(|(i, &p)| (p, i))
-        .collect();
-    let mut common: Vec<(usize, usize)> = Vec::new();
-    let mut not_in_template = Vec::new();
-    for &p in &split.labelled {
-        match tnames.get(&bare(&labels[p])) {
-            Some(tp) => common.push((p, tindex[tp])),
-            None => not_in_template.push(labels[p].trim().to_string()),
-        }
-    }
-    check_marker_sets(
-        &split.labelled,
-        &common,
-        &not_in_template,
-        template,
-        &tsplit.labelled,
-        path,
-        template_path,
-    )?;
-    let _ = names;
     let mut report = LabelReport::unchanged(LabelStatus::NothingUnlabelled);
     report.template_markers = tsplit.labelled.len();
     report.in_common = common.len();
@@ -309,35 +281,14 @@ pub fn label(
         &|m| format!("{prefix}{}", tname(m)),
         template_path,
     )?;
-    let labels_after = c.point_labels();
-    for (i, a) in found.fragments.iter().enumerate() {
-        let g = &a.fragment;
-        let point = rows[g.row];
-        let samples = trial.valid[g.row][g.first..=g.last]
-            .iter()
-            .filter(|&&v| v)
-            .count();
-        let outcome = outcome(a, &plan, i, &tname, &labels, &rows, c);
-        let unlabelled_point = a.given.is_none();
-        match &outcome {
-            FragmentOutcome::Labelled { .. } | FragmentOutcome::Relabelled { .. } => {
-                report.labelled_samples += usize::from(unlabelled_point) * samples;
-                report.relabelled += usize::from(!unlabelled_point);
-            }
-            FragmentOutcome::Unlabelled { .. } => report.left_samples += samples,
-            FragmentOutcome::Kept { .. } => {}
-        }
-        report.fragments.push(FragmentBrief {
-            point: labels[point].trim().to_string(),
-            first_frame: c.frame_number(g.first),
-            last_frame: c.frame_number(g.last),
-            samples,
-            outcome,
-            frames_read: a.checked,
-            votes: a.votes,
-            written_to: labels_after[plan.final_point[i]].trim().to_string(),
-        });
-    }
+    let written = Written {
+        fragments: &found.fragments,
+        plan: &plan,
+        rows: &rows,
+        trial: &trial,
+        labels: &labels,
+    };
+    fragment_briefs(c, &written, &tname, &mut report);
     report.moved_samples = plan.moved_samples(&found.fragments, &rows, &trial);
     report.renamed = plan
         .renamed
@@ -348,6 +299,119 @@ pub fn label(
         })
         .collect();
     Ok(report)
+}
+
+/// The trial's markers matched by name with the template's.
+struct Matched {
+    /// The template's labelled and unlabelled points.
+    tsplit: crate::markers::Split,
+    /// The trial's.
+    split: crate::markers::Split,
+    /// (trial point, template marker row) of every marker both have.
+    common: Vec<(usize, usize)>,
+    /// The trial's labelled markers the template lacks.
+    not_in_template: Vec<String>,
+}
+
+/// Match the trial's labelled markers with the template's by name, refusing a template
+/// without labelled markers, duplicate names and marker sets that do not go together.
+fn match_markers(
+    c: &c3d::C3d,
+    path: &Path,
+    template: &c3d::C3d,
+    template_path: &Path,
+    settings: &LabelSettings,
+) -> Result<Matched> {
+    let tsplit = split_unlabelled(template, &settings.unlabelled);
+    if tsplit.labelled.is_empty() {
+        return Err(Error::Trial {
+            path: template_path.to_path_buf(),
+            what: "the template has no labelled marker".into(),
+        });
+    }
+    let tnames = by_name(template, &tsplit.labelled, template_path)?;
+    let split = split_unlabelled(c, &settings.unlabelled);
+    // Checked for its refusal of duplicate names; the trial's markers are matched below.
+    by_name(c, &split.labelled, path)?;
+    let labels = c.point_labels();
+    let tindex: HashMap<usize, usize> = tsplit
+        .labelled
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| (p, i))
+        .collect();
+    let mut common: Vec<(usize, usize)> = Vec::new();
+    let mut not_in_template = Vec::new();
+    for &p in &split.labelled {
+        match tnames.get(&bare(&labels[p])) {
+            Some(tp) => common.push((p, tindex[tp])),
+            None => not_in_template.push(labels[p].trim().to_string()),
+        }
+    }
+    check_marker_sets(
+        &split.labelled,
+        &common,
+        &not_in_template,
+        template,
+        &tsplit.labelled,
+        path,
+        template_path,
+    )?;
+    Ok(Matched {
+        tsplit,
+        split,
+        common,
+        not_in_template,
+    })
+}
+
+/// What the labelling decided and wrote, for the report's fragment lines.
+struct Written<'a> {
+    fragments: &'a [FragmentLabel],
+    plan: &'a crate::label_write::Plan,
+    rows: &'a [usize],
+    trial: &'a repair::Trial,
+    /// The trial's labels before the labelling.
+    labels: &'a [String],
+}
+
+/// One line per fragment in `report` (where it was, what became of it, where it was
+/// written) and the counts of samples labelled, relabelled and left.
+fn fragment_briefs(
+    c: &c3d::C3d,
+    w: &Written<'_>,
+    tname: &dyn Fn(usize) -> String,
+    report: &mut LabelReport,
+) {
+    let labels_after = c.point_labels();
+    for (i, a) in w.fragments.iter().enumerate() {
+        let g = &a.fragment;
+        let point = w.rows[g.row];
+        let samples = w.trial.valid[g.row][g.first..=g.last]
+            .iter()
+            .filter(|&&v| v)
+            .count();
+        let outcome = outcome(a, w.plan, i, tname, w.labels, w.rows, c);
+        let unlabelled_point = a.given.is_none();
+        match &outcome {
+            FragmentOutcome::Labelled { .. } | FragmentOutcome::Relabelled { .. } => {
+                report.labelled_samples += usize::from(unlabelled_point) * samples;
+                report.relabelled += usize::from(!unlabelled_point);
+            }
+            FragmentOutcome::Unlabelled { .. } => report.left_samples += samples,
+            FragmentOutcome::Kept { .. } => {}
+        }
+        report.fragments.push(FragmentBrief {
+            point: w.labels[point].trim().to_string(),
+            first_frame: c.frame_number(g.first),
+            last_frame: c.frame_number(g.last),
+            samples,
+            outcome,
+            frames_read: a.checked,
+            votes: a.votes,
+            written_to: labels_after[w.plan.final_point[i]].trim().to_string(),
+        });
+    }
 }
 
 /// A template label as written, without blanks or subject prefix.

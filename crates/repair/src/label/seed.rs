@@ -101,93 +101,28 @@ pub(crate) fn seed(
         size: opts.beam.max(1),
     };
     // Every distance between the frame's points, once: a pair's term is then a lookup.
-    let d: Vec<f64> = (0..np * np)
-        .map(|i| dist(&points[i / np], &points[i % np]))
-        .collect();
+    let frame = Frame {
+        model,
+        points,
+        np,
+        d: (0..np * np)
+            .map(|i| dist(&points[i / np], &points[i % np]))
+            .collect(),
+        opts,
+    };
     let widest = model.nb.iter().map(Vec::len).max().unwrap_or(0);
-    // For a marker, the points in order of the term of one pair (its `j`-th neighbour at
-    // point `q`): filled when first asked, for the marker being placed.
-    let mut rows: Vec<Option<Vec<(f64, u16)>>> = vec![None; widest * np];
-    let mut pairs: Vec<(usize, f64, f64)> = Vec::new();
-    let mut hands: Vec<(usize, usize, usize, f64)> = Vec::new();
+    let mut scratch = Scratch {
+        rows: vec![None; widest * np],
+        pairs: Vec::new(),
+        hands: Vec::new(),
+    };
     for &m in &model.order {
         if beam.first().is_some_and(|s| s.at[m] != NONE) {
             continue;
         }
-        rows.iter_mut().for_each(|r| *r = None);
+        scratch.rows.iter_mut().for_each(|r| *r = None);
         for (si, s) in beam.iter().enumerate() {
-            pairs.clear();
-            let mut first = None;
-            for (j, n) in model.nb[m].iter().enumerate() {
-                let i = s.at[n.other];
-                if i != NONE {
-                    first.get_or_insert((j, i as usize, n.d0, n.sigma));
-                    pairs.push((i as usize, n.d0, n.sigma));
-                }
-            }
-            hands.clear();
-            for c in &model.chiral[m] {
-                let (a, b, cc) = (s.at[c.a], s.at[c.b], s.at[c.c]);
-                if a != NONE && b != NONE && cc != NONE {
-                    hands.push((a as usize, b as usize, cc as usize, c.sign));
-                }
-            }
-            // The cost at point `p`, as `marker_cost` adds it; `None` past `limit`.
-            let cost = |p: usize, limit: f64| {
-                let mut sum = 0.0;
-                for &(q, d0, sigma) in &pairs {
-                    let e = (d[p * np + q] - d0) / sigma;
-                    sum += (e * e).min(opts.cap);
-                    if sum > limit {
-                        return None;
-                    }
-                }
-                for &(a, b, c, sign) in &hands {
-                    let h = handedness(&points[p], &points[a], &points[b], &points[c]);
-                    if h * sign < -0.05 {
-                        sum += opts.cap;
-                    }
-                }
-                Some(sum)
-            };
-            let any_free = s.used.iter().any(|u| !u);
-            match first {
-                // The points in order of the first pair's term, which no other term can
-                // lower: once it alone keeps a point out of the beam, it keeps the rest out.
-                Some((j, q, d0, sigma)) => {
-                    let row = rows[j * np + q].get_or_insert_with(|| {
-                        let mut r: Vec<(f64, u16)> = (0..np)
-                            .map(|p| {
-                                let e = (d[p * np + q] - d0) / sigma;
-                                ((e * e).min(opts.cap), p as u16)
-                            })
-                            .collect();
-                        r.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-                        r
-                    });
-                    for &(t1, p) in row.iter() {
-                        if s.used[p as usize] {
-                            continue;
-                        }
-                        if s.cost + t1 > best.bar() {
-                            break;
-                        }
-                        if let Some(sum) = cost(p as usize, best.bar() - s.cost) {
-                            best.offer(Cand(s.cost + sum, si, p));
-                        }
-                    }
-                }
-                None => {
-                    for p in (0..np).filter(|&p| !s.used[p]) {
-                        if let Some(sum) = cost(p, f64::INFINITY) {
-                            best.offer(Cand(s.cost + sum, si, p as u16));
-                        }
-                    }
-                }
-            }
-            // Leaving the marker out costs as a poor fit to each placed pair would.
-            let placed = if any_free { pairs.len() } else { 0 };
-            best.offer(Cand(s.cost + opts.absent * placed.max(1) as f64, si, NONE));
+            extend(&frame, m, si, s, &mut scratch, &mut best);
         }
         let mut cands = std::mem::take(&mut best.heap).into_sorted_vec();
         beam = cands
@@ -204,14 +139,124 @@ pub(crate) fn seed(
             .collect();
         best.heap = BinaryHeap::from(cands);
     }
-    let Some(best) = beam.first() else {
-        return vec![None; k];
+    match beam.first() {
+        Some(best) => accepted(model, points, best, opts),
+        None => vec![None; k],
+    }
+}
+
+/// What one frame's search reads: the model, the frame's points, every distance between
+/// them (`d[p * np + q]`) and the options.
+struct Frame<'a> {
+    model: &'a Model,
+    points: &'a [[f64; 3]],
+    np: usize,
+    d: Vec<f64>,
+    opts: &'a LabelOptions,
+}
+
+/// What the search reuses from state to state: for the marker being placed, the points in
+/// order of the term of one pair (its `j`-th neighbour at point `q`, filled when first
+/// asked), and the placed pairs and handedness triples of the state at hand.
+struct Scratch {
+    rows: Vec<Option<Vec<(f64, u16)>>>,
+    pairs: Vec<(usize, f64, f64)>,
+    hands: Vec<(usize, usize, usize, f64)>,
+}
+
+/// Offer `best` every way state `si` (`s`) can place marker `m`: on each free point whose
+/// cost can still enter the beam, or left out.
+fn extend(f: &Frame<'_>, m: usize, si: usize, s: &State, sc: &mut Scratch, best: &mut Best) {
+    let Scratch { rows, pairs, hands } = sc;
+    let (model, points, np, d, opts) = (f.model, f.points, f.np, &f.d, f.opts);
+    pairs.clear();
+    let mut first = None;
+    for (j, n) in model.nb[m].iter().enumerate() {
+        let i = s.at[n.other];
+        if i != NONE {
+            first.get_or_insert((j, i as usize, n.d0, n.sigma));
+            pairs.push((i as usize, n.d0, n.sigma));
+        }
+    }
+    hands.clear();
+    for c in &model.chiral[m] {
+        let (a, b, cc) = (s.at[c.a], s.at[c.b], s.at[c.c]);
+        if a != NONE && b != NONE && cc != NONE {
+            hands.push((a as usize, b as usize, cc as usize, c.sign));
+        }
+    }
+    let (pairs, hands) = (&*pairs, &*hands);
+    // The cost at point `p`, as `marker_cost` adds it; `None` past `limit`.
+    let cost = |p: usize, limit: f64| {
+        let mut sum = 0.0;
+        for &(q, d0, sigma) in pairs {
+            let e = (d[p * np + q] - d0) / sigma;
+            sum += (e * e).min(opts.cap);
+            if sum > limit {
+                return None;
+            }
+        }
+        for &(a, b, c, sign) in hands {
+            let h = handedness(&points[p], &points[a], &points[b], &points[c]);
+            if h * sign < -0.05 {
+                sum += opts.cap;
+            }
+        }
+        Some(sum)
     };
+    let any_free = s.used.iter().any(|u| !u);
+    match first {
+        // The points in order of the first pair's term, which no other term can
+        // lower: once it alone keeps a point out of the beam, it keeps the rest out.
+        Some((j, q, d0, sigma)) => {
+            let row = rows[j * np + q].get_or_insert_with(|| {
+                let mut r: Vec<(f64, u16)> = (0..np)
+                    .map(|p| {
+                        let e = (d[p * np + q] - d0) / sigma;
+                        ((e * e).min(opts.cap), p as u16)
+                    })
+                    .collect();
+                r.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                r
+            });
+            for &(t1, p) in row.iter() {
+                if s.used[p as usize] {
+                    continue;
+                }
+                if s.cost + t1 > best.bar() {
+                    break;
+                }
+                if let Some(sum) = cost(p as usize, best.bar() - s.cost) {
+                    best.offer(Cand(s.cost + sum, si, p));
+                }
+            }
+        }
+        None => {
+            for p in (0..np).filter(|&p| !s.used[p]) {
+                if let Some(sum) = cost(p, f64::INFINITY) {
+                    best.offer(Cand(s.cost + sum, si, p as u16));
+                }
+            }
+        }
+    }
+    // Leaving the marker out costs as a poor fit to each placed pair would.
+    let placed = if any_free { pairs.len() } else { 0 };
+    best.offer(Cand(s.cost + opts.absent * placed.max(1) as f64, si, NONE));
+}
+
+/// The best state's markers kept where each fits its placed pairs with a mean cost of at
+/// most `opts.accept` over at least `opts.min_neighbours` of them.
+fn accepted(
+    model: &Model,
+    points: &[[f64; 3]],
+    best: &State,
+    opts: &LabelOptions,
+) -> Vec<Option<usize>> {
     let at = |n: usize| {
         let i = best.at[n];
         (i != NONE).then(|| &points[i as usize])
     };
-    (0..k)
+    (0..model.markers)
         .map(|m| {
             let i = best.at[m];
             if i == NONE {
