@@ -6,10 +6,6 @@ use c3dfix::events::{detect_events, is_treadmill, Detected, EventOptions, EventS
 use gait::{Kind, Side};
 use std::path::PathBuf;
 
-fn labs(name: &str) -> Option<PathBuf> {
-    Some(testkit::c3d_labs()?.join(format!("{name}.c3d")))
-}
-
 fn detect(path: &PathBuf, from: EventSource) -> c3dfix::Result<Detected> {
     let c = c3dfix::open(path).unwrap();
     let opts = EventOptions {
@@ -37,7 +33,7 @@ fn count(d: &Detected, context: &str, label: &str) -> usize {
 #[test]
 fn an_ior_anatomical_set_gives_events_from_the_calcaneus_and_first_metatarsal_head() {
     // MOtoNMS' Padova walk: calcaneus RCA, metatarsal heads RIMH/RVMH, no toe marker.
-    let Some(path) = labs("RehabEngGroup__MOtoNMS__Walking1") else {
+    let Some(path) = testkit::c3d_labs_trial("RehabEngGroup__MOtoNMS__Walking1") else {
         return;
     };
     let d = detect(&path, EventSource::Kinematics).unwrap();
@@ -69,7 +65,9 @@ fn an_ior_anatomical_set_gives_events_from_the_calcaneus_and_first_metatarsal_he
 #[test]
 fn dotted_heel_names_with_qualifiers_are_told_apart_by_position() {
     // RBDS (treadmill run): L.Heel.Bottom, L.Heel.Lateral, L.Heel.Top, L.MT1, L.MT5.
-    let Some(path) = labs("regifukuchi__BMC-RIC-running-biomechanics__RBDS001runT35") else {
+    let Some(path) =
+        testkit::c3d_labs_trial("regifukuchi__BMC-RIC-running-biomechanics__RBDS001runT35")
+    else {
         return;
     };
     let d = detect(&path, EventSource::Kinematics).unwrap();
@@ -90,7 +88,7 @@ fn dotted_heel_names_with_qualifiers_are_told_apart_by_position() {
 #[test]
 fn an_upper_body_set_is_refused_for_want_of_feet_not_of_a_heel() {
     // pyomeca's box lifting: shoulder, arm and box markers, no foot.
-    let Some(path) = labs("pyomeca__pyomeca__markers_analogs") else {
+    let Some(path) = testkit::c3d_labs_trial("pyomeca__pyomeca__markers_analogs") else {
         return;
     };
     let e = detect(&path, EventSource::Auto).unwrap_err().to_string();
@@ -105,7 +103,7 @@ fn an_upper_body_set_is_refused_for_want_of_feet_not_of_a_heel() {
 fn treadmill_walking_gets_every_step_from_the_feet_relative_to_the_pelvis() {
     // rtosim: 8.7 s on an instrumented treadmill, the pelvis still; each belt's plate
     // shows 8 contacts of one foot.
-    let Some(path) = labs("RealTimeBiomechanics__rtosim__walking_1") else {
+    let Some(path) = testkit::c3d_labs_trial("RealTimeBiomechanics__rtosim__walking_1") else {
         return;
     };
     let c = c3dfix::open(&path).unwrap();
@@ -122,12 +120,13 @@ fn treadmill_walking_gets_every_step_from_the_feet_relative_to_the_pelvis() {
         [8, 7, 7, 8]
     );
     // An overground walk is no treadmill.
-    let Some(walk) = labs("psbiomech__lasem-data-processing__FAILT01_Walk01") else {
+    let Some(walk) = testkit::c3d_labs_trial("psbiomech__lasem-data-processing__FAILT01_Walk01")
+    else {
         return;
     };
     assert!(!is_treadmill(&c3dfix::open(&walk).unwrap(), &walk));
     // Nor is a walkway run whose pelvis is seen for less than a stride (85 % missing).
-    let Some(run) = labs("RehabEngGroup__MOtoNMS__Running_1") else {
+    let Some(run) = testkit::c3d_labs_trial("RehabEngGroup__MOtoNMS__Running_1") else {
         return;
     };
     assert!(!is_treadmill(&c3dfix::open(&run).unwrap(), &run));
@@ -137,7 +136,9 @@ fn treadmill_walking_gets_every_step_from_the_feet_relative_to_the_pelvis() {
 fn a_treadmill_run_with_a_foot_cluster_gets_its_events_not_a_missing_marker_error() {
     // 20140515T133244_run: four-marker foot clusters (L_foot_1…4) and a pelvis cluster;
     // the cluster's heel and toe need the walking direction, which is the treadmill's.
-    let Some(path) = labs("regifukuchi__BMC-RIC-running-biomechanics__20140515T133244_run") else {
+    let Some(path) =
+        testkit::c3d_labs_trial("regifukuchi__BMC-RIC-running-biomechanics__20140515T133244_run")
+    else {
         return;
     };
     let d = detect(&path, EventSource::Kinematics).unwrap();
@@ -153,7 +154,9 @@ fn treadmill_running_strikes_from_the_markers_match_the_instrumented_belt() {
     // RBDS001runT35: 30 s at 3.5 m/s, one plate under the belt. Every plate strike has a
     // kinematic one of the same foot within 60 ms, 95 % within 30 ms, the median 11.6 ms
     // (measured on this file; nothing was chosen on it).
-    let Some(path) = labs("regifukuchi__BMC-RIC-running-biomechanics__RBDS001runT35") else {
+    let Some(path) =
+        testkit::c3d_labs_trial("regifukuchi__BMC-RIC-running-biomechanics__RBDS001runT35")
+    else {
         return;
     };
     let plates = detect(&path, EventSource::Plates).unwrap();
@@ -207,7 +210,9 @@ fn running_foot_offs_from_the_markers_come_where_the_toe_leaves_the_belt() {
     // 102 ms at the 95th percentile). Against the plate's 85 offs: 84 found within 150 ms,
     // median |error| 7.4 ms, 95th percentile 26 ms (the offset was chosen on c3d-more's
     // JA1Gait35; nothing on this file).
-    let Some(path) = labs("regifukuchi__BMC-RIC-running-biomechanics__RBDS001runT35") else {
+    let Some(path) =
+        testkit::c3d_labs_trial("regifukuchi__BMC-RIC-running-biomechanics__RBDS001runT35")
+    else {
         return;
     };
     let plates = detect(&path, EventSource::Plates).unwrap();
@@ -226,7 +231,7 @@ fn running_foot_offs_from_the_markers_come_where_the_toe_leaves_the_belt() {
     assert!(err[err.len() * 95 / 100].abs() < 0.027, "{err:?}");
     // The sprint (5 plates): its three plate offs within 2 ms, where Zeni's were 44-48 ms
     // late (the last, 0.06 s before the trial's end, since extremes at the edge count).
-    let Some(path) = labs("basgoncalves__msk_modelling_python__sprint_1") else {
+    let Some(path) = testkit::c3d_labs_trial("basgoncalves__msk_modelling_python__sprint_1") else {
         return;
     };
     let plates = detect(&path, EventSource::Plates).unwrap();
@@ -252,7 +257,9 @@ fn walking_trials_are_no_runs() {
         "s2mLab__BioptimPaperExamples__normal01_out",
         "RealTimeBiomechanics__rtosim__walking_1",
     ] {
-        let Some(path) = labs(name) else { return };
+        let Some(path) = testkit::c3d_labs_trial(name) else {
+            return;
+        };
         let kin = detect(&path, EventSource::Kinematics).unwrap();
         assert!(
             !kin.notes.iter().any(|n| n.starts_with("running:")),
@@ -265,7 +272,7 @@ fn walking_trials_are_no_runs() {
 #[test]
 fn a_labs_own_codes_in_the_general_context_are_read_as_gait_events() {
     // s2mLab's walk: LHS, RTO, RHS, LTO in General, two full cycles of each foot.
-    let Some(path) = labs("s2mLab__BioptimPaperExamples__normal01_out") else {
+    let Some(path) = testkit::c3d_labs_trial("s2mLab__BioptimPaperExamples__normal01_out") else {
         return;
     };
     let c = c3dfix::open(&path).unwrap();
@@ -288,7 +295,7 @@ fn a_labs_own_codes_in_the_general_context_are_read_as_gait_events() {
 #[test]
 fn treadmill_gait_parameters_leave_out_what_needs_the_belt_speed() {
     // rtosim: the markers' speed is the pelvis' drift (0.02 m/s), not the walk's.
-    let Some(path) = labs("RealTimeBiomechanics__rtosim__walking_1") else {
+    let Some(path) = testkit::c3d_labs_trial("RealTimeBiomechanics__rtosim__walking_1") else {
         return;
     };
     let c = c3dfix::open(&path).unwrap();
@@ -315,7 +322,9 @@ fn a_belt_speed_given_measures_the_walk_over_the_belt() {
     // RBDS001runT35 runs at 3.5 m/s (its lab's description; the file stores no belt speed).
     // Given that speed, the toes carried into the belt's frame give 3.47 and 3.49 m/s and
     // strides of 2.45 and 2.53 m (0.71 and 0.72 s); without it they are left out.
-    let Some(path) = labs("regifukuchi__BMC-RIC-running-biomechanics__RBDS001runT35") else {
+    let Some(path) =
+        testkit::c3d_labs_trial("regifukuchi__BMC-RIC-running-biomechanics__RBDS001runT35")
+    else {
         return;
     };
     let c = c3dfix::open(&path).unwrap();
@@ -353,7 +362,8 @@ fn another_metatarsal_stands_in_where_the_toe_marker_is_missing() {
     // there, stand in (moved by their median offset near each gap), and the last right and
     // left offs are found, each 0.11 and 0.10 s after the other foot's strike as in the
     // trial's other steps (16 events before, 18 now; no truth event moved in events_eval).
-    let Some(path) = labs("psbiomech__lasem-data-processing__FAILT01_Walk01") else {
+    let Some(path) = testkit::c3d_labs_trial("psbiomech__lasem-data-processing__FAILT01_Walk01")
+    else {
         return;
     };
     let d = detect(&path, EventSource::Kinematics).unwrap();

@@ -37,7 +37,7 @@ fn error_at(path: Option<PathBuf>, side: Side, kind: Kind, lab_s: f64) -> Option
 
 /// [`error_at`] for a strike of c3d-labs' trial `name`.
 fn strike_error(name: &str, side: Side, lab_s: f64) -> Option<f64> {
-    let path = testkit::c3d_labs().map(|d| d.join(format!("{name}.c3d")));
+    let path = testkit::c3d_labs_trial(name);
     error_at(path, side, Kind::FootStrike, lab_s)
 }
 

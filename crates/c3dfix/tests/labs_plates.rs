@@ -6,15 +6,11 @@
 use c3dfix::events::{detect_events, EventOptions, EventSource};
 use c3dfix::{force_platforms, ForceOptions};
 
-fn labs(name: &str) -> Option<std::path::PathBuf> {
-    Some(testkit::c3d_labs()?.join(format!("{name}.c3d")))
-}
-
 #[test]
 fn a_plate_that_only_pulls_gets_no_baseline_and_no_contact() {
     // The sprint's plate 2: its vertical channel reads 0 on 548 samples of 785 and a pull
     // of about 95 N on the others; the quiet stretch's mean (a pull of 25.6 N) is no offset.
-    let Some(path) = labs("basgoncalves__msk_modelling_python__sprint_1") else {
+    let Some(path) = testkit::c3d_labs_trial("basgoncalves__msk_modelling_python__sprint_1") else {
         return;
     };
     let c = c3dfix::open(&path).unwrap();
@@ -49,7 +45,7 @@ fn a_runs_plate_reads_its_level_in_the_flights() {
         ),
         ("pyomeca__pyorerun__Running_0002", -2.0, 1),
     ] {
-        let Some(path) = labs(name) else {
+        let Some(path) = testkit::c3d_labs_trial(name) else {
             return;
         };
         let c = c3dfix::open(&path).unwrap();
@@ -74,7 +70,7 @@ fn a_treadmill_plates_origin_written_from_the_other_end_is_read_reversed() {
     // rtosim: each belt's plate shows 8 contacts, but FORCE_PLATFORM:ORIGIN as stored puts
     // the centre of pressure outside the plate in every loaded sample; with x and y
     // negated it lies on the plate (and under one foot), and the plates give every step.
-    let Some(path) = labs("RealTimeBiomechanics__rtosim__walking_1") else {
+    let Some(path) = testkit::c3d_labs_trial("RealTimeBiomechanics__rtosim__walking_1") else {
         return;
     };
     let c = c3dfix::open(&path).unwrap();
@@ -144,7 +140,7 @@ fn plate_events_without_markers_say_plates_need_them() {
 fn a_subject_lifting_on_the_spot_stands_on_z() {
     // pyomeca's box lifting: upper-body markers and a box held forward; the markers spread
     // farther along x than the pelvis-to-shoulder height, but the trunk stands along +z.
-    let Some(path) = labs("pyomeca__pyomeca__markers_analogs") else {
+    let Some(path) = testkit::c3d_labs_trial("pyomeca__pyomeca__markers_analogs") else {
         return;
     };
     let c = c3dfix::open(&path).unwrap();

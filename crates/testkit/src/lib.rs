@@ -108,6 +108,12 @@ pub fn c3d_labs() -> Option<PathBuf> {
     corpus("C3D_LABS", &default.to_string_lossy())
 }
 
+/// One `c3d-labs` trial by its name without `.c3d` (`RehabEngGroup__MOtoNMS__Walking1`), or
+/// `None` (said once) when the corpus is absent.
+pub fn c3d_labs_trial(name: &str) -> Option<PathBuf> {
+    Some(c3d_labs()?.join(format!("{name}.c3d")))
+}
+
 /// The BVH corpus, beside the sample corpus by default.
 pub fn bvh_samples() -> Option<PathBuf> {
     let default = resolve("C3D_SAMPLES", "../shared/c3d-samples").join("../bvh-samples");
