@@ -4,7 +4,7 @@
 
 use crate::console::outln;
 use anyhow::Result;
-use c3dfix::files::Destination;
+use crate::commands::destination::DestinationArgs;
 use c3dfix::label_stage::{FragmentOutcome, LabelSettings, LabelStatus};
 use std::path::PathBuf;
 
@@ -16,18 +16,8 @@ pub struct Args {
     /// calibration or any labelled trial of the session).
     #[arg(long, value_name = "LABELLED")]
     pub template: PathBuf,
-    /// Where to write the labelled trial.
-    #[arg(short, long)]
-    pub output: Option<PathBuf>,
-    /// Replace the input file (atomically).
-    #[arg(long)]
-    pub in_place: bool,
-    /// With --in-place: keep the original as FILE.bak (an existing backup is kept as is).
-    #[arg(long)]
-    pub backup: bool,
-    /// Replace an existing output file.
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub dest: DestinationArgs,
     /// Labels (a glob: `*` any text, `?` one character, case-insensitive) that also mark a
     /// point as unlabelled, beside the common placeholders (`*51`, `Unlabeled 3`, an empty
     /// label).
@@ -42,12 +32,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<i32> {
-    let dest = Destination {
-        output: a.output.clone(),
-        in_place: a.in_place,
-        backup: a.backup,
-        force: a.force,
-    };
+    let dest = a.dest.destination();
     let settings = LabelSettings {
         unlabelled: a
             .unlabelled

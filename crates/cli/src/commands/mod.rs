@@ -4,6 +4,7 @@ pub mod batch;
 pub mod bvh_info;
 pub mod convert;
 pub mod cycles;
+pub mod destination;
 pub mod diff;
 pub mod each;
 pub mod evaluate;

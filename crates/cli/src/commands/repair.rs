@@ -4,7 +4,7 @@
 use crate::commands::repair_io::RepairArgs;
 use crate::console::outln;
 use anyhow::Result;
-use c3dfix::files::Destination;
+use crate::commands::destination::DestinationArgs;
 use c3dfix::ReclaimAction;
 use c3dfix::SwapAction;
 use c3dfix::{RepairBrief, SkipKind};
@@ -13,18 +13,8 @@ use std::path::PathBuf;
 #[derive(clap::Args)]
 pub struct Args {
     pub input: PathBuf,
-    /// Where to write the repaired file.
-    #[arg(short, long)]
-    pub output: Option<PathBuf>,
-    /// Replace the input file (atomically).
-    #[arg(long)]
-    pub in_place: bool,
-    /// With --in-place: keep the original as FILE.bak (an existing backup is kept as is).
-    #[arg(long)]
-    pub backup: bool,
-    /// Replace an existing output (and report) file.
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub dest: DestinationArgs,
     /// Write the full report (every gap and what filled it, spikes, filter segments) here;
     /// an existing file is replaced only with --force, and never the input or the output.
     #[arg(long)]
@@ -39,12 +29,7 @@ pub struct Args {
 pub fn run(a: Args) -> Result<i32> {
     // The library checks that the flags go together (see c3dfix::files); its kinds are said
     // with the flags by crate::flags.
-    let dest = Destination {
-        output: a.output.clone(),
-        in_place: a.in_place,
-        backup: a.backup,
-        force: a.force,
-    };
+    let dest = a.dest.destination();
     // C3DFIX_PROFILE=1: where the fills' time went, on stderr (see repair::profile and
     // crates/cli/benches/price.sh).
     let profiling = std::env::var_os("C3DFIX_PROFILE").is_some_and(|v| v == "1");
