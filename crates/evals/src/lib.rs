@@ -9,6 +9,7 @@
 //! it gives back to them is the generated coefficients file `repair` compiles.
 
 pub mod corpus;
+pub mod dice;
 pub mod fit;
 pub mod labs;
 pub mod stats;

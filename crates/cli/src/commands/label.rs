@@ -2,9 +2,9 @@
 //! labelled trial of the same marker set (issue 47, docs/label.md), through the library
 //! ([`c3dfix::label_stage::label_file`]).
 
+use crate::commands::destination::DestinationArgs;
 use crate::console::outln;
 use anyhow::Result;
-use crate::commands::destination::DestinationArgs;
 use c3dfix::label_stage::{FragmentOutcome, LabelSettings, LabelStatus};
 use std::path::PathBuf;
 

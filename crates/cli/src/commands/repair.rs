@@ -1,10 +1,10 @@
 //! `c3dfix repair`: spikes → fill → filter on one file, written back as a valid C3D, through
 //! the library ([`c3dfix::repair`]).
 
+use crate::commands::destination::DestinationArgs;
 use crate::commands::repair_io::RepairArgs;
 use crate::console::outln;
 use anyhow::Result;
-use crate::commands::destination::DestinationArgs;
 use c3dfix::ReclaimAction;
 use c3dfix::SwapAction;
 use c3dfix::{RepairBrief, SkipKind};

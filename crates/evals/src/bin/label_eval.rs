@@ -19,6 +19,7 @@
 
 use clap::Parser;
 use evals::corpus::{self, FILES};
+use evals::dice::Dice;
 use repair::label::{label, LabelOptions};
 use repair::{Trial, Unlabelled};
 use std::collections::BTreeMap;
@@ -76,24 +77,6 @@ fn options(sets: &[String]) -> Result<LabelOptions, String> {
         }
     }
     Ok(o)
-}
-
-/// xorshift64*: the benchmark's own dice, the same on every machine.
-struct Dice(u64);
-
-impl Dice {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    fn int(&mut self, lo: usize, hi: usize) -> usize {
-        lo + (self.next() % (hi.max(lo) - lo + 1) as u64) as usize
-    }
-    fn real(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
 }
 
 /// A trial's labelled markers (with names) and its own unlabelled points, in mm.

@@ -22,6 +22,7 @@
 
 use clap::Parser;
 use evals::corpus::{self, FILES};
+use evals::dice::Dice;
 use repair::reclaim::{find_reclaims, judge, segment_links, ReclaimOptions, Reclaims};
 use repair::{Trial, Unlabelled};
 use std::collections::BTreeMap;
@@ -93,38 +94,6 @@ fn args() -> Result<Args, String> {
         }
     }
     Ok(a)
-}
-
-/// xorshift64*: the benchmark's own dice, the same on every machine.
-struct Dice(u64);
-
-impl Dice {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    /// Uniform in `lo..=hi`.
-    fn int(&mut self, lo: usize, hi: usize) -> usize {
-        lo + (self.next() % (hi - lo + 1) as u64) as usize
-    }
-    fn real(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn direction(&mut self) -> [f64; 3] {
-        loop {
-            let v = [
-                self.real(-1.0, 1.0),
-                self.real(-1.0, 1.0),
-                self.real(-1.0, 1.0),
-            ];
-            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-            if n > 0.1 && n <= 1.0 {
-                return v.map(|c| c / n);
-            }
-        }
-    }
 }
 
 /// A trial's labelled markers and its own unlabelled trajectories, in mm.
