@@ -101,6 +101,11 @@ fn auto_takes_the_plates_where_a_foot_lands_and_the_markers_elsewhere() {
             "plate",
             "kinematics",
             "plate",
+            "kinematics",
+            // The right off at 4.494 s (frame 450, 6 frames before the trial's end), after
+            // the lab's last event: found since an extreme just beyond a trial's end counts
+            // (issue 45 item 6); it keeps the trial's rhythm (the right off before it at
+            // 3.213 s, a stride of 1.28 s).
             "kinematics"
         ]
     );
@@ -121,7 +126,7 @@ fn auto_takes_the_plates_where_a_foot_lands_and_the_markers_elsewhere() {
     let times: Vec<f64> = ev.iter().map(|e| e["time"].as_f64().unwrap()).collect();
     assert!(times.windows(2).all(|w| w[0] <= w[1]), "{times:?}");
     let kin = events_json(&["--from", "kinematics", s(&file)]);
-    assert_eq!(kin.len(), 7);
+    assert_eq!(kin.len(), 8);
     assert!(kin.iter().all(|e| e["source"] == "kinematics"));
 }
 
@@ -275,21 +280,22 @@ fn events_are_written_into_the_event_group_as_nexus_writes_them() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.c3d");
     let printed = events_json(&["-o", s(&out), "--replace", s(&file)]);
-    assert_eq!(printed.len(), 7);
-    // Read back by this reader: the lab's seven events replaced by ours, same times.
+    assert_eq!(printed.len(), 8);
+    // Read back by this reader: the lab's seven events replaced by our eight, same times.
     let back = lab_events(&out);
-    assert_eq!(back.len(), 7);
+    assert_eq!(back.len(), 8);
     for (b, p) in back.iter().zip(&printed) {
         let p = key(p);
         assert_eq!((&b.0, &b.1), (&p.0, &p.1));
         assert!((b.2 - p.2).abs() < 1e-6, "{b:?} {p:?}");
     }
-    // Every other byte: the data section is unchanged (and at the same place here).
-    assert_eq!(data_section(&out), data_section(&file));
+    // Every other byte: the data section is unchanged (moved by the parameter block the
+    // eighth event needs).
+    assert_eq!(data_section(&out).1, data_section(&file).1);
     // c3dio reads the group back (it takes the count from EVENT:USED and the times from
     // the header's block, which is left as the file has it, so only the rest is compared).
     let c = c3dio::C3d::load(s(&out)).unwrap();
-    assert_eq!(c.events.len(), 7);
+    assert_eq!(c.events.len(), 8);
     for (e, p) in c.events.iter().zip(&printed) {
         assert_eq!(e.label, p["label"].as_str().unwrap());
         assert_eq!(e.context, p["context"].as_str().unwrap());
@@ -309,8 +315,8 @@ fn events_are_written_into_the_event_group_as_nexus_writes_them() {
     let kept = dir.path().join("kept.c3d");
     events_json(&["-o", s(&kept), s(&file)]);
     let both = lab_events(&kept);
-    assert_eq!(both.len(), 14);
-    // `info` lists events in time order, so the lab's seven are among the fourteen.
+    assert_eq!(both.len(), 15);
+    // `info` lists events in time order, so the lab's seven are among the fifteen.
     for e in lab_events(&file) {
         assert!(both.contains(&e), "{e:?} not kept in {both:?}");
     }
@@ -470,7 +476,8 @@ fn events_calibrated_from_another_trial_of_the_session() {
     let sc = &cal["session_calibration"];
     assert_eq!(sc["trials"], 1, "{sc}");
     assert_eq!(sc["min_contacts"], 1);
-    for (kind, ms) in [("strike", 6.7), ("off", -1.7)] {
+    // Offs −1.8 ms: −1.7 before the trial's edge extremes counted in FB2's stride.
+    for (kind, ms) in [("strike", 6.7), ("off", -1.8)] {
         assert_eq!(sc[kind]["contacts"], 2, "{sc}");
         assert_eq!(sc[kind]["used"], true);
         for side in ["left_ms", "right_ms"] {
@@ -492,7 +499,7 @@ fn events_calibrated_from_another_trial_of_the_session() {
         let ms = if a["label"] == "Foot Strike" {
             6.7
         } else {
-            -1.7
+            -1.84
         };
         let moved = (a["time"].as_f64().unwrap() - b["time"].as_f64().unwrap()) * 1000.0;
         assert!((moved - ms).abs() < 0.05, "{b} -> {a}");
@@ -500,7 +507,7 @@ fn events_calibrated_from_another_trial_of_the_session() {
     // Against Gait1's own plates (signed ms, calibrated − plate): the strikes, already
     // within 5 ms, move past them (−4.2 → +2.5, −1.3 → +5.5); the offs, which the stride
     // shift already brought 2.9 ms closer (−19.2 → −16.3, −24.4 → −21.5 from the markers
-    // alone), move 1.7 ms away with FB2's lag (−18.0, −23.2; −16.6 and −21.7 before the
+    // alone), move 1.8 ms away with FB2's lag (−18.1, −23.3; −16.6 and −21.7 before the
     // stride shift): the two trials are two protocols, not one session (docs/events.md).
     let plates = events_json(&["--from", "plates", s(&gait1)]);
     let err = |events: &[Json], p: &Json| {
@@ -528,8 +535,8 @@ fn events_calibrated_from_another_trial_of_the_session() {
     let want = [
         ("Right Foot Strike", -4.2, 2.5),
         ("Left Foot Strike", -1.3, 5.5),
-        ("Right Foot Off", -16.3, -18.0),
-        ("Left Foot Off", -21.5, -23.2),
+        ("Right Foot Off", -16.3, -18.1),
+        ("Left Foot Off", -21.5, -23.3),
     ];
     assert_eq!(got.len(), want.len(), "{got:?}");
     for ((name, b, a), (wname, wb, wa)) in got.iter().zip(want) {
@@ -566,7 +573,7 @@ fn events_calibrated_from_another_trial_of_the_session() {
         s(&fb2),
     ]);
     assert!(
-        stdout(&out).contains("session calibration (markers with the offsets of 1 other trial(s)): strikes +6.7 ms from 2 contacts, offs -1.7 ms from 2 contacts"),
+        stdout(&out).contains("session calibration (markers with the offsets of 1 other trial(s)): strikes +6.7 ms from 2 contacts, offs -1.8 ms from 2 contacts"),
         "{}",
         stdout(&out)
     );

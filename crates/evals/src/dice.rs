@@ -5,7 +5,7 @@
 pub struct Dice(pub u64);
 
 impl Dice {
-    pub fn next(&mut self) -> u64 {
+    pub fn draw(&mut self) -> u64 {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;
@@ -14,12 +14,12 @@ impl Dice {
 
     /// Uniform in `lo..=hi` (`lo` when `hi` is below it).
     pub fn int(&mut self, lo: usize, hi: usize) -> usize {
-        lo + (self.next() % (hi.max(lo) - lo + 1) as u64) as usize
+        lo + (self.draw() % (hi.max(lo) - lo + 1) as u64) as usize
     }
 
     /// Uniform in `lo..hi`.
     pub fn real(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
+        lo + (hi - lo) * (self.draw() >> 11) as f64 / (1u64 << 53) as f64
     }
 
     /// A direction uniform on the unit sphere.
