@@ -384,3 +384,44 @@ fn another_metatarsal_stands_in_where_the_toe_marker_is_missing() {
         .fold(f64::NAN, f64::max);
     assert!((last_off - 6.6411).abs() < 1e-3, "{last_off}");
 }
+
+#[test]
+fn a_one_letter_french_set_gives_its_events() {
+    // c3d-samples' admarche2 (PD pied, CD cheville, BD bassin …, side last): once refused
+    // for want of foot markers. The ankle stands in for the heel; where the right foot
+    // lands on plate 1, `auto` takes the plate's strike and off, the markers elsewhere.
+    let Some(dir) = testkit::c3d_samples() else {
+        return;
+    };
+    let path = dir.join("sample_30/admarche2.c3d");
+    let d = detect(&path, EventSource::Auto).unwrap();
+    assert_eq!(role(&d, "rheel"), ["CD"]);
+    assert_eq!(role(&d, "ltoe"), ["PG"]);
+    assert_eq!(role(&d, "pelvis"), ["BG", "BD"]);
+    assert_eq!(d.events.len(), 12);
+    let plate: Vec<(Side, Kind, f64)> = d
+        .events
+        .iter()
+        .filter(|e| e.plate.is_some())
+        .map(|e| (e.side, e.kind, (e.time * 1e4).round() / 1e4))
+        .collect();
+    assert_eq!(
+        plate,
+        [
+            (Side::Right, Kind::FootStrike, 2.712),
+            (Side::Right, Kind::FootOff, 3.3074)
+        ]
+    );
+    // From the markers alone the strike leads the plate's by 64 ms (the ankle's lead) and
+    // the off by 29 ms.
+    let k = detect(&path, EventSource::Kinematics).unwrap();
+    let near = |kind: Kind, t: f64| {
+        k.events
+            .iter()
+            .filter(|e| e.side == Side::Right && e.kind == kind)
+            .map(|e| ((e.time - t) * 1000.0).round())
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+    };
+    assert_eq!(near(Kind::FootStrike, 2.712), Some(-64.0));
+    assert_eq!(near(Kind::FootOff, 3.3074), Some(-29.0));
+}

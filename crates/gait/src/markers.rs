@@ -105,6 +105,55 @@ pub fn canonical(label: &str) -> String {
     n
 }
 
+/// One-letter French names with their side as a second letter, `D` (droite) or `G` (gauche),
+/// as `c3d-samples`' `admarche2` writes a whole body (`PD` pied, `CD` cheville, `JD` jambe,
+/// `GD` genou, `FD` fémur, `BD` bassin, `ED` épaule): the letters of the roles searched,
+/// with the names they are searched as. The forefoot marker (`P`) lies 136 mm ahead of the
+/// ankle's (`C`) along the walk and 30 mm lower there; `B` sits at the pelvis's front height.
+const FRENCH_ONE_LETTER: &[(char, &str)] = &[('p', "toe"), ('c', "ank"), ('b', "asi")];
+
+/// The least number of one-letter sided pairs (`PD`/`PG` …) that make a label set a
+/// one-letter French set: a whole body named so, not a stray `CG` (a centre of gravity) or
+/// `PD` among longer names.
+const FRENCH_ONE_LETTER_PAIRS: usize = 5;
+
+/// Every label as searched ([`canonical`]); in a one-letter French set (see
+/// [`FRENCH_ONE_LETTER`]), its forefoot, ankle and pelvis markers under the names searched.
+pub fn canonical_all(labels: &[String]) -> Vec<String> {
+    let mut norm: Vec<String> = labels.iter().map(|l| canonical(l)).collect();
+    let one_letter = |n: &str, side: char| {
+        let b = n.as_bytes();
+        b.len() == 2 && b[0].is_ascii_lowercase() && b[1] as char == side
+    };
+    let pairs = norm
+        .iter()
+        .filter(|n| one_letter(n, 'd'))
+        .filter(|n| {
+            norm.iter()
+                .any(|m| one_letter(m, 'g') && m.as_bytes()[0] == n.as_bytes()[0])
+        })
+        .count();
+    let has = |n: &str| norm.iter().any(|m| m == n);
+    if pairs < FRENCH_ONE_LETTER_PAIRS || !(has("pd") && has("pg")) {
+        return norm;
+    }
+    for n in norm.iter_mut() {
+        let b = n.as_bytes();
+        if b.len() != 2 {
+            continue;
+        }
+        let side = match b[1] {
+            b'd' => 'r',
+            b'g' => 'l',
+            _ => continue,
+        };
+        if let Some((_, name)) = FRENCH_ONE_LETTER.iter().find(|(c, _)| *c as u8 == b[0]) {
+            *n = format!("{side}{name}");
+        }
+    }
+    norm
+}
+
 /// The label as compared: no subject prefix, lower case, letters and digits only.
 pub fn normalise(label: &str) -> String {
     let bare = label.rsplit(':').next().unwrap_or(label);
@@ -152,7 +201,7 @@ pub struct StandIn {
 /// seen stands in where the chosen one is missing (MOtoNMS' right foot: `RIMH` missing
 /// where `RVMH` is seen).
 pub fn candidates(labels: &[String], side: char, heel: bool) -> Vec<usize> {
-    let norm: Vec<String> = labels.iter().map(|l| canonical(l)).collect();
+    let norm = canonical_all(labels);
     let parts = if heel { HEEL } else { TOE };
     let mut out = Vec::new();
     for part in parts {
@@ -256,7 +305,7 @@ fn by_names(labels: &[String], role: &str, names: &[String]) -> Result<Vec<usize
 /// The ankle marker of `side` (`'l'` or `'r'`) among `labels`, to stand in for a heel
 /// marker that is named but never seen.
 pub fn ankle_for(labels: &[String], side: char) -> Option<usize> {
-    let norm: Vec<String> = labels.iter().map(|l| canonical(l)).collect();
+    let norm = canonical_all(labels);
     find_sided(&norm, side, ANKLE)
 }
 
@@ -355,7 +404,7 @@ impl SideFoot {
 /// the whole cluster in both roles, with [`MarkerChoice::foot_cluster`] set: the caller
 /// tells heel from toe by their positions ([`cluster_heel_toe`]).
 pub fn find_markers(labels: &[String], names: &MarkerNames) -> Result<MarkerChoice> {
-    let norm: Vec<String> = labels.iter().map(|l| canonical(l)).collect();
+    let norm = canonical_all(labels);
     let left = side_foot(labels, &norm, 'l', &names.left_heel, &names.left_toe);
     let right = side_foot(labels, &norm, 'r', &names.right_heel, &names.right_toe);
     enough_feet(labels, &left, &right)?;
@@ -714,6 +763,32 @@ mod tests {
         assert_eq!(cluster_heel_toe(&[&a, &b, &c], &back), Some((0, 2)));
         let none = vec![[f64::NAN; 3]; frames];
         assert_eq!(cluster_heel_toe(&[&a, &b, &c], &none), None);
+    }
+
+    #[test]
+    fn a_one_letter_french_set_names_its_forefoot_ankle_and_pelvis() {
+        // c3d-samples' admarche2: pied, cheville, jambe, genou, fémur, bassin, épaule per
+        // side, then SS, C7 and OG.
+        let l = labels(&[
+            "PD", "CD", "JD", "GD", "FD", "BD", "ED", "PG", "CG", "JG", "GG", "FG", "BG", "EG",
+            "SS", "C7", "OG",
+        ]);
+        let m = find_markers(&l, &MarkerNames::default()).unwrap();
+        assert_eq!(
+            (m.right_toe.clone(), m.right_heel.clone()),
+            (vec![0], vec![1])
+        );
+        assert_eq!(
+            (m.left_toe.clone(), m.left_heel.clone()),
+            (vec![7], vec![8])
+        );
+        assert_eq!(m.heel_is_ankle, [true, true]);
+        assert_eq!(m.pelvis, vec![12, 5]);
+        // A stray `CG` or `PD` among longer names is no such set.
+        let stray = labels(&[
+            "LHEE", "RHEE", "LTOE", "RTOE", "SACR", "PD", "PG", "CG", "CD",
+        ]);
+        assert_eq!(canonical_all(&stray)[5..], ["pd", "pg", "cg", "cd"]);
     }
 
     #[test]
