@@ -118,7 +118,7 @@ const FRENCH_ONE_LETTER: &[(char, &str)] = &[('p', "toe"), ('c', "ank"), ('b', "
 const FRENCH_ONE_LETTER_PAIRS: usize = 5;
 
 /// Every label as searched ([`canonical`]); in a one-letter French set (see
-/// [`FRENCH_ONE_LETTER`]), its forefoot, ankle and pelvis markers under the names searched.
+/// `FRENCH_ONE_LETTER`), its forefoot, ankle and pelvis markers under the names searched.
 pub fn canonical_all(labels: &[String]) -> Vec<String> {
     let mut norm: Vec<String> = labels.iter().map(|l| canonical(l)).collect();
     let one_letter = |n: &str, side: char| {
