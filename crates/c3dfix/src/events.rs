@@ -559,6 +559,7 @@ pub fn detect_events(c: &c3d::C3d, opts: &EventOptions, path: &Path) -> Result<D
     ];
     let mut notes = position_notes(&choice, &labels);
     notes.extend(stand_in_notes(&choice, &labels));
+    notes.extend(ankle_notes(&choice, &labels));
     let frames = c.frames();
     if frames < gait::kinematic::MIN_FRAMES {
         return Err(trial_error(
@@ -701,6 +702,27 @@ fn stand_in_notes(choice: &MarkerChoice, labels: &[String]) -> Vec<String> {
 }
 
 /// One sentence per side whose heel and toe were told apart by position.
+/// One sentence per foot whose ankle stands in for a missing heel, with what that costs:
+/// on the corpora's ankle sets, from the markers alone, strikes 20–65 ms before the plates'
+/// (docs/events.md; `admarche2` 64 ms), which the trial's own plates or a session's
+/// calibration remove.
+fn ankle_notes(choice: &MarkerChoice, labels: &[String]) -> Vec<String> {
+    [("left", 0, &choice.left_heel), ("right", 1, &choice.right_heel)]
+        .into_iter()
+        .filter(|(_, k, heel)| choice.heel_is_ankle[*k] && !heel.is_empty())
+        .map(|(side, _, heel)| {
+            let names: Vec<String> = heel
+                .iter()
+                .map(|&i| labels.get(i).cloned().unwrap_or_default())
+                .collect();
+            format!(
+                "{side} foot: no heel marker, the ankle {} stands in for it; from the markers alone its strikes come 20–65 ms before a heel's, which the trial's own plates or a session's calibration remove",
+                names.join("+")
+            )
+        })
+        .collect()
+}
+
 fn position_notes(choice: &MarkerChoice, labels: &[String]) -> Vec<String> {
     let name = |i: &usize| labels.get(*i).cloned().unwrap_or_default();
     [

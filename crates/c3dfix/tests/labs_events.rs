@@ -398,6 +398,9 @@ fn a_one_letter_french_set_gives_its_events() {
     assert_eq!(role(&d, "rheel"), ["CD"]);
     assert_eq!(role(&d, "ltoe"), ["PG"]);
     assert_eq!(role(&d, "pelvis"), ["BG", "BD"]);
+    // What standing in costs is said, per foot.
+    assert_eq!(d.notes.len(), 2, "{:?}", d.notes);
+    assert!(d.notes[1].starts_with("right foot: no heel marker, the ankle CD stands in for it"));
     assert_eq!(d.events.len(), 12);
     let plate: Vec<(Side, Kind, f64)> = d
         .events
