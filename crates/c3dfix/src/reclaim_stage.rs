@@ -12,7 +12,7 @@
 use crate::error::{Error, Result};
 use crate::markers::{mm_per_unit, split_unlabelled};
 use crate::options::ReclaimMode;
-use crate::trial::to_trial;
+use crate::trial::{to_trial_and, Others};
 use repair::reclaim::{find_reclaims_sharing, Fit, Piece, ReclaimOptions, Why};
 use serde::Serialize;
 use std::path::Path;
@@ -123,13 +123,16 @@ pub(crate) struct Points<'a> {
 /// [`ReclaimMode::On`], move the settled pieces' samples in `c` and in `trial` (the repair's
 /// trial of `points.labelled`). `points.data` says which of the trial's samples are the
 /// marker's data (its own earlier fills are not: they are gaps here as for every stage).
-/// `in_scope` says which points a repair may change.
+/// `in_scope` says which points a repair may change. `others` holds the unlabelled points as
+/// read with the trial (decoded here if only their validity was read); the samples moved
+/// leave them as they leave the file.
 pub(crate) fn run(
     c: &mut c3d::C3d,
     name: &Path,
     mode: ReclaimMode,
     points: &Points<'_>,
     trial: &mut repair::Trial,
+    others: &mut Others,
     in_scope: &dyn Fn(usize) -> bool,
 ) -> Result<Reclaim> {
     let mut out = Reclaim {
@@ -150,7 +153,7 @@ pub(crate) fn run(
     if points.data.iter().zip(&trial.xyz).all(whole) {
         return Ok(out);
     }
-    let cands = to_trial(c, points.unlabelled, points.zero_invalid)?;
+    let mut cands = others.lend(c, points.unlabelled, points.zero_invalid)?;
     let mm = mm_per_unit(&c.point_units());
     // The markers judged are the trial's coordinates with the data's validity: the trial
     // lends its coordinates for the judging (its validity set aside meanwhile) rather than
@@ -230,7 +233,8 @@ pub(crate) fn run(
         path: name.to_path_buf(),
         source,
     })?;
-    // The same move in the trial: the marker's row takes the samples as decoded.
+    // The same move in the trial: the marker's row takes the samples as decoded, and the
+    // unlabelled point loses them as it does in the file.
     for (b, mv) in moves.iter().zip(found.moves.iter().filter(|m| {
         let pc = &m.piece;
         mode == ReclaimMode::On && in_scope(marker(pc))
@@ -239,8 +243,10 @@ pub(crate) fn run(
         for f in b.first_index..=b.last_index {
             trial.xyz[row][f] = cands.xyz[src][f];
             trial.valid[row][f] = true;
+            cands.valid[src][f] = false;
         }
     }
+    others.put_back(cands);
     Ok(out)
 }
 
@@ -278,7 +284,8 @@ pub fn reclaim(
     zero_invalid: bool,
 ) -> Result<Reclaim> {
     let split = split_unlabelled(c, unlabelled);
-    let mut trial = to_trial(c, &split.labelled, zero_invalid)?;
+    let (mut trial, mut others) =
+        to_trial_and(c, &split.labelled, &split.unlabelled, true, zero_invalid)?;
     let data = own_data(c, &split.labelled, &trial);
     let mut copy = c.clone();
     run(
@@ -293,6 +300,7 @@ pub fn reclaim(
             links: None,
         },
         &mut trial,
+        &mut others,
         &|_| false,
     )
 }

@@ -9,7 +9,7 @@ use crate::reclaim_stage::{self, Reclaim, ReclaimAction, ReclaimBrief, Unsettled
 use crate::rerun;
 use crate::swap_stage::{self, SwapAction, SwapBrief};
 use crate::tally::Tally;
-use crate::trial::{to_trial, write_back};
+use crate::trial::{to_trial_and, write_back, Others};
 use repair::{FillMethod, FillOutcome, SkipKind};
 use serde::Serialize;
 use std::path::Path;
@@ -294,7 +294,13 @@ pub(crate) fn repair_configured(
     let record = rerun::Record::read(c);
     let fill_settings = rerun::fill_settings(opts);
     let mut already_applied = Vec::new();
-    let mut trial = to_trial(c, &points, opts.zero_invalid)?;
+    let reclaim_settings = rerun::reclaim_settings(opts);
+    let reclaim_done = record.reclaim.is_some() && reclaim_settings.is_some();
+    // The unlabelled points are read with the markers, in one pass over the data: their
+    // validity for the summary, their coordinates too when the reclaim stage will judge them.
+    let judged = !reclaim_done && opts.reclaim != crate::options::ReclaimMode::Off;
+    let (mut trial, mut unlabelled) =
+        to_trial_and(c, &points, &split.unlabelled, judged, opts.zero_invalid)?;
     // 0. Label swaps, in the file and the trial, before any other stage reads them.
     let swap_settings = rerun::swap_settings(opts);
     let point_in_scope = |p: usize| only.as_ref().is_none_or(|o| o.contains(&p));
@@ -307,7 +313,6 @@ pub(crate) fn repair_configured(
     };
     // 1. Unlabelled samples that are a marker's, moved back before any fill reads the gaps;
     // never twice (a second run would judge against the first run's moves).
-    let reclaim_settings = rerun::reclaim_settings(opts);
     let stage_points = reclaim_stage::Points {
         labelled: &points,
         unlabelled: &split.unlabelled,
@@ -320,7 +325,14 @@ pub(crate) fn repair_configured(
             already_applied.push(format!("reclaim ({done})"));
             Reclaim::default()
         }
-        _ => reclaim_now(c, name, opts, &stage_points, &mut trial, &point_in_scope)?,
+        _ => reclaim_now(
+            c,
+            name,
+            opts,
+            &stage_points,
+            (&mut trial, &mut unlabelled),
+            &point_in_scope,
+        )?,
     };
     let cfg = without_done_steps(cfg, &record, name, &mut already_applied)?;
     let row_of: std::collections::HashMap<usize, usize> =
@@ -348,7 +360,7 @@ pub(crate) fn repair_configured(
         already_applied,
         markers: points.len(),
         model_outputs_left: c.point_count() - points.len() - split.unlabelled.len(),
-        unlabelled: unlabelled_brief(c, &split.unlabelled, opts.zero_invalid),
+        unlabelled: unlabelled_brief(&unlabelled),
         samples_at_origin: at_origin(&trial, &in_scope),
         swaps_undone: count_action(&stage.briefs, SwapAction::Undone),
         jumps_to_gaps: count_action(&stage.briefs, SwapAction::Gap),
@@ -656,7 +668,7 @@ fn reclaim_now(
     name: &Path,
     opts: &RepairOptions,
     points: &reclaim_stage::Points,
-    trial: &mut repair::Trial,
+    (trial, unlabelled): (&mut repair::Trial, &mut Others),
     point_in_scope: &dyn Fn(usize) -> bool,
 ) -> Result<Reclaim> {
     let data = reclaim_stage::own_data(c, points.labelled, trial);
@@ -664,7 +676,15 @@ fn reclaim_now(
         data: &data,
         ..*points
     };
-    reclaim_stage::run(c, name, opts.reclaim, &labelled, trial, point_in_scope)
+    reclaim_stage::run(
+        c,
+        name,
+        opts.reclaim,
+        &labelled,
+        trial,
+        unlabelled,
+        point_in_scope,
+    )
 }
 
 /// The points a repair works on: those `opts` names (`None`: every marker) and the trial's
@@ -804,19 +824,15 @@ fn earlier_of(
     earlier
 }
 
-/// The unlabelled points of `c` for the summary, `None` when there are none.
-fn unlabelled_brief(c: &c3d::C3d, points: &[usize], zero_invalid: bool) -> Option<UnlabelledBrief> {
-    if points.is_empty() {
+/// The unlabelled points for the summary (after the reclaim stage's moves), `None` when
+/// there are none.
+fn unlabelled_brief(unlabelled: &Others) -> Option<UnlabelledBrief> {
+    if unlabelled.valid.is_empty() {
         return None;
     }
-    let v = crate::trial::validity(c, points, zero_invalid);
     Some(UnlabelledBrief {
-        points: points.len(),
-        samples: v
-            .valid
-            .iter()
-            .map(|r| r.iter().filter(|&&x| x).count())
-            .sum(),
+        points: unlabelled.valid.len(),
+        samples: unlabelled.samples(),
     })
 }
 

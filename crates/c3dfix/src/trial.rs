@@ -35,9 +35,73 @@ pub fn open_mapped(path: impl AsRef<Path>) -> Result<c3d::C3d> {
 /// The trajectories are gathered chunk by chunk from the file's bytes
 /// ([`c3d::C3d::map_point_chunks`]), so the trial is the only decoded copy of them.
 pub fn to_trial(c: &c3d::C3d, points: &[usize], zero_invalid: bool) -> Result<repair::Trial> {
-    let g = gather(c, points, zero_invalid, true);
-    repair::Trial::new(c.point_rate() as f64, g.xyz, g.valid)
+    let g = gather(c, points, points.len(), zero_invalid);
+    trial_of(c, g.xyz, g.valid)
+}
+
+fn trial_of(c: &c3d::C3d, xyz: Vec<Vec<[f64; 3]>>, valid: Vec<Vec<bool>>) -> Result<repair::Trial> {
+    repair::Trial::new(c.point_rate() as f64, xyz, valid)
         .map_err(|e| Error::options(format!("cannot build the trial: {e}")))
+}
+
+/// Points read beside a trial in the same pass: their validity always, their coordinates
+/// when asked for (a repair's unlabelled points, which the reclaim stage judges and the
+/// summary counts).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Others {
+    /// `valid[row][frame]`, by the same rule as the trial's.
+    pub valid: Vec<Vec<bool>>,
+    /// `xyz[row][frame]`, when decoded.
+    pub xyz: Option<Vec<Vec<[f64; 3]>>>,
+}
+
+impl Others {
+    /// Valid samples in all rows.
+    pub fn samples(&self) -> usize {
+        self.valid
+            .iter()
+            .map(|r| r.iter().filter(|&&x| x).count())
+            .sum()
+    }
+
+    /// The rows (`points` of `c`) as a trial, decoded now if only their validity was read;
+    /// the rows are lent, to be put back with [`Others::put_back`].
+    pub fn lend(
+        &mut self,
+        c: &c3d::C3d,
+        points: &[usize],
+        zero_invalid: bool,
+    ) -> Result<repair::Trial> {
+        match self.xyz.take() {
+            Some(xyz) => trial_of(c, xyz, std::mem::take(&mut self.valid)),
+            None => to_trial(c, points, zero_invalid),
+        }
+    }
+
+    /// The rows lent by [`Others::take_trial`], as the trial holds them now.
+    pub fn put_back(&mut self, t: repair::Trial) {
+        self.xyz = Some(t.xyz);
+        self.valid = t.valid;
+    }
+}
+
+/// [`to_trial`] of `points`, and `others` read in the same pass over the data (one walk of
+/// the file's chunks rather than two): their validity, and their coordinates with
+/// `others_xyz`.
+pub(crate) fn to_trial_and(
+    c: &c3d::C3d,
+    points: &[usize],
+    others: &[usize],
+    others_xyz: bool,
+    zero_invalid: bool,
+) -> Result<(repair::Trial, Others)> {
+    let all: Vec<usize> = points.iter().chain(others).copied().collect();
+    let with_xyz = points.len() + if others_xyz { others.len() } else { 0 };
+    let mut g = gather(c, &all, with_xyz, zero_invalid);
+    let valid = g.valid.split_off(points.len());
+    let xyz = others_xyz.then(|| g.xyz.split_off(points.len()));
+    g.xyz.truncate(points.len());
+    Ok((trial_of(c, g.xyz, g.valid)?, Others { valid, xyz }))
 }
 
 /// Which samples of some points are valid, without decoding the trial into memory.
@@ -53,7 +117,7 @@ pub struct Validity {
 /// The validity of the given points of `c` over all frames, by the same rule as
 /// [`to_trial`], in one pass over the data that holds one chunk of it at a time.
 pub fn validity(c: &c3d::C3d, points: &[usize], zero_invalid: bool) -> Validity {
-    let g = gather(c, points, zero_invalid, false);
+    let g = gather(c, points, 0, zero_invalid);
     Validity {
         valid: g.valid,
         at_origin: g.at_origin,
@@ -66,13 +130,14 @@ struct Gathered {
     at_origin: usize,
 }
 
-/// Per-marker rows of coordinates (when `with_xyz`) and validity, filled in parallel: each
-/// chunk of frames writes its own slice of every row.
-fn gather(c: &c3d::C3d, points: &[usize], zero_invalid: bool, with_xyz: bool) -> Gathered {
+/// Per-marker rows of validity, and of coordinates for the first `xyz_rows` rows (the
+/// others' coordinate rows stay empty), filled in parallel: each chunk of frames writes its
+/// own slice of every row.
+fn gather(c: &c3d::C3d, points: &[usize], xyz_rows: usize, zero_invalid: bool) -> Gathered {
     let frames = c.frames();
     let rows = points.len();
     let mut xyz: Vec<Vec<[f64; 3]>> = (0..rows)
-        .map(|_| vec![[0.0; 3]; if with_xyz { frames } else { 0 }])
+        .map(|r| vec![[0.0; 3]; if r < xyz_rows { frames } else { 0 }])
         .collect();
     let mut valid: Vec<Vec<bool>> = (0..rows).map(|_| vec![false; frames]).collect();
     let per = c.point_chunk_frames();
@@ -98,7 +163,7 @@ fn gather(c: &c3d::C3d, points: &[usize], zero_invalid: bool, with_xyz: bool) ->
                 let zero = p == [0.0; 3];
                 origin += usize::from(ok && zero);
                 vs[row][f] = ok && !(zero_invalid && zero);
-                if with_xyz {
+                if row < xyz_rows {
                     xs[row][f] = [p[0] as f64, p[1] as f64, p[2] as f64];
                 }
             }

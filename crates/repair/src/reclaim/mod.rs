@@ -29,7 +29,7 @@ mod finds;
 mod pieces;
 mod score;
 
-use crate::swaps::{learn_links, LearnedLinks, Link, Relearned};
+use crate::swaps::{learn_links, LearnedLinks, Link, LinksOnDemand};
 use crate::Trial;
 use rayon::prelude::*;
 use std::borrow::Cow;
@@ -77,22 +77,56 @@ pub fn find_reclaims_sharing(
         return Reclaims::default();
     }
     let (m, u) = (in_mm(markers, mm_per_unit), in_mm(candidates, mm_per_unit));
-    // Learned when a piece first passes the path: a trial whose pieces all stray from it
-    // (or that has none) needs no links.
-    let links = std::cell::OnceCell::new();
-    let learn = || segment_links_with(&m, opts, known);
+    // A marker's links are learned when one of its pieces first passes the path: most
+    // markers have none (a trial whose pieces all stray from the path needs no links), and
+    // a marker's links are its own pairs' alone.
+    let params = (LINK_SPREAD_MM, LINK_SUPPORT, LINKS_PER_MARKER);
+    let demand = LinksOnDemand::new(&m, params, known);
+    let links: Vec<std::cell::OnceCell<Vec<Link>>> = vec![Default::default(); m.markers()];
+    // A link is in both its markers' lists: its tolerance is found once.
+    let q95s = std::cell::RefCell::new(std::collections::HashMap::new());
     let runs = pieces::Runs::of(&u);
     let mut live = Vec::new();
     let total = runs.each_near_end(&m, opts, |p| {
-        let fit = score::score(&p, &m, &u, || &links.get_or_init(learn).0[p.marker], opts);
+        let mine = || {
+            let learn = || {
+                let q95 = |lo, hi, d0| {
+                    let mut known = q95s.borrow_mut();
+                    *known
+                        .entry((lo, hi))
+                        .or_insert_with(|| departure_q95(&m, lo, hi, d0, &mut Vec::new()))
+                };
+                with_tolerance(p.marker, demand.of(p.marker), opts, q95)
+            };
+            &links[p.marker].get_or_init(learn)[..]
+        };
+        let fit = score::score(&p, &m, &u, mine, opts);
         if fit.verdict != Verdict::Off {
             live.push((p, fit));
         }
     });
     let mut out = decide::decide(&live, opts);
     out.pieces = total;
-    out.link_pairs = links.get().map(|l| l.1).unwrap_or_default();
+    out.link_pairs = demand.relearned();
     out
+}
+
+/// Marker `a`'s links with the tolerance [`segment_links`] gives them, those above
+/// [`ReclaimOptions::max_link_tol_mm`] dropped. `q95` gives a pair's
+/// [`departure_q95`] (`lo < hi`, the link's distance).
+fn with_tolerance(
+    a: usize,
+    mut links: Vec<Link>,
+    opts: &ReclaimOptions,
+    mut q95: impl FnMut(usize, usize, f64) -> Option<f64>,
+) -> Vec<Link> {
+    for l in &mut links {
+        if let Some(q) = q95(a.min(l.other), a.max(l.other), l.d0_mm) {
+            l.tol_mm = l.tol_mm.max(q);
+        }
+    }
+    links.retain(|l| l.tol_mm <= opts.max_link_tol_mm);
+    links
 }
 
 /// Every piece with its fit, before any is settled: what [`find_reclaims`] decides on, for
@@ -120,11 +154,14 @@ pub fn judge(
 /// as in most trials: no copy of its arrays. Multiplying by 1 leaves every finite number's
 /// bits as they were, and only valid samples are read.
 fn in_mm(t: &Trial, mm_per_unit: f64) -> Cow<'_, Trial> {
+    // A sum of three numbers is finite only when each is (a NaN or an infinity carries
+    // through; two finite ones that overflow make it say no, and the copy is then made):
+    // one test per sample rather than three.
     let finite = || {
         t.xyz.iter().zip(&t.valid).all(|(r, v)| {
             r.iter()
                 .zip(v)
-                .all(|(p, &ok)| !ok || p.iter().all(|c| c.is_finite()))
+                .all(|(p, &ok)| !ok || (p[0] + p[1] + p[2]).is_finite())
         })
     };
     if mm_per_unit == 1.0 && finite() {
@@ -145,57 +182,17 @@ fn in_mm(t: &Trial, mm_per_unit: f64) -> Cow<'_, Trial> {
 ///
 /// `m` in mm; public for evaluations that compare distances after reclaiming with these.
 pub fn segment_links(m: &Trial, opts: &ReclaimOptions) -> Vec<Vec<Link>> {
-    segment_links_with(m, opts, None).0
-}
-
-/// [`segment_links`], learning again only what `known` does not hold of `m`, and how many
-/// pairs that was.
-fn segment_links_with(
-    m: &Trial,
-    opts: &ReclaimOptions,
-    known: Option<&LearnedLinks>,
-) -> (Vec<Vec<Link>>, Relearned) {
-    let (mut links, relearned) = match known {
-        Some(k) => k.learn_again(m, LINK_SPREAD_MM, LINK_SUPPORT, LINKS_PER_MARKER),
-        None => {
-            let all = m.markers() * m.markers().saturating_sub(1) / 2;
-            let links = learn_links(m, LINK_SPREAD_MM, LINK_SUPPORT, LINKS_PER_MARKER);
-            let done = Relearned {
-                pairs: all,
-                learned: all,
-            };
-            (links, done)
-        }
-    };
-    // A link is in both its markers' lists (unless one list was cut to its best), with the
-    // same distance, and its departures are the same numbers either way round (a
-    // difference and its negation square alike): each pair's percentile is found once,
-    // pairs in parallel.
-    let mut pairs: Vec<(usize, usize, f64)> = links
-        .iter()
+    let links = learn_links(m, LINK_SPREAD_MM, LINK_SUPPORT, LINKS_PER_MARKER);
+    links
+        .into_par_iter()
         .enumerate()
-        .flat_map(|(a, ls)| {
-            ls.iter()
-                .map(move |l| (a.min(l.other), a.max(l.other), l.d0_mm))
+        .map(|(a, ls)| {
+            let mut dev = Vec::new();
+            with_tolerance(a, ls, opts, |lo, hi, d0| {
+                departure_q95(m, lo, hi, d0, &mut dev)
+            })
         })
-        .collect();
-    pairs.sort_by_key(|p| (p.0, p.1));
-    pairs.dedup_by(|x, y| (x.0, x.1) == (y.0, y.1));
-    let q95: Vec<Option<f64>> = pairs
-        .par_iter()
-        .map_init(Vec::new, |dev, &(a, b, d0)| departure_q95(m, a, b, d0, dev))
-        .collect();
-    for (a, ls) in links.iter_mut().enumerate() {
-        for l in ls.iter_mut() {
-            let key = (a.min(l.other), a.max(l.other));
-            let i = pairs.partition_point(|p| (p.0, p.1) < key);
-            if let Some(q) = q95.get(i).copied().flatten() {
-                l.tol_mm = l.tol_mm.max(q);
-            }
-        }
-        ls.retain(|l| l.tol_mm <= opts.max_link_tol_mm);
-    }
-    (links, relearned)
+        .collect()
 }
 
 /// The 95th percentile of |distance − `d0`| between markers `a` and `b` over the frames

@@ -206,35 +206,133 @@ fn pair_links(
                         continue;
                     }
                 }
-                let ([xa, ya, za], [xb, yb, zb]) = (&sampled[a], &sampled[b]);
-                // All of one length, so that the loop checks no index.
-                let (xa, ya, za) = (&xa[..len], &ya[..len], &za[..len]);
-                let (xb, yb, zb) = (&xb[..len], &yb[..len], &zb[..len]);
-                // The same sum, in the same order, as [`dist`].
-                for (k, d) in all.iter_mut().enumerate() {
-                    *d = ((xa[k] - xb[k]).powi(2)
-                        + (ya[k] - yb[k]).powi(2)
-                        + (za[k] - zb[k]).powi(2))
-                    .sqrt();
-                }
-                ds.clear();
-                ds.extend(all.iter().filter(|d| !d.is_nan()).map(|d| d.to_bits()));
-                if let Some((d0, spread)) = cluster(&mut ds, &mut near, max_spread_mm, min_support)
-                {
-                    mine.push((
-                        b,
-                        Link {
-                            other: b,
-                            d0_mm: d0,
-                            tol_mm: (4.0 * spread).max(4.0),
-                            spread_mm: spread,
-                        },
-                    ));
+                let mut bufs = (&mut all, &mut ds, &mut near);
+                if let Some(l) = pair_link(sampled, (a, b), max_spread_mm, min_support, &mut bufs) {
+                    mine.push((b, l));
                 }
             }
             mine
         })
         .collect()
+}
+
+/// The link of markers `a < b` (`other` is `b`), from their sampled coordinates, or `None`
+/// when the pair keeps no distance; `bufs` are buffers kept across pairs.
+fn pair_link(
+    sampled: &[[Vec<f64>; 3]],
+    (a, b): (usize, usize),
+    max_spread_mm: f64,
+    min_support: f64,
+    (all, ds, near): &mut (&mut Vec<f64>, &mut Vec<u64>, &mut Vec<u64>),
+) -> Option<Link> {
+    let len = sampled[a][0].len();
+    all.resize(len, 0.0);
+    let ([xa, ya, za], [xb, yb, zb]) = (&sampled[a], &sampled[b]);
+    // All of one length, so that the loop checks no index.
+    let (xa, ya, za) = (&xa[..len], &ya[..len], &za[..len]);
+    let (xb, yb, zb) = (&xb[..len], &yb[..len], &zb[..len]);
+    // The same sum, in the same order, as [`dist`].
+    for (k, d) in all.iter_mut().enumerate() {
+        *d = ((xa[k] - xb[k]).powi(2) + (ya[k] - yb[k]).powi(2) + (za[k] - zb[k]).powi(2)).sqrt();
+    }
+    ds.clear();
+    ds.extend(all.iter().filter(|d| !d.is_nan()).map(|d| d.to_bits()));
+    let (d0, spread) = cluster(ds, near, max_spread_mm, min_support)?;
+    Some(Link {
+        other: b,
+        d0_mm: d0,
+        tol_mm: (4.0 * spread).max(4.0),
+        spread_mm: spread,
+    })
+}
+
+/// The links of single markers, learned when first asked for: a stage that needs the links
+/// of a few markers only (the reclaim judging: those with a piece to score) learns the
+/// pairs of those markers, not all of the trial's. Each marker's links are those
+/// [`learn_links`] gives it, and with `known` (an earlier stage's links on the same
+/// markers, as [`LearnedLinks::learn_again`] takes them) a pair of two markers that sample
+/// as they did then takes its earlier verdict.
+#[derive(Debug)]
+pub struct LinksOnDemand<'a> {
+    sampled: Vec<[Vec<f64>; 3]>,
+    params: (f64, f64, usize),
+    /// The earlier stage's pairs, and which markers sample as they did then.
+    known: Option<(&'a [PairLinks], Vec<bool>)>,
+    /// Each pair's verdict, `(a, b)` with `a < b`, once learned or taken.
+    verdicts: std::cell::RefCell<std::collections::HashMap<(usize, usize), Option<Link>>>,
+    learned: std::cell::Cell<usize>,
+}
+
+impl<'a> LinksOnDemand<'a> {
+    /// Ready to learn the links of `trial`'s markers with [`learn_links`]' parameters.
+    pub fn new(
+        trial: &Trial,
+        (max_spread_mm, min_support, max_links): (f64, f64, usize),
+        known: Option<&'a LearnedLinks>,
+    ) -> LinksOnDemand<'a> {
+        let sampled = sample(trial);
+        let known = known
+            .filter(|k| {
+                k.params.0.to_bits() == max_spread_mm.to_bits()
+                    && k.params.1.to_bits() == min_support.to_bits()
+                    && trial.frames() == k.frames
+                    && sampled.len() == k.sampled.len()
+            })
+            .map(|k| {
+                let same = sampled
+                    .iter()
+                    .zip(&k.sampled)
+                    .map(|(a, b)| (0..3).all(|c| bits_equal(&a[c], &b[c])))
+                    .collect();
+                (&k.pairs[..], same)
+            });
+        LinksOnDemand {
+            sampled,
+            params: (max_spread_mm, min_support, max_links),
+            known,
+            verdicts: Default::default(),
+            learned: Default::default(),
+        }
+    }
+
+    /// Marker `k`'s links, as [`learn_links`] gives them on the trial.
+    pub fn of(&self, k: usize) -> Vec<Link> {
+        let m = self.sampled.len();
+        let (max_spread_mm, min_support, max_links) = self.params;
+        let (mut all, mut ds, mut near) = (Vec::new(), Vec::new(), Vec::new());
+        let mut verdicts = self.verdicts.borrow_mut();
+        // Others in ascending order, as [`best_links`] lists them before its stable sort.
+        let mut mine: Vec<Link> = (0..m)
+            .filter(|&b| b != k)
+            .filter_map(|b| {
+                let key = (k.min(b), k.max(b));
+                let verdict = *verdicts.entry(key).or_insert_with(|| match &self.known {
+                    Some((pairs, same)) if same[key.0] && same[key.1] => pairs[key.0]
+                        .binary_search_by_key(&key.1, |p| p.0)
+                        .ok()
+                        .map(|i| pairs[key.0][i].1),
+                    _ => {
+                        self.learned.set(self.learned.get() + 1);
+                        let mut bufs = (&mut all, &mut ds, &mut near);
+                        pair_link(&self.sampled, key, max_spread_mm, min_support, &mut bufs)
+                    }
+                });
+                verdict.map(|l| Link { other: b, ..l })
+            })
+            .collect();
+        mine.sort_by(|p, q| p.spread_mm.total_cmp(&q.spread_mm));
+        mine.truncate(max_links);
+        mine
+    }
+
+    /// Of the trial's pairs of markers, how many were learned (not taken from `known`).
+    pub fn relearned(&self) -> Relearned {
+        let m = self.sampled.len();
+        Relearned {
+            pairs: m * m.saturating_sub(1) / 2,
+            learned: self.learned.get(),
+        }
+    }
 }
 
 /// Each marker's links from the pairs' ([`pair_links`]), its best `max_links` (lowest

@@ -16,5 +16,5 @@ pub mod links;
 pub mod undo;
 
 pub use detect::{find_swaps, find_swaps_learned, Evidence, Find, FindKind, SwapOptions};
-pub use links::{learn_links, LearnedLinks, Link, Relearned};
+pub use links::{learn_links, LearnedLinks, Link, LinksOnDemand, Relearned};
 pub use undo::undo;
