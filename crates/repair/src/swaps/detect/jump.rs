@@ -188,11 +188,7 @@ pub(super) fn leap_jump_find(cx: &Ctx, a: usize, s: usize, e: usize, opts: &Swap
         }
         _ => 0.0,
     };
-    let steps: Vec<f64> = [s, e + 1]
-        .iter()
-        .filter_map(|&f| cx.step(a, f, (a, a), (0, 0), false))
-        .collect();
-    let smoother = steps.iter().filter(|&&x| x > cx.break_mm(a)).count();
+    let (smoother, checked, edge_step) = edge_leaps(cx, a, s, e);
     // A label on another point follows that point, as smooth as any marker: its two leaps
     // stand out of a quiet span. Leaps amid leaps as large are a noisy trajectory (a fast
     // arm seen by few cameras), which closes on itself as often as not.
@@ -243,8 +239,8 @@ pub(super) fn leap_jump_find(cx: &Ctx, a: usize, s: usize, e: usize, opts: &Swap
             },
             link_error_undone: 0.0,
             edges_smoother: smoother,
-            edges_checked: steps.len(),
-            edge_step_mm: steps.iter().copied().fold(0.0, f64::max),
+            edges_checked: checked,
+            edge_step_mm: edge_step,
             offset_share: witness.flatten().map(|o| o.share()),
         },
     }
