@@ -418,6 +418,27 @@ pub(super) fn selftest(bin: &Path, page: &Path, profile: &Path) -> serde_json::V
     serde_json::from_str(&json).expect("self-test JSON")
 }
 
+/// A trial recorded before the subject walks into view (BMC's gait trial: no marker until
+/// frame 134 of 487) opens where the markers are, not on an empty floor; a trial seen from
+/// its first frame opens there.
+#[test]
+fn the_viewer_opens_where_the_markers_are() {
+    let Some(bin) = chromium() else { return };
+    let Some(late) = testkit::c3d_labs_trial("BMClab__BMC__Gait") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    for (trial, first_seen) in [(late, 134), (sample("walk_int.c3d"), 1)] {
+        let page = dir.path().join("page.html");
+        let out = c3dfix(&["view", s(&trial), "-o", s(&page), "--force"]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let r = selftest(&bin, &page, &dir.path().join("profile"));
+        assert_eq!(r["errors"], serde_json::json!([]), "{r}");
+        assert_eq!(r["opened_at"], first_seen, "{}: {r}", trial.display());
+        assert!(r["markers_drawn"].as_u64().unwrap() > 20, "{r}");
+    }
+}
+
 #[test]
 fn the_viewer_plays_in_a_browser() {
     let Some(bin) = chromium() else { return };

@@ -544,8 +544,16 @@
   // ?follow=1 opens the page following the subject (for links and screenshots).
   if (/[?&]follow=1\b/.test(location.search)) $('follow').click();
   // ?frame=K opens the page at the file's frame K (numbered as the file numbers frames).
+  // Otherwise it opens at the first frame where a marker is seen: a trial recorded before
+  // the subject walks into view would open on an empty floor.
   const at = /[?&]frame=(\d+)/.exec(location.search);
   if (at) setFrame(Number(at[1]) - meta.first_frame);
+  else {
+    const seen = (f) => { for (let m = 0; m < M; m++) if (lastValid[f * M + m] >= 0) return true; return false; };
+    let f = 0;
+    while (f < N && !seen(f)) f++;
+    if (f > 0 && f < N) setFrame(f);
+  }
 
   // Whether the scene stands upright, read through what the renderer draws with (the page's
   // axis mapping, its camera and projection): `screen_up` is the lab direction (raw file
@@ -595,7 +603,7 @@
   // Self-test (?selftest=1): plays, moves the slider and reports into the page, for the
   // project's browser test.
   if (selftest) {
-    const r = { errors: errors };
+    const r = { errors: errors, opened_at: frame + meta.first_frame };
     const out = document.createElement('pre');
     out.id = 'selftest';
     const px = () => {
