@@ -3,7 +3,7 @@
 //! rigidly with the chosen one ([`rigid_with`]).
 
 use crate::error::Result;
-use crate::events::{marker_labels, tracks};
+use crate::events_tracks::{marker_labels, tracks};
 use gait::{Feet, MarkerChoice};
 use std::path::Path;
 
