@@ -434,6 +434,31 @@ fn a_marker_moving_rigidly_with_the_toe_stands_in_where_every_named_one_is_lost(
 }
 
 #[test]
+fn on_a_standing_trial_no_marker_is_taken_as_moving_with_the_foot() {
+    // c3d-samples' sample_28 standing.C3D: a static calibration, whose toe and heel markers
+    // have gaps. Standing still, every marker keeps its offset from every other (within
+    // 1-5 mm here), so only frames where the foot moves may judge rigidity: none does, and
+    // no marker stands in by position.
+    let Some(dir) = testkit::c3d_samples() else {
+        return;
+    };
+    let path = dir.join("sample_28/standing.C3D");
+    let c = c3dfix::open(&path).unwrap();
+    let mut choice = c3dfix::events::choose_markers(&c, &Default::default(), &path).unwrap();
+    let feet = c3dfix::events::feet(&c, &mut choice, &path).unwrap();
+    assert!(feet
+        .left_toe
+        .iter()
+        .chain(&feet.right_heel)
+        .any(|p| p[0].is_nan()));
+    assert!(
+        choice.stand_ins.iter().all(|s| !s.rigid),
+        "{:?}",
+        choice.stand_ins
+    );
+}
+
+#[test]
 fn a_one_letter_french_set_gives_its_events() {
     // c3d-samples' admarche2 (PD pied, CD cheville, BD bassin …, side last): once refused
     // for want of foot markers. The ankle stands in for the heel; where the right foot
