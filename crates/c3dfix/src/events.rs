@@ -7,6 +7,7 @@
 //! the file numbers frames ([`c3d::C3d::frame_number`]).
 
 use crate::error::{Error, Result, Setting};
+use crate::events_tracks::{marker_labels, tracks, trial_error};
 use crate::platforms::{force_platforms, ForceOptions};
 use gait::{
     Feet, Kind, KinematicOptions, MarkerChoice, MarkerNames, PlateInput, PlateOptions, Side, Source,
@@ -120,29 +121,6 @@ pub const AUTO_MERGE_S: f64 = 0.2;
 /// (c3d-samples; docs/events.md).
 pub const CALIBRATE_WINDOW_S: f64 = 0.06;
 
-fn trial_error(path: &Path, e: impl std::fmt::Display) -> Error {
-    Error::Trial {
-        path: path.to_path_buf(),
-        what: e.to_string(),
-    }
-}
-
-/// The point labels of `c` with model outputs blanked, so that a role is never given to an
-/// angle or a moment that happens to share a marker's name.
-fn marker_labels(c: &c3d::C3d) -> Vec<String> {
-    let outputs = c.model_output_labels();
-    c.point_labels()
-        .into_iter()
-        .map(|l| {
-            if outputs.contains(&l) {
-                String::new()
-            } else {
-                l
-            }
-        })
-        .collect()
-}
-
 /// The markers of each role (point indices), found among the markers of `c` (model outputs
 /// are never taken).
 pub fn choose_markers(c: &c3d::C3d, names: &MarkerNames, path: &Path) -> Result<MarkerChoice> {
@@ -195,116 +173,8 @@ pub fn feet(c: &c3d::C3d, choice: &mut MarkerChoice, path: &Path) -> Result<Feet
     if swapped {
         f = feet_of(c, choice, path)?;
     }
-    stand_in(c, choice, &mut f, path)?;
+    crate::events_stand_in::stand_in(c, choice, &mut f, path)?;
     Ok(f)
-}
-
-/// How far either side of a gap (s) the chosen marker's offset from a stand-in is taken:
-/// about a stride, over which the foot turns through every angle it takes in a step.
-const STAND_IN_WINDOW_S: f64 = 1.0;
-
-/// The fewest frames with both markers seen near a gap that give the offset.
-const STAND_IN_MIN_FRAMES: usize = 5;
-
-/// Each heel and toe role of one marker found by its name (no cluster, no ankle) whose
-/// marker is missing in some frames gets, in those frames, the first other marker of its
-/// side named for the same part ([`gait::markers::candidates`]) that is seen there, moved by
-/// the median offset between the two over the frames both are seen within
-/// [`STAND_IN_WINDOW_S`] of the gap: two metatarsal heads or two heel markers keep their
-/// spacing on the rigid foot. Recorded in [`MarkerChoice::stand_ins`].
-fn stand_in(c: &c3d::C3d, choice: &mut MarkerChoice, f: &mut Feet, path: &Path) -> Result<()> {
-    let labels = marker_labels(c);
-    let rate = c.point_rate() as f64;
-    let reach = (STAND_IN_WINDOW_S * rate).round().max(1.0) as usize;
-    let roles: [(&'static str, char, bool, usize); 4] = [
-        ("lheel", 'l', true, 0),
-        ("ltoe", 'l', false, 0),
-        ("rheel", 'r', true, 1),
-        ("rtoe", 'r', false, 1),
-    ];
-    for (role, side, heel, k) in roles {
-        let chosen = match role {
-            "lheel" => &choice.left_heel,
-            "ltoe" => &choice.left_toe,
-            "rheel" => &choice.right_heel,
-            _ => &choice.right_toe,
-        };
-        if chosen.len() != 1
-            || !choice.by_position[k].is_empty()
-            || (heel && choice.heel_is_ankle[k])
-        {
-            continue;
-        }
-        let chosen = chosen[0];
-        let track = match role {
-            "lheel" => &mut f.left_heel,
-            "ltoe" => &mut f.left_toe,
-            "rheel" => &mut f.right_heel,
-            _ => &mut f.right_toe,
-        };
-        if track.iter().all(|p| p[0].is_finite()) {
-            continue;
-        }
-        let others: Vec<usize> = gait::markers::candidates(&labels, side, heel)
-            .into_iter()
-            .filter(|&i| i != chosen)
-            .collect();
-        if others.is_empty() {
-            continue;
-        }
-        let alt_tracks = tracks(c, &others, path)?;
-        for (&marker, alt) in others.iter().zip(&alt_tracks) {
-            let frames = fill_gaps(track, alt, reach);
-            if frames > 0 {
-                choice.stand_ins.push(gait::markers::StandIn {
-                    role,
-                    chosen,
-                    marker,
-                    frames,
-                });
-            }
-        }
-    }
-    Ok(())
-}
-
-/// `track`'s missing frames filled from `alt` plus the median offset of `track` from `alt`
-/// over the frames both are seen within `reach` frames of each gap; the frames filled.
-fn fill_gaps(track: &mut [[f64; 3]], alt: &[[f64; 3]], reach: usize) -> usize {
-    let n = track.len();
-    let seen = |p: &[f64; 3]| p.iter().all(|v| v.is_finite());
-    let mut filled = 0;
-    let mut i = 0;
-    while i < n {
-        if seen(&track[i]) {
-            i += 1;
-            continue;
-        }
-        let start = i;
-        while i < n && !seen(&track[i]) {
-            i += 1;
-        }
-        let (lo, hi) = (start.saturating_sub(reach), (i + reach).min(n));
-        let diffs: Vec<[f64; 3]> = (lo..hi)
-            .filter(|&j| seen(&track[j]) && seen(&alt[j]))
-            .map(|j| [0, 1, 2].map(|k| track[j][k] - alt[j][k]))
-            .collect();
-        if diffs.len() < STAND_IN_MIN_FRAMES {
-            continue;
-        }
-        let offset = [0, 1, 2].map(|k| {
-            let mut v: Vec<f64> = diffs.iter().map(|d| d[k]).collect();
-            v.sort_by(f64::total_cmp);
-            v[v.len() / 2]
-        });
-        for j in start..i {
-            if seen(&alt[j]) {
-                track[j] = [0, 1, 2].map(|k| alt[j][k] + offset[k]);
-                filled += 1;
-            }
-        }
-    }
-    filled
 }
 
 /// Give each side held as a foot cluster its heel and toe (see [`feet`]); `f` has the
@@ -344,34 +214,6 @@ fn resolve_clusters(c: &c3d::C3d, choice: &mut MarkerChoice, f: &Feet, path: &Pa
         choice.by_position[k] = cluster;
     }
     Ok(())
-}
-
-/// Each point's trajectory in millimetres, NaN where missing.
-fn tracks(c: &c3d::C3d, points: &[usize], path: &Path) -> Result<Vec<Vec<[f64; 3]>>> {
-    let mut sorted = points.to_vec();
-    sorted.sort_unstable();
-    sorted.dedup();
-    let trial = crate::trial::to_trial(c, &sorted, false).map_err(|e| trial_error(path, e))?;
-    let mm = c3d::mm_per_unit(&c.point_units());
-    let frames = c.frames();
-    Ok(points
-        .iter()
-        .map(|p| {
-            let Ok(row) = sorted.binary_search(p) else {
-                return vec![[f64::NAN; 3]; frames];
-            };
-            (0..frames)
-                .map(|f| {
-                    let v = trial.xyz[row][f];
-                    if trial.valid[row][f] && v.iter().all(|x| x.is_finite()) {
-                        [v[0] * mm, v[1] * mm, v[2] * mm]
-                    } else {
-                        [f64::NAN; 3]
-                    }
-                })
-                .collect()
-        })
-        .collect())
 }
 
 fn feet_of(c: &c3d::C3d, choice: &MarkerChoice, path: &Path) -> Result<Feet> {
@@ -682,7 +524,8 @@ pub const TREADMILL_NOTE: &str = "treadmill: the pelvis stays while the feet swi
 /// ([`gait::running`]).
 pub const RUNNING_NOTE: &str = "running: each foot leaves the floor before the other lands; foot offs from the markers are where the toe rises from its stance level (the toe's backward extreme comes late in a run's flight)";
 
-/// One sentence per marker that stood in for a role's missing one ([`stand_in`]).
+/// One sentence per marker that stood in for a role's missing one
+/// (`events_stand_in::stand_in`).
 fn stand_in_notes(choice: &MarkerChoice, labels: &[String]) -> Vec<String> {
     let name = |i: usize| labels.get(i).cloned().unwrap_or_default();
     choice
@@ -690,12 +533,17 @@ fn stand_in_notes(choice: &MarkerChoice, labels: &[String]) -> Vec<String> {
         .iter()
         .map(|st| {
             format!(
-                "{}: {} stands in for {} in {} frames where {} is missing (moved by their median offset near each gap)",
+                "{}: {} stands in for {} in {} frames where {} is missing (moved by their median offset near each gap{})",
                 st.role,
                 name(st.marker),
                 name(st.chosen),
                 st.frames,
-                name(st.chosen)
+                name(st.chosen),
+                if st.rigid {
+                    "; it keeps one offset from it within 10 mm, as on one rigid part of the foot"
+                } else {
+                    ""
+                }
             )
         })
         .collect()

@@ -32,6 +32,8 @@ pub mod event_group;
 pub mod event_labels;
 pub mod events;
 mod events_session;
+mod events_stand_in;
+mod events_tracks;
 pub mod export;
 mod feet;
 pub mod files;

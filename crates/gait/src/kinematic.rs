@@ -320,7 +320,16 @@ pub fn kinematic_gait(
     .then(|| combined(&mut found, &opts.running_off, Kind::FootOff, 0.0))
     .filter(|offs| crate::running::is_running(&strikes, offs, rate));
     let running = running_offs.is_some();
-    let offs = running_offs.unwrap_or(walking_offs);
+    let mut offs = running_offs.unwrap_or(walking_offs);
+    if running {
+        for (s, side) in Side::BOTH.into_iter().enumerate() {
+            if let Some(off) =
+                running_off_at_the_end(feet, side, &prep, &strikes[s], &offs[s], opts)
+            {
+                offs[s].push(off);
+            }
+        }
+    }
     let mut out = Vec::new();
     for (s, side) in Side::BOTH.into_iter().enumerate() {
         for (kind, times) in [(Kind::FootStrike, &strikes[s]), (Kind::FootOff, &offs[s])] {
@@ -339,6 +348,31 @@ pub fn kinematic_gait(
     }
     crate::sort_events(&mut out);
     Ok((out, running))
+}
+
+/// On a run, the off of a foot whose last strike has no off after it: the running off's
+/// method ([`Method::ZeniLift`], the toe's last rise through its stance level) anchored on
+/// the trial's last frame instead of Zeni's off, which a run's flight carries 40–100 ms past
+/// the lift-off (docs/events.md, "Running"), so past the end of a trial that stops within
+/// that of a foot leaving the floor (pyorerun's run, the treadmill run's last step). Kept
+/// only where the toe is seen rising after that strike; none where the trial ends with the
+/// foot still down.
+fn running_off_at_the_end(
+    feet: &Feet,
+    side: Side,
+    prep: &Prepared,
+    strikes: &[f64],
+    offs: &[f64],
+    opts: &KinematicOptions,
+) -> Option<f64> {
+    let last = *strikes.last()?;
+    let est = opts.running_off.first()?;
+    if est.method != Method::ZeniLift || offs.iter().any(|&o| o > last) {
+        return None;
+    }
+    let end = (feet.frames() - 1) as f64;
+    let lift = refine_off(feet, side, prep.vertical, end, prep.rate, opts.lift_mm);
+    (lift < end && lift > last).then_some(lift + est.offset_s * prep.rate)
 }
 
 /// One foot's events of one kind from `estimates`: the first decides which events exist;

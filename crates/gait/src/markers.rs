@@ -194,6 +194,8 @@ pub struct StandIn {
     pub marker: usize,
     /// Frames filled.
     pub frames: usize,
+    /// The marker was found by moving rigidly with the chosen one, not by its name.
+    pub rigid: bool,
 }
 
 /// The markers of `side` (`'l'` or `'r'`) named as a heel (`heel`) or as a toe part,

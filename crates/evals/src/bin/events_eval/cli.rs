@@ -161,6 +161,10 @@ pub struct Cli {
     /// The peers' events (`scripts/events_peers.py`), scored beside c3dfix's.
     #[arg(long, value_name = "FILE")]
     peers: Option<PathBuf>,
+    /// With `--peers`: one CSV row per truth event and detector, its signed error (ms;
+    /// empty where not found), to compare the detectors on the same events.
+    #[arg(long, value_name = "FILE", requires = "peers")]
+    peers_dump: Option<PathBuf>,
 }
 
 /// What a run detects with and prints.
@@ -175,6 +179,7 @@ pub struct Settings {
     pub dump: Option<PathBuf>,
     pub list: Option<PathBuf>,
     pub peers: Option<PathBuf>,
+    pub peers_dump: Option<PathBuf>,
 }
 
 /// `METHOD[:OFFSET_S],…`, e.g. `zeni-landing:-0.0012,zeni:0.0225,desailly:0.021`.
@@ -294,6 +299,7 @@ impl Cli {
             dump: self.dump,
             list: self.list,
             peers: self.peers,
+            peers_dump: self.peers_dump,
         })
     }
 }

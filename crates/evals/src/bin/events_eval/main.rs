@@ -98,6 +98,8 @@ pub struct Run {
     /// `--list`'s file, `--peers`' answers and where they gave none.
     list: Option<std::fs::File>,
     peers: Option<peers::Peers>,
+    /// `--peers-dump`'s file.
+    peers_dump: Option<std::fs::File>,
     failures: peers::Failures,
     /// The peers' names as the tables key them.
     detectors: BTreeMap<String, &'static str>,
@@ -168,6 +170,13 @@ fn main() {
         });
     match opened {
         Ok((l, p)) => (run.list, run.peers) = (l, p),
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(2);
+        }
+    }
+    match s.peers_dump.as_deref().map(peers::dump_create).transpose() {
+        Ok(f) => run.peers_dump = f,
         Err(e) => {
             eprintln!("{e}");
             std::process::exit(2);
@@ -416,6 +425,9 @@ impl Run {
                 ("lab (side by side)", lab_events, true),
                 ("plate (side by side)", &t.plates[..], false),
             ] {
+                if let Some(f) = self.peers_dump.as_mut() {
+                    peers::dump_rows(f, t, truth, name, events, &found);
+                }
                 if !events.is_empty() {
                     self.put((truth, name), t, events, &found, extra);
                 }

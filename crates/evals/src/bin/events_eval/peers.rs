@@ -96,6 +96,45 @@ pub fn list_line(out: &mut std::fs::File, path: &Path, roles: [Vec<String>; 5]) 
     let _ = writeln!(out, "{}\t{}", path.display(), cells.join("\t"));
 }
 
+/// `--peers-dump`'s file, its header written.
+pub fn dump_create(path: &Path) -> Result<std::fs::File, String> {
+    let mut f =
+        std::fs::File::create(path).map_err(|e| format!("--peers-dump {}: {e}", path.display()))?;
+    let _ = writeln!(
+        f,
+        "truth,lab,trial,activity,side,kind,time_s,detector,error_ms"
+    );
+    Ok(f)
+}
+
+/// One row per event of `truth` (named `truth_name`) on trial `t`: `detector`'s signed
+/// error (ms, detected − truth) to its nearest event of the same foot and kind within the
+/// matching window, empty where it has none.
+pub fn dump_rows(
+    f: &mut std::fs::File,
+    t: &Detected,
+    truth_name: &str,
+    detector: &str,
+    truth: &[Timed],
+    found: &[Timed],
+) {
+    let truth_name = truth_name.split(' ').next().unwrap_or(truth_name);
+    for &(side, kind, time) in truth {
+        let err = found
+            .iter()
+            .filter(|e| e.0 == side && e.1 == kind)
+            .map(|e| e.2 - time)
+            .filter(|d| d.abs() <= super::WINDOW_S)
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+            .map_or(String::new(), |d| format!("{:.2}", d * 1000.0));
+        let _ = writeln!(
+            f,
+            "{truth_name},{},\"{}\",{},{side:?},{kind:?},{time:.4},{detector},{err}",
+            t.lab, t.name, t.activity
+        );
+    }
+}
+
 /// The reasons the peers gave no events, counted per peer and reason.
 #[derive(Default)]
 pub struct Failures(pub BTreeMap<String, BTreeMap<String, Vec<String>>>);
