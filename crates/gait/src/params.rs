@@ -9,6 +9,11 @@
 //!   are found: a Foot Strike, the next Foot Strike of the same side, and between them a
 //!   Foot Off of that side and a Foot Off and a Foot Strike of the other side. Later cycles
 //!   are not averaged (Polygon can average; Nexus does not).
+//! - **a side's stride alone**: where no such cycle is found but a side has two Foot
+//!   Strikes with its Foot Off between them (a trial whose events were marked on one foot),
+//!   Nexus reports what needs no other foot: Cadence, Walking Speed, Stride Time, Foot Off
+//!   and Stride Length (the ANALYSIS group of c3d-labs' `BMClab__BMC__C_S05_T08_3_Cycle.c3d`,
+//!   Left, held apart from the rule's making); so does this module, and says what is left out.
 //! - **Stride Time** (s): from the cycle's foot strike to the next of the same side.
 //! - **Cadence** (steps/min): 120 / stride time (two steps per stride; Nexus' 150.94 for a
 //!   0.795 s stride in `2198928.c3d`).
@@ -95,35 +100,37 @@ impl Toes<'_> {
     }
 }
 
-/// The events of one side's cycle (seconds).
+/// The events of one side's cycle (seconds). The other side's are `None` for a stride of
+/// one side alone (no cycle of the side holds them).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Cycle {
     pub side: Side,
     pub strike: f64,
     pub next_strike: f64,
     pub foot_off: f64,
-    pub opposite_off: f64,
-    pub opposite_strike: f64,
+    pub opposite_off: Option<f64>,
+    pub opposite_strike: Option<f64>,
 }
 
 /// One side's parameters (times in seconds, percentages of the cycle, lengths in metres;
-/// `None` where the toe markers could not give a length).
+/// `None` where the toe markers could not give a length, and for what needs the other
+/// foot's events on a stride of one side alone).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct SideParameters {
     pub cycle: Cycle,
     pub cadence: f64,
     pub walking_speed: Option<f64>,
     pub stride_time: f64,
-    pub step_time: f64,
-    pub opposite_foot_off: f64,
-    pub opposite_foot_contact: f64,
+    pub step_time: Option<f64>,
+    pub opposite_foot_off: Option<f64>,
+    pub opposite_foot_contact: Option<f64>,
     pub foot_off: f64,
-    pub single_support: f64,
-    pub double_support: f64,
+    pub single_support: Option<f64>,
+    pub double_support: Option<f64>,
     pub stride_length: Option<f64>,
     pub step_length: Option<f64>,
     pub step_width: Option<f64>,
-    pub limp_index: f64,
+    pub limp_index: Option<f64>,
 }
 
 /// One reported value, named as Nexus names it in the ANALYSIS group.
@@ -161,16 +168,16 @@ impl SideParameters {
             Some(self.cadence),
             self.walking_speed,
             Some(self.stride_time),
-            Some(self.step_time),
-            Some(self.opposite_foot_off),
-            Some(self.opposite_foot_contact),
+            self.step_time,
+            self.opposite_foot_off,
+            self.opposite_foot_contact,
             Some(self.foot_off),
-            Some(self.single_support),
-            Some(self.double_support),
+            self.single_support,
+            self.double_support,
             self.stride_length,
             self.step_length,
             self.step_width,
-            Some(self.limp_index),
+            self.limp_index,
         ];
         NAMES
             .iter()
@@ -226,8 +233,33 @@ pub fn first_cycle(events: &[TimedEvent], side: Side) -> Option<Cycle> {
             strike: a,
             next_strike: b,
             foot_off: first_between(side, Kind::FootOff, a, b)?,
-            opposite_off: first_between(other, Kind::FootOff, a, b)?,
-            opposite_strike: first_between(other, Kind::FootStrike, a, b)?,
+            opposite_off: Some(first_between(other, Kind::FootOff, a, b)?),
+            opposite_strike: Some(first_between(other, Kind::FootStrike, a, b)?),
+        })
+    })
+}
+
+/// The first stride of `side` alone among `events` (sorted by time): a Foot Strike, the
+/// next of the same side and a Foot Off of that side between them, the other side's
+/// events left out; what Nexus reports from when a side has no complete cycle.
+pub fn first_stride(events: &[TimedEvent], side: Side) -> Option<Cycle> {
+    let strikes: Vec<f64> = events
+        .iter()
+        .filter(|e| e.side == side && e.kind == Kind::FootStrike)
+        .map(|e| e.time)
+        .collect();
+    strikes.windows(2).find_map(|w| {
+        let (a, b) = (w[0], w[1]);
+        let off = events
+            .iter()
+            .find(|e| e.side == side && e.kind == Kind::FootOff && e.time > a && e.time < b)?;
+        Some(Cycle {
+            side,
+            strike: a,
+            next_strike: b,
+            foot_off: off.time,
+            opposite_off: None,
+            opposite_strike: None,
         })
     })
 }
@@ -247,27 +279,34 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// Stride length, step length and step width (mm) of `c` from the toes, `None` when a toe
-/// is missing at one of the times needed.
-fn lengths(c: &Cycle, toes: &Toes) -> Option<(f64, f64, f64)> {
+/// Stride length, and step length and step width (mm) of `c` from the toes: `None` when a
+/// toe is missing at one of the times needed, the step `None` for a stride of one side
+/// alone (no other foot's strike to measure it from).
+fn lengths(c: &Cycle, toes: &Toes) -> Option<(f64, Option<(f64, f64)>)> {
     let other = match c.side {
         Side::Left => Side::Right,
         Side::Right => Side::Left,
     };
+    // A frame after the event, or the trial's last frame when the event is on it (a trial
+    // cut at its closing strike, as c3d-labs' BMC cycle: Nexus still gives its length).
     let lag = NEXUS_LAG_FRAMES / toes.rate;
-    let a = toes.at(c.side, c.strike + lag)?;
-    let b = toes.at(c.side, c.next_strike + lag)?;
-    let o = toes.at(other, c.opposite_strike + lag)?;
+    let last = toes.start + toes.of(c.side).len().saturating_sub(1) as f64 / toes.rate;
+    let at = |side: Side, t: f64| toes.at(side, (t + lag).min(last.max(t)));
+    let a = at(c.side, c.strike)?;
+    let b = at(c.side, c.next_strike)?;
     let stride = sub(b, a);
-    let dir = horizontal_unit(stride, toes.vertical)?;
-    let step = toes.vertical.horizontal(sub(b, o));
-    let along = dot(step, dir);
-    let lateral = sub(step, dir.map(|x| x * along));
-    Some((
-        dot(stride, stride).sqrt(),
-        along,
-        dot(lateral, lateral).sqrt(),
-    ))
+    let step = match c.opposite_strike {
+        None => None,
+        Some(t) => {
+            let o = at(other, t)?;
+            let dir = horizontal_unit(stride, toes.vertical)?;
+            let step = toes.vertical.horizontal(sub(b, o));
+            let along = dot(step, dir);
+            let lateral = sub(step, dir.map(|x| x * along));
+            Some((along, dot(lateral, lateral).sqrt()))
+        }
+    };
+    Some((dot(stride, stride).sqrt(), step))
 }
 
 /// The parameters of both sides from `events` (any order) and, for lengths, the toes.
@@ -294,7 +333,17 @@ pub fn gait_parameters(events: &[TimedEvent], toes: Option<&Toes>) -> Result<Gai
     let mut sides = Vec::new();
     let mut warnings = Vec::new();
     for side in Side::BOTH {
-        let Some(cycle) = first_cycle(&sorted, side) else {
+        let Some(cycle) = first_cycle(&sorted, side).or_else(|| {
+            first_stride(&sorted, side).inspect(|_| {
+                warnings.push(format!(
+                    "{}: no complete cycle (the other side's Foot Off and Foot Strike between \
+                     two {0} Foot Strikes): from the {0} stride alone, as Nexus does, without \
+                     Step Time, the opposite foot's percentages, Single and Double Support, \
+                     Step Length, Step Width and Limp Index",
+                    side.context()
+                ))
+            })
+        }) else {
             warnings.push(format!(
                 "{}: no complete cycle (two {0} Foot Strikes with a {0} Foot Off and the other \
                  side's Foot Off and Foot Strike between them)",
@@ -302,50 +351,63 @@ pub fn gait_parameters(events: &[TimedEvent], toes: Option<&Toes>) -> Result<Gai
             ));
             continue;
         };
-        let stride_time = cycle.next_strike - cycle.strike;
-        let pct = |t: f64| 100.0 * (t - cycle.strike) / stride_time;
-        let (opposite_foot_off, opposite_foot_contact, foot_off) = (
-            pct(cycle.opposite_off),
-            pct(cycle.opposite_strike),
-            pct(cycle.foot_off),
-        );
-        let lengths = match toes {
-            Some(t) => {
-                let l = lengths(&cycle, t);
-                if l.is_none() {
-                    warnings.push(format!(
-                        "{}: no lengths: a toe marker is missing a frame after one of the \
-                         cycle's foot strikes",
-                        side.context()
-                    ));
-                }
-                l
-            }
-            None => None,
-        };
-        let m = |i: usize| lengths.map(|l| [l.0, l.1, l.2][i] / 1000.0);
-        sides.push(SideParameters {
-            cycle,
-            cadence: 120.0 / stride_time,
-            walking_speed: m(0).map(|s| s / stride_time),
-            stride_time,
-            step_time: cycle.next_strike - cycle.opposite_strike,
-            opposite_foot_off,
-            opposite_foot_contact,
-            foot_off,
-            single_support: cycle.opposite_strike - cycle.opposite_off,
-            double_support: (cycle.opposite_off - cycle.strike)
-                + (cycle.foot_off - cycle.opposite_strike),
-            stride_length: m(0),
-            step_length: m(1),
-            step_width: m(2),
-            limp_index: foot_off / (100.0 - opposite_foot_contact + opposite_foot_off),
-        });
+        sides.push(side_parameters(cycle, toes, &mut warnings));
     }
     if sides.is_empty() {
         return Err(Error::Input(warnings.join("; ")));
     }
     Ok(GaitParameters { sides, warnings })
+}
+
+/// One side's parameters from its `cycle` (or stride alone) and, for lengths, the toes; what
+/// the toes cannot give is said in `warnings`.
+fn side_parameters(
+    cycle: Cycle,
+    toes: Option<&Toes>,
+    warnings: &mut Vec<String>,
+) -> SideParameters {
+    let stride_time = cycle.next_strike - cycle.strike;
+    let pct = |t: f64| 100.0 * (t - cycle.strike) / stride_time;
+    let (opposite_foot_off, opposite_foot_contact, foot_off) = (
+        cycle.opposite_off.map(pct),
+        cycle.opposite_strike.map(pct),
+        pct(cycle.foot_off),
+    );
+    let lengths = match toes {
+        Some(t) => {
+            let l = lengths(&cycle, t);
+            if l.is_none() {
+                warnings.push(format!(
+                    "{}: no lengths: a toe marker is missing a frame after one of the \
+                     cycle's foot strikes",
+                    cycle.side.context()
+                ));
+            }
+            l
+        }
+        None => None,
+    };
+    let stride_length = lengths.map(|l| l.0 / 1000.0);
+    let step = lengths.and_then(|l| l.1);
+    let both = cycle.opposite_off.zip(cycle.opposite_strike);
+    SideParameters {
+        cycle,
+        cadence: 120.0 / stride_time,
+        walking_speed: stride_length.map(|s| s / stride_time),
+        stride_time,
+        step_time: cycle.opposite_strike.map(|o| cycle.next_strike - o),
+        opposite_foot_off,
+        opposite_foot_contact,
+        foot_off,
+        single_support: both.map(|(off, strike)| strike - off),
+        double_support: both.map(|(off, strike)| (off - cycle.strike) + (cycle.foot_off - strike)),
+        stride_length,
+        step_length: step.map(|s| s.0 / 1000.0),
+        step_width: step.map(|s| s.1 / 1000.0),
+        limp_index: opposite_foot_off
+            .zip(opposite_foot_contact)
+            .map(|(off, contact)| foot_off / (100.0 - contact + off)),
+    }
 }
 
 #[cfg(test)]
@@ -379,21 +441,21 @@ mod tests {
         // Nexus' ANALYSIS:VALUES of the file, Left.
         assert!((l.cadence - 150.943_39).abs() < 1e-3);
         assert!((l.stride_time - 0.795).abs() < 1e-5);
-        assert!((l.step_time - 0.408_333).abs() < 1e-5);
-        assert!((l.opposite_foot_off - 5.660_377).abs() < 1e-3);
-        assert!((l.opposite_foot_contact - 48.637_318).abs() < 1e-3);
+        assert!((l.step_time.unwrap() - 0.408_333).abs() < 1e-5);
+        assert!((l.opposite_foot_off.unwrap() - 5.660_377).abs() < 1e-3);
+        assert!((l.opposite_foot_contact.unwrap() - 48.637_318).abs() < 1e-3);
         assert!((l.foot_off - 55.765_198).abs() < 1e-3);
-        assert!((l.single_support - 0.341_667).abs() < 1e-5);
-        assert!((l.double_support - 0.101_667).abs() < 1e-5);
+        assert!((l.single_support.unwrap() - 0.341_667).abs() < 1e-5);
+        assert!((l.double_support.unwrap() - 0.101_667).abs() < 1e-5);
         let r = &p.sides[1];
         assert!((r.cadence - 154.838_71).abs() < 1e-3);
-        assert!((r.opposite_foot_off - 7.311_828).abs() < 1e-3);
-        assert!((r.double_support - 0.106_667).abs() < 1e-5);
+        assert!((r.opposite_foot_off.unwrap() - 7.311_828).abs() < 1e-3);
+        assert!((r.double_support.unwrap() - 0.106_667).abs() < 1e-5);
         // No toes: no lengths, no speed.
         assert_eq!((l.stride_length, l.walking_speed), (None, None));
         assert!(p.parameters().iter().all(|x| x.name != "Stride Length"));
         // Symmetric enough: contact times alike.
-        assert!((l.limp_index - 55.765 / (100.0 - 48.637 + 5.660)).abs() < 1e-3);
+        assert!((l.limp_index.unwrap() - 55.765 / (100.0 - 48.637 + 5.660)).abs() < 1e-3);
     }
 
     #[test]
@@ -454,6 +516,23 @@ mod tests {
         assert!(p.warnings[0].starts_with("Right: no complete cycle"));
         let e = gait_parameters(&events[..3], None).unwrap_err();
         assert!(e.to_string().contains("Left: no complete cycle"), "{e}");
+        // One side's events alone: its stride, without what needs the other foot.
+        let left: Vec<TimedEvent> = events.iter().copied().filter(|e| e.side == Left).collect();
+        let p = gait_parameters(&left, None).unwrap();
+        let l = &p.sides[0];
+        assert_eq!((p.sides.len(), l.stride_time, l.cadence), (1, 1.0, 120.0));
+        assert!((l.foot_off - 60.0).abs() < 1e-9);
+        assert_eq!(
+            (l.step_time, l.opposite_foot_off, l.limp_index),
+            (None, None, None)
+        );
+        let names: Vec<_> = p.parameters().iter().map(|x| x.name).collect();
+        assert_eq!(names, ["Cadence", "Stride Time", "Foot Off"]);
+        assert!(
+            p.warnings[0].contains("from the Left stride alone"),
+            "{:?}",
+            p.warnings
+        );
         assert!(gait_parameters(&[], None).is_err());
         assert!(gait_parameters(&[ev(Left, FootOff, f64::NAN)], None).is_err());
     }
