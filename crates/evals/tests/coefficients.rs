@@ -79,11 +79,14 @@ fn the_fit_holds_its_gaps_within_twice_their_estimate() {
     let n = ratios.len() as f64;
     let within = ratios.iter().filter(|r| (0.5..=2.0).contains(*r)).count() as f64 / n;
     let over = ratios.iter().filter(|&&r| r > 2.0).count() as f64 / n;
+    println!("within 2x {within:.4}, above twice {over:.4}");
     // The margin is set on labs the regression never saw, so the gaps it was fitted on sit
     // inside the limit on gaps above twice their estimate. Within 2x: the older corpora's
     // labs hold 81 %; `c3d-labs`' trials (drop jumps, lifts, sprints, a sit-to-stand, 11
     // labs) spread wider, 74 % within 2x judged each lab apart, and bring all 36 labs to
-    // 78.9 % on the fit's own gaps (docs/fill-evaluation.md, "With c3d-labs").
+    // 78.9 % on the fit's own gaps (docs/fill-evaluation.md, "With c3d-labs"); with the
+    // method leading the fill and the speed beside the gap, 79.4 % and 3.9 % ("Issue 45
+    // item 7, third round").
     assert!(within >= 0.78, "within 2x: {within:.3}");
     assert!(over <= 0.05, "above twice: {over:.3}");
 }

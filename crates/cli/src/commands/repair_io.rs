@@ -18,10 +18,10 @@ pub struct RepairArgs {
     /// Leave gaps whose expected fill error is above this many mm (reported as `uncertain`
     /// with the estimate); `off` fills every gap a method can fill. The default, 20 mm, on
     /// artificial gaps in the labs nothing was chosen on (c3d-more, c3d-labs), each judged
-    /// by the model fitted to the others, leaves 2.7 % of the gaps, among them 82 % of the
+    /// by the model fitted to the others, leaves 2.7 % of the gaps, among them 83 % of the
     /// fills that would have been off by more than 50 mm and 0.05 % of those within 5 mm.
-    /// There the truth is within 2x of the estimate for 76.7 % of gaps and above twice it
-    /// for 4.5 % (walking 80.6 % / 3.1 %; running, jumps and lifting spread wider). Gaps at
+    /// There the truth is within 2x of the estimate for 77.1 % of gaps and above twice it
+    /// for 4.6 % (walking 81.0 % / 3.2 %; running, jumps and lifting spread wider). Gaps at
     /// a trial's start or end (only donors can fill them) are filled 2-5x worse and less
     /// surely (docs/fill-evaluation.md, "Gaps at a trial's start or end").
     #[arg(long, default_value_t = ExpectedError(RepairOptions::default().max_expected_error_mm), value_parser = expected_error_arg)]

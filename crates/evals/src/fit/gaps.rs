@@ -5,9 +5,10 @@
 //! ```text
 //! # comments
 //! lab NAME
-//! error scored spread len spread3 spread_holes bend drift refilled rescored donor_err share respread step accel
+//! error scored spread len spread3 spread_holes bend drift refilled rescored donor_err share respread step accel speed lead
 //! ```
-//! An unknown value is `-`; `refilled` is 0 or 1. Four digits, not three: the fit's c₁ is
+//! An unknown value is `-`; `refilled` is 0 or 1; `lead` is the name of the method that
+//! leads the fill (as `repair --method` spells it). Four digits, not three: the fit's c₁ is
 //! the best of a grid on a nearly flat criterion (gaps within 2×), and three digits moved
 //! it from 0.80 to 0.90 (c₀ from −0.0504 to −0.0760, two margins of about the same worth);
 //! with four the fit of the file is the fit of the full records (c₀ −0.05038 against
@@ -17,10 +18,10 @@
 use std::fmt::Write as _;
 
 use super::Sample;
-use repair::fill::Diag;
+use repair::fill::{Diag, FillMethod};
 
 /// Fields of a gap's line, in order.
-pub const COLUMNS: [&str; 15] = [
+pub const COLUMNS: [&str; 17] = [
     "error",
     "scored",
     "spread",
@@ -36,6 +37,8 @@ pub const COLUMNS: [&str; 15] = [
     "respread",
     "step",
     "accel",
+    "speed",
+    "lead",
 ];
 
 /// A line of the gaps file that is not what [`read`] expects.
@@ -117,6 +120,8 @@ pub fn write(gaps: &[Sample], header: &str) -> String {
                 opt(d.respread),
                 opt(d.step),
                 opt(d.accel),
+                opt(d.speed),
+                d.lead.map_or("-".to_string(), |m| m.name().to_string()),
             ];
             let _ = writeln!(out, "{}", fields.join(" "));
         }
@@ -184,6 +189,14 @@ pub fn read(text: &str) -> Result<Gaps, GapsError> {
             step: opt(13)?,
             slowed: None,
             accel: opt(14)?,
+            speed: opt(15)?,
+            lead: match f[16] {
+                "-" => None,
+                v => Some(
+                    FillMethod::from_name(v)
+                        .ok_or_else(|| err(format!("lead: `{v}` is not a fill method")))?,
+                ),
+            },
         };
         g.gaps.push((lab, evidence, num(0)?));
     }
@@ -222,6 +235,8 @@ mod tests {
             step: Some(1.25),
             slowed: None,
             accel: Some(3.5),
+            speed: Some(0.75),
+            lead: Some(FillMethod::Lagrange5),
         };
         let s = [
             Sample {
@@ -233,6 +248,7 @@ mod tests {
                 lab: "b",
                 evidence: Diag {
                     refilled: false,
+                    lead: None,
                     ..d
                 },
                 error: 0.125,
@@ -249,10 +265,10 @@ mod tests {
     fn a_bad_line_is_named() {
         let e = read("lab a\n1 2 3\n").unwrap_err();
         assert_eq!(e.line, 2);
-        assert!(e.to_string().contains("3 fields where 15"), "{e}");
+        assert!(e.to_string().contains("3 fields where 17"), "{e}");
         let e = read("1 2 3\n").unwrap_err();
         assert!(e.to_string().contains("before any `lab NAME`"), "{e}");
-        let e = read("lab a\nx 1 1 5 - - - - 0 - - - - - -\n").unwrap_err();
+        let e = read("lab a\nx 1 1 5 - - - - 0 - - - - - - - -\n").unwrap_err();
         assert!(e.to_string().contains("error: `x` is not a number"), "{e}");
     }
 }

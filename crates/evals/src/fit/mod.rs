@@ -53,6 +53,13 @@ pub const FEATURE_NAMES: [&str; K] = [
     "step excess",
     "one candidate",
     "ln accel",
+    "ln speed",
+    "lead rigid",
+    "lead lagrange5",
+    "lead pattern",
+    "lead spline",
+    "lead kalman",
+    "lead gloersen",
 ];
 
 /// The expected-error model: ln(expected / scored) = β · x + c₁ · exp(γ · x) + c₀. `N`

@@ -42,7 +42,8 @@ pub(crate) mod test_util;
 
 pub(crate) use apply::{fill_raw, fill_with};
 pub use auto::{
-    accel_ratio, calibrated, features, gap_donors, log_ratio, Diag, GapDonors, FEATURES,
+    accel_ratio, calibrated, features, gap_donors, log_ratio, speed_ratio, Diag, GapDonors,
+    FEATURES, LEADS,
 };
 pub(crate) use data::{dist, Data, Span, Target};
 pub(crate) use dispatch::Vetting;

@@ -153,6 +153,10 @@ fn refill_kept(
                     respread: own.map(|o| o.spread / d1.spread.max(1e-12)),
                     // The fill written is the second pass's.
                     slowed: own.map_or(d1.slowed, |o| o.slowed),
+                    lead: match &again {
+                        FillOutcome::Filled { method, .. } => Some(*method),
+                        _ => d1.lead,
+                    },
                     ..d1
                 };
                 let e = auto::calibrated(&d);

@@ -10,16 +10,23 @@
 //! speed get the same evidence from the shipped features, and the activities beyond
 //! walking miss the goal both ways. What differs is how hard the marker accelerates next to
 //! the gap, against its pace and against the score its artificial gaps gave.
+//!
+//! The third round (issue 45 item 7) added the marker's bursts, its acceleration beside
+//! the gap over its median, the gap's place in the marker's range, its room, and "M", the
+//! method leading the fill as six indicators (the records' `chosen`), alone and with
+//! measures beside it. The base of every row is the shipped features less the two this
+//! study chose (`speed`, measure 3, and the lead's indicators), so the choice is made again
+//! from the same records; "M + 3" is what ships.
 
 use super::activity::activities_of;
 use super::*;
 use evals::fit::{fit_rows_apart, ln_real_over_scored};
 use rayon::prelude::*;
-use repair::fill::{accel_ratio, features, FEATURES};
+use repair::fill::{accel_ratio, features, speed_ratio, FEATURES, LEADS};
 use repair::Trial;
 
 /// The measures tried, each one feature (ln of the measure less its median).
-const MEASURES: [&str; 8] = [
+const MEASURES: [&str; 12] = [
     "acceleration beside the gap x len^2 / scored",
     "acceleration beside the gap / the marker's mean acceleration",
     "speed beside the gap / the marker's mean speed",
@@ -28,11 +35,45 @@ const MEASURES: [&str; 8] = [
     "largest acceleration beside the gap / the marker's mean acceleration",
     "the marker's mean acceleration x len^2 / scored",
     "the marker's mean acceleration / its mean step",
+    "the marker's mean acceleration / its median acceleration (bursts)",
+    "acceleration beside the gap / the marker's median acceleration",
+    "the gap's distance from the marker's middle / its usual distance (extremes)",
+    "the marker's recorded frames / the gap's length (room)",
 ];
 const NM: usize = MEASURES.len();
 
+/// Most extra columns a variant adds to the shipped features.
+const EXTRA: usize = 8;
+
+/// The variants tried: each a name and the extra columns it adds (indices into the
+/// measures' columns, then the indicators of `repair::fill::LEADS` after them).
+fn variants() -> Vec<(String, Vec<usize>)> {
+    let leads: Vec<usize> = (NM..NM + LEADS.len()).collect();
+    let mut v: Vec<(String, Vec<usize>)> = vec![("none (the shipped features)".into(), vec![])];
+    v.extend(
+        MEASURES
+            .iter()
+            .enumerate()
+            .map(|(k, m)| (format!("{}. {m}", k + 1), vec![k])),
+    );
+    v.push((
+        "M. the method leading the fill (6 indicators)".into(),
+        leads.clone(),
+    ));
+    for k in [&[2][..], &[5], &[11], &[2, 11], &[2, 10]] {
+        let mut c = leads.clone();
+        c.extend(k);
+        let names: Vec<String> = k.iter().map(|k| (k + 1).to_string()).collect();
+        v.push((format!("M + {}", names.join(" + ")), c));
+    }
+    v
+}
+
 /// One record with its measures (`None` where a measure has nothing to read).
 type Measured<'a> = (&'a Rec, [Option<f64>; NM]);
+
+/// Every record's extra columns, column by column.
+type Columns = Vec<Vec<f64>>;
 
 /// The study: the measures for every record whose trial can be read, then per measure
 /// the per-activity figures with it added to the model.
@@ -89,28 +130,52 @@ pub(crate) fn motion_study(recs: &[Rec]) {
         })
         .collect();
     println!(
-        "\nEach cell: within 2x / over twice %, each lab by the β and γ fitted without it; older corpora's labs | c3d-labs' labs | every lab.\n"
+        "\nEach cell: within 2x / over twice % / median estimate over median error, each lab by the β and γ fitted without it; older corpora's labs | c3d-labs' labs | every lab.\n"
     );
     println!("| feature added | all | {} |", names.join(" | "));
     println!("|---|---|{}", "---|".repeat(names.len()));
-    let variants: Vec<Option<usize>> = std::iter::once(None).chain((0..NM).map(Some)).collect();
+    let mut cols: Columns = (0..NM).map(|k| column(&measured, k)).collect();
+    for m in LEADS {
+        cols.push(
+            measured
+                .iter()
+                .map(|(r, _)| f64::from(u8::from(r.g.chosen == Some(m))))
+                .collect(),
+        );
+    }
+    let only = std::env::var("MOTION_ONLY").ok();
+    let variants: Vec<(String, Vec<usize>)> = variants()
+        .into_iter()
+        .filter(|v| {
+            only.as_deref()
+                .is_none_or(|o| o.split(',').any(|o| v.0.starts_with(o)))
+        })
+        .collect();
     let rows: Vec<String> = variants
         .iter()
-        .map(|&k| {
-            let est = judge(&measured, k.map(|k| column(&measured, k)).as_deref());
+        .map(|(name, extra)| {
+            let est = judge(&measured, &cols, extra);
             let cell = |keep: &dyn Fn(&Rec) -> bool| {
                 let part = |f: &dyn Fn(&Rec) -> bool| {
-                    let v: Vec<GapScore> = est
+                    let v: Vec<(GapScore, f64)> = est
                         .iter()
                         .zip(&measured)
                         .filter(|(_, m)| keep(m.0) && f(m.0))
-                        .filter_map(|(e, _)| *e)
+                        .filter_map(|(e, m)| e.map(|e| (e, m.0.g.mean)))
                         .collect();
                     if v.is_empty() {
                         return "–".to_string();
                     }
-                    let c = calibration(&v, 0.0);
-                    format!("{:.1}/{:.1}", 100.0 * c.within_2x, 100.0 * c.over_confident)
+                    let g: Vec<GapScore> = v.iter().map(|x| x.0).collect();
+                    let c = calibration(&g, 0.0);
+                    let sharp = evals::stats::median(g.iter().filter_map(|x| x.expected))
+                        .unwrap_or(f64::NAN)
+                        / evals::stats::median(v.iter().map(|x| x.1)).unwrap_or(f64::NAN);
+                    format!(
+                        "{:.1}/{:.1}/{sharp:.2}",
+                        100.0 * c.within_2x,
+                        100.0 * c.over_confident
+                    )
                 };
                 format!(
                     "{} \\| {} \\| {}",
@@ -121,36 +186,35 @@ pub(crate) fn motion_study(recs: &[Rec]) {
             };
             let mut cells = vec![cell(&|_| true)];
             cells.extend(names.iter().map(|n| cell(&|r: &Rec| act[&r.file] == *n)));
-            format!(
-                "| {} | {} |",
-                k.map_or("none (the shipped features)".to_string(), |k| format!(
-                    "{}. {}",
-                    k + 1,
-                    MEASURES[k]
-                )),
-                cells.join(" | ")
-            )
+            let line = format!("| {name} | {} |", cells.join(" | "));
+            eprintln!("{line}");
+            line
         })
         .collect();
     rows.iter().for_each(|r| println!("{r}"));
 }
 
-/// Each `auto` record without the marker's acceleration beside its gap (see
-/// [`repair::fill::Diag::accel`]; records made before it was evidence) gets it from its
-/// trial, read as the records' run read it, with `auto`'s own function. A trial that cannot
-/// be read or matched leaves its records without it (the feature then reads as typical),
-/// said on stderr.
+/// Each `auto` record without the marker's acceleration or speed beside its gap (see
+/// [`repair::fill::Diag::accel`] and [`repair::fill::Diag::speed`]; records made before
+/// they were evidence) gets them from its trial, read as the records' run read it, with
+/// `auto`'s own functions. A trial that cannot be read or matched leaves its records
+/// without them (the features then read as typical), said on stderr.
 pub(crate) fn fill_in_accel(recs: &mut [Rec]) {
     let mut by_file: BTreeMap<String, Vec<usize>> = BTreeMap::new();
     for (i, r) in recs.iter().enumerate() {
-        if r.g.method == FillMethod::Auto && r.g.evidence.is_some_and(|d| d.accel.is_none()) {
+        if r.g.method == FillMethod::Auto
+            && r.g
+                .evidence
+                .is_some_and(|d| d.accel.is_none() || d.speed.is_none())
+        {
             by_file.entry(r.file.clone()).or_default().push(i);
         }
     }
     if by_file.is_empty() {
         return;
     }
-    let found: Vec<(usize, Option<f64>)> = by_file
+    type Found = (usize, Option<f64>, Option<f64>);
+    let found: Vec<Found> = by_file
         .par_iter()
         .flat_map_iter(|(file, idx)| {
             let rs: Vec<(usize, &Rec)> = idx.iter().map(|&i| (i, &recs[i])).collect();
@@ -158,25 +222,30 @@ pub(crate) fn fill_in_accel(recs: &mut [Rec]) {
                 Ok(t) => rs
                     .iter()
                     .map(|&(i, r)| {
-                        let (m, a) = (r.g.marker, r.g.first);
-                        let ok = |f: usize| t.valid[m][f] && !(a..a + r.g.gap_len).contains(&f);
-                        (i, accel_ratio(&t.xyz[m], ok, a, r.g.gap_len))
+                        let (m, a, len) = (r.g.marker, r.g.first, r.g.gap_len);
+                        let ok = |f: usize| t.valid[m][f] && !(a..a + len).contains(&f);
+                        (
+                            i,
+                            accel_ratio(&t.xyz[m], ok, a, len),
+                            speed_ratio(&t.xyz[m], ok, a, len),
+                        )
                     })
                     .collect::<Vec<_>>(),
                 Err(e) => {
-                    eprintln!("{file}: {e}: its records keep no acceleration beside the gap");
+                    eprintln!("{file}: {e}: its records keep no motion beside the gap");
                     Vec::new()
                 }
             }
         })
         .collect();
     eprintln!(
-        "the marker's acceleration beside the gap read from the trials for {} records",
+        "the marker's acceleration and speed beside the gap read from the trials for {} records",
         found.len()
     );
-    for (i, v) in found {
+    for (i, acc, speed) in found {
         if let Some(d) = recs[i].g.evidence.as_mut() {
-            d.accel = v;
+            d.accel = d.accel.or(acc);
+            d.speed = d.speed.or(speed);
         }
     }
 }
@@ -197,24 +266,30 @@ fn column(measured: &[Measured], k: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Every record's estimate as a new lab meets it, with the shipped features and `extra`.
-fn judge(measured: &[Measured], extra: Option<&[f64]>) -> Vec<Option<GapScore>> {
+/// Every record's estimate as a new lab meets it, with the shipped features and the
+/// columns `extra` of `cols` (at most [`EXTRA`]; the rest 0, which the fit weighs 0).
+fn judge(measured: &[Measured], cols: &Columns, extra: &[usize]) -> Vec<Option<GapScore>> {
+    // The study's base is the model before this study's choice: the shipped features but
+    // `speed` and the lead's indicators (the last 1 + LEADS of them), which the variants
+    // add as measure 3 and "M", so the choice can be made again from the same records.
     let shipped = |i: usize| {
-        measured[i]
+        let mut x = measured[i]
             .0
             .g
             .evidence
             .as_ref()
-            .map_or([0.0; FEATURES], features)
+            .map_or([0.0; FEATURES], features);
+        x[FEATURES - 1 - LEADS.len()..].fill(0.0);
+        x
     };
-    match extra {
-        None => judge_n(measured, &shipped),
-        Some(e) => judge_n(measured, &|i| -> [f64; FEATURES + 1] {
-            let mut x = [e[i]; FEATURES + 1];
-            x[..FEATURES].copy_from_slice(&shipped(i));
-            x
-        }),
-    }
+    judge_n(measured, &|i| -> [f64; FEATURES + EXTRA] {
+        let mut x = [0.0; FEATURES + EXTRA];
+        x[..FEATURES].copy_from_slice(&shipped(i));
+        for (j, &c) in extra.iter().take(EXTRA).enumerate() {
+            x[FEATURES + j] = cols[c][i];
+        }
+        x
+    })
 }
 
 fn judge_n<const N: usize>(
@@ -324,6 +399,27 @@ fn measure(t: &Trial, m: usize, a: usize, len: usize, scored: f64) -> [Option<f6
     let peak_b = beside.iter().filter_map(|&f| acc(f)).reduce(f64::max);
     let step_t = mean((0..n).filter_map(step));
     let acc_t = mean((0..n).filter_map(acc));
+    let acc_med = evals::stats::median((0..n).filter_map(acc));
+    // The gap's place in the marker's range: its anchors' midpoint against the marker's
+    // middle (the median of each coordinate), over the marker's median distance from it.
+    let rec: Vec<usize> = (0..n).filter(|&f| ok(f)).collect();
+    let mid: Option<[f64; 3]> = (!rec.is_empty()).then(|| {
+        std::array::from_fn(|c| evals::stats::median(rec.iter().map(|&f| p(f)[c])).unwrap_or(0.0))
+    });
+    let anchors: Vec<[f64; 3]> = [(0..a).rev().find(|&f| ok(f)), (a + len..n).find(|&f| ok(f))]
+        .into_iter()
+        .flatten()
+        .map(p)
+        .collect();
+    let extreme = mid.and_then(|mid| {
+        let usual = evals::stats::median(rec.iter().map(|&f| dist(p(f), mid)))?;
+        let at: [f64; 3] = (!anchors.is_empty()).then(|| {
+            std::array::from_fn(|c| {
+                anchors.iter().map(|q| q[c]).sum::<f64>() / anchors.len() as f64
+            })
+        })?;
+        (usual > 0.0).then(|| dist(at, mid) / usual)
+    });
     let l = len as f64;
     let s = (scored > 0.0).then_some(scored);
     let ratio = |x: Option<f64>, y: Option<f64>| match (x, y) {
@@ -339,6 +435,10 @@ fn measure(t: &Trial, m: usize, a: usize, len: usize, scored: f64) -> [Option<f6
         ratio(peak_b, acc_t),
         ratio(acc_t.map(|v| v * l * l), s),
         ratio(acc_t, step_t),
+        ratio(acc_t, acc_med),
+        ratio(acc_b, acc_med),
+        extreme,
+        Some(rec.len() as f64 / l),
     ]
 }
 

@@ -66,6 +66,8 @@ pub(crate) fn replay(path: &std::path::Path) -> Result<Vec<Rec>, String> {
             if let (FillMethod::Auto, Some(mut d)) = (v.gap.method, v.gap.evidence) {
                 // Records made before the fill's step was evidence hold it beside.
                 d.step = d.step.or(Some(v.gap.step_ratio));
+                // And the method leading the fill, which they record as `chosen`.
+                d.lead = d.lead.or(v.gap.chosen);
                 v.gap.evidence = Some(d);
             }
             Ok(Rec {

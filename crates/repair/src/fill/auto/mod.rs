@@ -34,7 +34,8 @@ use crate::profile::{self, Count, Work};
 use holes::{other_markers, same_marker, score, Scoring};
 use kind::Kind;
 pub use model::{
-    accel_ratio, calibrated, features, gap_donors, log_ratio, Diag, GapDonors, FEATURES,
+    accel_ratio, calibrated, features, gap_donors, log_ratio, speed_ratio, Diag, GapDonors,
+    FEATURES, LEADS,
 };
 use model::{deviation, prior};
 use real::{apart, Candidates, Fills};
@@ -303,6 +304,8 @@ fn chosen(
         slowed: Some(blend.iter().map(|&(c, w)| w * kinds[c].moved).sum::<f64>())
             .filter(|&d| d > 0.0),
         accel: accel_ratio(&t.data.xyz[t.m], |f| t.ok(f), span.first, len),
+        speed: speed_ratio(&t.data.xyz[t.m], |f| t.ok(f), span.first, len),
+        lead: Some(fills[blend[0].0].0),
     };
     let choice = Choice {
         skeleton: blend.iter().any(|&(c, _)| kinds[c].skel),

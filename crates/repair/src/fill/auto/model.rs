@@ -71,6 +71,20 @@ pub struct Diag {
     /// the holes that scored it; a gap in a quiet stretch is easier.
     #[serde(default)]
     pub accel: Option<f64>,
+    /// How fast the marker moves beside the gap against its whole recording: its mean step
+    /// over the recorded frames within the gap's length (at least 10 frames) either side,
+    /// over its mean step over every recorded frame ([`speed_ratio`]). Beside `accel`: a
+    /// gap in the fast part of a run, a jump's flight or a lift's swing is harder than the
+    /// holes that scored it, which lie mostly where the marker moves at its usual pace.
+    #[serde(default)]
+    pub speed: Option<f64>,
+    /// The method that leads the fill (the choice, or the blend's first method; for a
+    /// refilled gap, the second pass's). The methods err in their own ways beyond what
+    /// their scores say: a quintic through the anchors' samples scores well on holes in
+    /// smooth stretches and misses by far more where the marker turns, the published PCA
+    /// and the Kalman smoother stay close to their scores (see [`features`]).
+    #[serde(default)]
+    pub lead: Option<FillMethod>,
 }
 
 /// The expected error of a choice from its mean error on the artificial gaps.
@@ -112,15 +126,20 @@ pub struct Diag {
 /// most in `art`, whose points are nearly all computed from 6-DOF targets).
 ///
 /// Per activity (`fill_eval --replay --activities`, each lab judged by the fit to the other
-/// 35): walking 80.6 % within 2× and 3.1 % above, sports 83.2 % and 3.4 %, the other
-/// full-body sequences 78.9 % and 3.9 %, running 77.4 % and 5.3 %, the drop jumps 70.2 %
-/// and 5.6 %, lifting 75.3 % and 6.4 %: the activities beyond walking spread wider around
+/// 35): walking 81.0 % within 2× and 3.2 % above, sports 83.1 % and 3.1 %, the other
+/// full-body sequences 79.5 % and 3.9 %, running 77.8 % and 5.0 %, the drop jumps 71.8 %
+/// and 5.9 %, lifting 75.7 % and 6.2 %: the activities beyond walking spread wider around
 /// their estimates than walking does, and the goal (≥ 80 % and ≤ 5 % on every activity of
-/// two labs or more) is met on walking and sports only (docs/fill-evaluation.md, "With
-/// c3d-labs"). `accel`, the marker's acceleration beside the gap against its whole
-/// recording, was chosen among eight measures of the marker's own motion on the older
+/// two labs or more) is met on walking and sports only (docs/fill-evaluation.md, "Issue 45
+/// item 7, third round"). `accel`, the marker's acceleration beside the gap against its
+/// whole recording, was chosen among eight measures of the marker's own motion on the older
 /// corpora's labs (`fill_eval --replay --motion`) and moved `c3d-labs`' trials (11 labs,
-/// each judged apart) from 73.3 % to 74.0 % within 2× (5.4 % above twice, both).
+/// each judged apart) from 73.3 % to 74.0 % within 2× (5.4 % above twice, both); `speed`
+/// and `lead` were chosen the same way among twelve measures and the lead's indicators
+/// alone and with measures beside them (the older labs' five activities 393.8 → 396.4
+/// points of within-2×), and moved every lab apart from 79.0 % to 79.5 % within 2× (3.8 %
+/// above twice, both), the labs nothing was chosen on from 76.7 % and 4.5 % to 77.1 % and
+/// 4.6 %, at the same sharpness (median estimate over median error 1.22 → 1.21).
 /// Left out one at a time and judged on the tuned labs left out in turn
 /// (`fill_eval --replay --ablate`), the fill's distance-range violation against the
 /// skeleton and whether a polynomial made the fill did not pay and are gone. Earlier
@@ -157,12 +176,23 @@ pub fn log_ratio<const N: usize>(
 }
 
 /// Number of the expected-error model's features.
-pub const FEATURES: usize = 17;
+pub const FEATURES: usize = 24;
+
+/// The methods whose lead gets a term of its own in the expected-error model (see
+/// [`features`]), beside the PCA fill, the one most often chosen.
+pub const LEADS: [FillMethod; 6] = [
+    FillMethod::Rigid,
+    FillMethod::Lagrange5,
+    FillMethod::Pattern,
+    FillMethod::Spline,
+    FillMethod::Kalman,
+    FillMethod::Gloersen,
+];
 
 /// The expected-error model's features (see [`calibrated`]), shared with the evaluation
 /// that fits it: 1, ln q, ln(len), (ln q)², ln q₃, ln h, ln bend, ln drift, refilled,
 /// ln rescored, min(ln rescored + 1, 0), ln donor_err, share, ln respread, max(step − 1,
-/// 0), one candidate and ln accel;
+/// 0), one candidate, ln accel, ln speed and one indicator per method of [`LEADS`] leading the fill;
 /// with q = spread / scored, q₃ = spread3 / scored, h = spread_holes / scored, every ratio
 /// clamped to [0.05, 20] and taken as 1 where it is unknown (fewer than three or two
 /// candidates, holes without bend, no donor method, not refilled), and share and the step
@@ -172,7 +202,12 @@ pub const FEATURES: usize = 17;
 /// were read as the closest agreement and 10 % of them came out above twice their
 /// estimate). The step excess is how far the fill's largest step goes beyond the marker's
 /// largest recorded one: fills the step rule had to slow, or nearly, were above twice their
-/// estimate 45–55 % of the time.
+/// estimate 45–55 % of the time. The lead's indicators move the estimate (β) and its
+/// margin (γ) by method: on every lab's artificial gaps, each lab judged by the model
+/// without them fitted to the other labs, the fills the quintic led were 66.8 % within 2×
+/// of their estimate and 28.3 % below half it, the published PCA's 86.1 % and 12.4 %, the
+/// Kalman smoother's 88.6 % and 8.3 % (fills led by another method, or none known, read as
+/// the PCA fill's).
 pub fn features(d: &Diag) -> [f64; FEATURES] {
     let s = d.scored.max(1e-12);
     let ln = |r: Option<f64>| r.map_or(0.0, |r| r.clamp(0.05, 20.0).ln());
@@ -198,7 +233,19 @@ pub fn features(d: &Diag) -> [f64; FEATURES] {
         d.step.map_or(0.0, |r| (r - 1.0).max(0.0)),
         f64::from(u8::from(single)),
         ln(d.accel),
+        ln(d.speed),
+        lead(d, 0),
+        lead(d, 1),
+        lead(d, 2),
+        lead(d, 3),
+        lead(d, 4),
+        lead(d, 5),
     ]
+}
+
+/// 1 where the method of [`LEADS`]`[k]` leads the fill, else 0.
+fn lead(d: &Diag, k: usize) -> f64 {
+    f64::from(u8::from(d.lead == Some(LEADS[k])))
 }
 
 /// The marker's mean acceleration beside a gap over its mean acceleration over its whole
@@ -227,6 +274,33 @@ pub fn accel_ratio(
             )
         })
     };
+    beside_over_whole(n, first, len, acc)
+}
+
+/// The marker's mean step beside a gap over its mean step over its whole recording (see
+/// [`Diag::speed`]); arguments and "beside" as [`accel_ratio`]'s, the step at a frame read
+/// where it and the frame before are recorded. `None` where either mean has no frame or the
+/// whole recording's is 0.
+pub fn speed_ratio(
+    xyz: &[[f64; 3]],
+    ok: impl Fn(usize) -> bool,
+    first: usize,
+    len: usize,
+) -> Option<f64> {
+    let n = xyz.len();
+    let step = |f: usize| (f >= 1 && f < n && ok(f - 1) && ok(f)).then(|| dist(xyz[f], xyz[f - 1]));
+    beside_over_whole(n, first, len, step)
+}
+
+/// The mean of `at` over the recorded frames within `max(len, 10)` frames either side of
+/// the gap `first..first + len`, over its mean over every frame (`at` is `None` where it
+/// has nothing to read).
+fn beside_over_whole(
+    n: usize,
+    first: usize,
+    len: usize,
+    at: impl Fn(usize) -> Option<f64>,
+) -> Option<f64> {
     let mean = |it: &mut dyn Iterator<Item = f64>| {
         let (s, k) = it.fold((0.0, 0usize), |(s, k), x| (s + x, k + 1));
         (k > 0).then(|| s / k as f64)
@@ -236,9 +310,9 @@ pub fn accel_ratio(
     let beside = mean(
         &mut (first.saturating_sub(w)..first)
             .chain(end..(end + w).min(n))
-            .filter_map(acc),
+            .filter_map(&at),
     )?;
-    let whole = mean(&mut (0..n).filter_map(acc))?;
+    let whole = mean(&mut (0..n).filter_map(&at))?;
     (whole > 0.0).then(|| beside / whole)
 }
 

@@ -9,50 +9,64 @@
 
 /// β: the median of ln(real / scored), feature by feature.
 #[rustfmt::skip]
-pub(super) const BETA: [f64; 17] = [
-    -0.032124, // 1
-    0.291161, // ln q
-    0.011900, // ln len
-    0.024954, // (ln q)^2
-    0.139602, // ln q3
-    -0.234255, // ln h
-    0.132803, // ln bend
-    0.180118, // ln drift
-    -0.160410, // refilled
-    0.330236, // ln rescored
-    -0.261405, // hinge
-    0.061435, // ln donor_err
-    0.212852, // share
-    0.090273, // ln respread
-    0.474651, // step excess
-    -0.723808, // one candidate
-    0.077715, // ln accel
+pub(super) const BETA: [f64; 24] = [
+    0.009007, // 1
+    0.297291, // ln q
+    0.002454, // ln len
+    0.030961, // (ln q)^2
+    0.140278, // ln q3
+    -0.211259, // ln h
+    0.141197, // ln bend
+    0.183918, // ln drift
+    -0.160667, // refilled
+    0.320307, // ln rescored
+    -0.264443, // hinge
+    0.066806, // ln donor_err
+    0.208725, // share
+    0.099027, // ln respread
+    0.467268, // step excess
+    -0.674217, // one candidate
+    0.139225, // ln accel
+    -0.064257, // ln speed
+    -0.036853, // lead rigid
+    -0.180503, // lead lagrange5
+    0.010838, // lead pattern
+    0.058275, // lead spline
+    0.061632, // lead kalman
+    -0.032073, // lead gloersen
 ];
 
 /// γ: the log of the residuals' size, feature by feature.
 #[rustfmt::skip]
-pub(super) const GAMMA: [f64; 17] = [
-    -1.184920, // 1
-    0.020458, // ln q
-    -0.072383, // ln len
-    0.030304, // (ln q)^2
-    -0.007830, // ln q3
-    0.047088, // ln h
-    -0.027739, // ln bend
-    -0.007020, // ln drift
-    0.006023, // refilled
-    0.023853, // ln rescored
-    -0.193042, // hinge
-    -0.006541, // ln donor_err
-    -0.018417, // share
-    -0.001686, // ln respread
-    1.564443, // step excess
-    0.679883, // one candidate
-    -0.025787, // ln accel
+pub(super) const GAMMA: [f64; 24] = [
+    -1.468829, // 1
+    -0.006565, // ln q
+    -0.009824, // ln len
+    0.020891, // (ln q)^2
+    -0.007588, // ln q3
+    0.019854, // ln h
+    -0.018353, // ln bend
+    -0.006259, // ln drift
+    0.008817, // refilled
+    0.013756, // ln rescored
+    -0.117594, // hinge
+    -0.032356, // ln donor_err
+    -0.004100, // share
+    -0.023371, // ln respread
+    1.385097, // step excess
+    0.514031, // one candidate
+    -0.007144, // ln accel
+    -0.002974, // ln speed
+    0.153181, // lead rigid
+    0.327628, // lead lagrange5
+    0.172904, // lead pattern
+    0.184272, // lead spline
+    -0.133457, // lead kalman
+    -0.110818, // lead gloersen
 ];
 
 /// c₁: the margin's growth with the residuals' size.
-pub(super) const C1: f64 = 0.500000;
+pub(super) const C1: f64 = 0.600000;
 
 /// c₀: the margin that keeps new labs' gaps above twice their estimate at 5 %.
-pub(super) const C0: f64 = 0.087499;
+pub(super) const C0: f64 = 0.057543;
