@@ -6,13 +6,12 @@
 
 use repair::fill::accel_ratio;
 
-/// Every position of a 10-frame gap in marker `m` (step 5), with its `ratio` (of the
-/// trajectory, which samples are recorded, the gap's first frame and length).
-fn ratios(
-    t: &repair::Trial,
-    m: usize,
-    ratio: fn(&[[f64; 3]], &dyn Fn(usize) -> bool, usize, usize) -> Option<f64>,
-) -> Vec<(usize, f64)> {
+/// A ratio of the evidence: of the trajectory, which samples are recorded, the gap's first
+/// frame and length.
+type Ratio = fn(&[[f64; 3]], &dyn Fn(usize) -> bool, usize, usize) -> Option<f64>;
+
+/// Every position of a 10-frame gap in marker `m` (step 5), with its `ratio`.
+fn ratios(t: &repair::Trial, m: usize, ratio: Ratio) -> Vec<(usize, f64)> {
     let n = t.frames();
     (0..n.saturating_sub(10))
         .step_by(5)
