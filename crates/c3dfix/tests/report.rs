@@ -122,6 +122,24 @@ fn rows_equal_the_repairs_summaries_and_records_on_c3d_more() {
     assert_eq!(from_summaries.summary.swaps_found, 3);
     assert_eq!(from_records.summary.trials, 20);
     assert_eq!(from_records.summary.unreadable, 0);
+    // Missing after: the sum over the repaired copies; without them, not known (not 0).
+    let after: usize = from_records
+        .trials
+        .iter()
+        .filter_map(|r| r.missing_after)
+        .sum();
+    assert_eq!(from_records.summary.missing_after, Some(after));
+    let alone = report(&ReportOptions {
+        paths: vec![dir.clone()],
+        repaired: None,
+        views: false,
+    })
+    .unwrap();
+    assert_eq!(alone.summary.missing_after, None);
+    assert_eq!(
+        alone.summary.missing_before,
+        from_records.summary.missing_before
+    );
     // The trial with four plates: its plates and events as `info` and `events` say.
     let hans = from_records
         .trials

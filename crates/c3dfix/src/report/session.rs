@@ -29,8 +29,9 @@ pub struct SessionSummary {
     pub frames: usize,
     pub samples: usize,
     pub missing_before: usize,
-    /// Over the trials with a repaired copy.
-    pub missing_after: usize,
+    /// Over the trials with a repaired copy; `None` when no trial has one (nothing to count:
+    /// not zero).
+    pub missing_after: Option<usize>,
     pub gaps_before: usize,
     pub filled: usize,
     pub left: usize,
@@ -71,7 +72,9 @@ pub(super) fn summarise(rows: &[TrialRow]) -> SessionSummary {
         s.frames += r.frames;
         s.samples += r.samples;
         s.missing_before += r.missing_before;
-        s.missing_after += r.missing_after.unwrap_or(0);
+        if let Some(after) = r.missing_after {
+            *s.missing_after.get_or_insert(0) += after;
+        }
         s.gaps_before += r.gaps_before;
         s.filled += r.filled.unwrap_or(0);
         s.left += r.left.unwrap_or(0);

@@ -99,14 +99,17 @@ pub fn finish(rep: &mut SessionReport, out: Option<&Path>, json: bool, force: bo
         outln!("{}", serde_json::to_string(rep)?)?;
     } else {
         outln!(
-            "{} trials: {} clean, {} worth a look, {} unreadable; {} samples missing before, {} after{}",
+            "{} trials: {} clean, {} worth a look, {} unreadable; {} samples missing before{}{}",
             s.trials,
             s.clean,
             s.trials - s.clean - s.unreadable,
             s.unreadable,
             s.missing_before,
-            s.missing_after,
-            out.map(|o| format!("; {}", o.display())).unwrap_or_default()
+            s.missing_after
+                .map(|a| format!(", {a} after"))
+                .unwrap_or_default(),
+            out.map(|o| format!("; {}", o.display()))
+                .unwrap_or_default()
         )?;
     }
     Ok(0)
