@@ -9,6 +9,7 @@ use super::cost::marker_cost;
 use super::fragments::Pieces;
 use super::model::Model;
 use super::options::LabelOptions;
+use rayon::prelude::*;
 use std::collections::BTreeSet;
 
 /// Frames compared per pair of fragments (evenly spaced over the frames they share).
@@ -29,21 +30,29 @@ pub(crate) fn doubtful(
         return Vec::new();
     }
     let n = pc.frames();
-    let label = labels;
-    let holder_at = |f: usize| {
-        let mut h: Vec<Option<usize>> = vec![None; model.markers];
-        for &g in &pc.active[f] {
+    let (label, k) = (labels, model.markers);
+    // Which fragment holds each marker in each frame, once (`NONE`: none).
+    const NONE: u32 = u32::MAX;
+    let mut held = vec![NONE; n * k];
+    for (f, here) in pc.active.iter().enumerate() {
+        for &g in here {
             if let Some(m) = label[g as usize] {
-                h[m].get_or_insert(g as usize);
+                if held[f * k + m] == NONE {
+                    held[f * k + m] = g;
+                }
             }
         }
-        h
+    }
+    let holder_at = |f: usize| {
+        held[f * k..(f + 1) * k]
+            .iter()
+            .map(|&g| (g != NONE).then_some(g as usize))
     };
     // Pairs of fragments holding neighbouring markers in some frame.
     let mut pairs: BTreeSet<(usize, usize)> = BTreeSet::new();
     let step = n.div_ceil(2000).max(1);
     for f in (0..n).step_by(step) {
-        let h = holder_at(f);
+        let h: Vec<Option<usize>> = holder_at(f).collect();
         for &g in &pc.active[f] {
             let g = g as usize;
             let Some(a) = label[g] else { continue };
@@ -56,25 +65,24 @@ pub(crate) fn doubtful(
             }
         }
     }
-    let mut doubtful: Vec<(usize, usize)> = Vec::new();
-    for &(i, j) in &pairs {
-        let (Some(a), Some(b)) = (label[i], label[j]) else {
-            continue;
-        };
+    // Each pair judged on its own (in parallel, collected in order: the same answer on
+    // any number of threads).
+    let judge = |i: usize, j: usize| -> Option<(usize, usize)> {
+        let (a, b) = (label[i]?, label[j]?);
         if !fresh[i] && !fresh[j] {
-            continue;
+            return None;
         }
         let (gi, gj) = (pc.frags[i], pc.frags[j]);
         let (lo, hi) = (gi.first.max(gj.first), gi.last.min(gj.last));
         if lo > hi {
-            continue;
+            return None;
         }
         let every = (hi - lo + 1).div_ceil(FRAMES).max(1);
         let (mut as_given, mut exchanged, mut terms) = (0.0, 0.0, 0usize);
         for f in (lo..=hi).step_by(every) {
-            let h = holder_at(f);
+            let h = &held[f * k..(f + 1) * k];
             let (pi, pj) = (pc.at(i, f), pc.at(j, f));
-            let at = |m: usize| h[m].map(|g| pc.at(g, f));
+            let at = |m: usize| (h[m] != NONE).then(|| pc.at(h[m] as usize, f));
             let swapped = |m: usize| {
                 if m == a {
                     Some(pj)
@@ -95,14 +103,12 @@ pub(crate) fn doubtful(
             exchanged += x1 + x2;
             terms += t1 + t2;
         }
-        if terms == 0 {
-            continue;
-        }
         let t = terms as f64;
-        if exchanged / t - as_given / t < opts.exchange_margin {
-            doubtful.push((i, j));
-        }
-    }
+        (terms > 0 && exchanged / t - as_given / t < opts.exchange_margin).then_some((i, j))
+    };
+    let pairs: Vec<(usize, usize)> = pairs.into_iter().collect();
+    let doubtful: Vec<(usize, usize)> =
+        pairs.par_iter().filter_map(|&(i, j)| judge(i, j)).collect();
     let mut out = Vec::new();
     for (i, j) in doubtful {
         for (x, y) in [(i, j), (j, i)] {

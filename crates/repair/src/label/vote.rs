@@ -167,12 +167,15 @@ fn frame_votes(
         // for neither: two markers the frame cannot tell apart (a mirror pair, two
         // markers of one segment placed alike) would otherwise vote for whichever
         // labelling the neighbours hold, right or exchanged.
-        let rival = cands
-            .iter()
-            .filter(|r| r.1 == g && r.2 != m)
-            .map(|r| r.0)
-            .fold(f64::INFINITY, f64::min);
-        if opts.vote_margin <= 0.0 || rival - c >= opts.vote_margin {
+        let clear = opts.vote_margin <= 0.0 || {
+            let rival = cands
+                .iter()
+                .filter(|r| r.1 == g && r.2 != m)
+                .map(|r| r.0)
+                .fold(f64::INFINITY, f64::min);
+            rival - c >= opts.vote_margin
+        };
+        if clear {
             out.push((g, m));
         }
     }
