@@ -77,6 +77,9 @@ pub enum Unlabelled {
     /// Its votes name a marker the trial labels already, but it does not sit on that
     /// marker's path at its gap's ends (reclaiming's check): left where it was.
     OffPath { marker: String },
+    /// It and a neighbouring marker's fragment seen with it fit about as well with their
+    /// labels exchanged: which is which is not settled.
+    Exchangeable { marker: String, rival: String },
 }
 
 /// What became of one fragment.
@@ -550,6 +553,10 @@ fn outcome(
                 },
                 Reason::OffPath { marker } => Unlabelled::OffPath {
                     marker: tname(marker),
+                },
+                Reason::Exchangeable { marker, rival } => Unlabelled::Exchangeable {
+                    marker: tname(marker),
+                    rival: tname(rival),
                 },
                 Reason::Overlap { marker, with } => Unlabelled::Overlap {
                     marker: tname(marker),

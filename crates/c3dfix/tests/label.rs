@@ -198,7 +198,9 @@ fn a_partly_labelled_walk_moves_only_what_the_path_at_the_gap_ends_accepts() {
         })
         .map(|f| f.samples)
         .sum();
-    assert_eq!((r.labelled_samples, off_path), (942, 5333));
+    // 5 333 off the path before the exchange check, which now leaves 175 of those samples
+    // unlabelled first (`exchangeable`); the samples moved are the same.
+    assert_eq!((r.labelled_samples, off_path), (942, 5158));
     // What reclaim settles, `label` moves to the same marker.
     let before = c3d::read_file(&trial).unwrap();
     let settled = c3dfix::reclaim(&before, &trial, &repair::Unlabelled::common(), false).unwrap();

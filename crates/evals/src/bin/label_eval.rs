@@ -15,7 +15,11 @@
 //! ```sh
 //! cargo run --release -p evals --bin label_eval
 //! cargo run --release -p evals --bin label_eval -- --only MOtoNMS --list
+//! cargo run --release -p evals --bin label_eval -- --other-subject --set fit_scale=1
 //! ```
+//!
+//! `--other-subject` labels the CMU trials from a trial of another subject of the same
+//! marker set instead (docs/label.md, "A template of another subject").
 
 use clap::Parser;
 use evals::corpus::{self, FILES};
@@ -42,9 +46,47 @@ struct Cli {
     list: bool,
     /// A labelling constant for this run: floor_mm, floor_share, neighbours, cap, accept,
     /// absent, min_neighbours, beam, seed_frames, step, min_checked, min_share, margin,
-    /// relabel_share, max_speed_mm_s or passes.
+    /// relabel_share, max_speed_mm_s, passes, relearn, fit_scale, scale_steps or scale_ratio.
     #[arg(long = "set", value_name = "FIELD=VALUE")]
     set: Vec<String>,
+    /// Only the trials with a labelled trial of another subject of the same marker set in
+    /// the corpora (the CMU trials: subjects 85, 135 and 02), each labelled from it.
+    #[arg(long)]
+    other_subject: bool,
+}
+
+/// A trial of the CMU marker set and the trial of another CMU subject it is labelled from
+/// with `--other-subject` (file names; c3d-fullbody's 85 and 135 and c3d-more's subject 02
+/// and basketball trial, whose subject its source does not name: 85's breakdance
+/// is not it).
+const OTHER_SUBJECT: [(&str, &str); 6] = [
+    ("85_02.c3d", "135_02.c3d"),
+    ("85_12.c3d", "135_02.c3d"),
+    ("135_02.c3d", "85_02.c3d"),
+    ("EmbodiedCognition__pagoda__cooper-motion.c3d", "85_02.c3d"),
+    ("keenon__nimblephysics__cmu_02_05.c3d", "135_02.c3d"),
+    (
+        "keenon__nimblephysics__cmu_dribble_shoot_basketball.c3d",
+        "135_02.c3d",
+    ),
+];
+
+/// The trial of another subject `OTHER_SUBJECT` names for trial `i`, if loaded.
+fn other_subject(
+    i: usize,
+    files: &[(String, String, PathBuf)],
+    loaded: &[Option<Loaded>],
+) -> Option<usize> {
+    let file = |j: usize| {
+        files[j]
+            .2
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .to_string()
+    };
+    let (_, t) = OTHER_SUBJECT.iter().find(|(a, _)| *a == file(i))?;
+    (0..files.len()).find(|&j| j != i && file(j) == *t && loaded[j].is_some())
 }
 
 fn options(sets: &[String]) -> Result<LabelOptions, String> {
@@ -73,6 +115,13 @@ fn options(sets: &[String]) -> Result<LabelOptions, String> {
             "max_speed_mm_s" => o.max_speed_mm_s = x,
             "passes" => o.passes = x as usize,
             "relearn" => o.relearn = x as usize,
+            "fit_scale" => o.fit_scale = x != 0.0,
+            "scale_steps" => o.scale_steps = x as usize,
+            "scale_ratio" => o.scale_ratio = x,
+            "first_floor_share" => o.first_floor_share = x,
+            "relearn_template" => o.relearn_template = x != 0.0,
+            "vote_margin" => o.vote_margin = x,
+            "exchange_margin" => o.exchange_margin = x,
             _ => return Err(format!("no option {k}")),
         }
     }
@@ -437,9 +486,22 @@ fn main() {
             "{corp}/{}",
             path.file_name().unwrap_or_default().to_string_lossy()
         );
-        let (t, kind, own_start) = match template_for(i, &files, &loaded, pig.as_ref()) {
+        let chosen = if cli.other_subject {
+            match other_subject(i, &files, &loaded) {
+                Some(j) => Some(j),
+                None => continue,
+            }
+        } else {
+            template_for(i, &files, &loaded, pig.as_ref())
+        };
+        let kind_of_lab = if cli.other_subject {
+            "another subject"
+        } else {
+            "same lab"
+        };
+        let (t, kind, own_start) = match chosen {
             Some(usize::MAX) => (pig.as_ref().expect("found above"), "static PiG", 0),
-            Some(j) => (loaded[j].as_ref().expect("loaded"), "same lab", 0),
+            Some(j) => (loaded[j].as_ref().expect("loaded"), kind_of_lab, 0),
             None => {
                 let s = ((2.0 * l.labelled.rate_hz) as usize).min(l.labelled.frames() / 3);
                 (l, "own first 2 s", s)

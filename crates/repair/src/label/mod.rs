@@ -18,6 +18,13 @@
 //!    changes, so labels spread from fragment to overlapping fragment over the whole trial.
 //! 3. **One fragment per label at a time.** Fragments of one label that overlap in time
 //!    keep the one with the most votes; the others stay unlabelled.
+//! 4. **Exchanges.** Two fragments newly labelled as neighbouring markers and seen together
+//!    keep their labels only if the labels fit clearly better than the two exchanged
+//!    ([`Reason::Exchangeable`]): votes judged against neighbours as labelled can settle
+//!    two markers the template places alike exchanged over a whole stretch.
+//!
+//! A template of another subject can be fitted to the trial's size first
+//! ([`LabelOptions::fit_scale`], not the default: measured in docs/label.md).
 //!
 //! A fragment the votes do not settle (too few frames, too few votes, a rival label close)
 //! stays unlabelled with its reason ([`Reason`]): extra points (reflections, ghosts) keep
@@ -26,9 +33,11 @@
 //! ([`Outcome::Relabelled`]). Deterministic: the same input gives the same answer.
 
 mod cost;
+mod exchange;
 mod fragments;
 mod model;
 mod options;
+mod scale;
 mod seed;
 mod vote;
 
@@ -79,6 +88,9 @@ pub enum Reason {
     },
     /// Another fragment of the same marker at the same time had more votes.
     Overlap { marker: usize, with: Fragment },
+    /// Its label and a neighbouring marker's fragment's label fit about as well
+    /// exchanged as given.
+    Exchangeable { marker: usize, rival: usize },
     /// Its votes name a marker the trial labels already, but the fragment does not sit on
     /// that marker's path at its gap's ends (reclaiming's check,
     /// [`crate::reclaim::judge`]): set by a caller that checks it, left where it was.
@@ -109,6 +121,9 @@ pub struct Labelling {
     pub seeded: bool,
     /// Vote passes run.
     pub passes: usize,
+    /// The factor the template's distances were multiplied by to fit the trial's body (1:
+    /// as recorded).
+    pub scale: f64,
 }
 
 /// Input the labelling cannot work on.
@@ -189,7 +204,13 @@ pub fn label(
         return Err(LabelError::Rate(trial.rate_hz));
     }
     let tm = template.in_mm(template_mm_per_unit);
-    let model = model::Model::learn(&tm, opts);
+    // Until the trial's own frames are labelled, the template's distances are all there
+    // is, and another subject's differ by more than the trial's skin moves.
+    let first = LabelOptions {
+        floor_share: opts.first_floor_share.max(opts.floor_share),
+        ..*opts
+    };
+    let model = model::Model::learn(&tm, &first);
     if !model.present.iter().any(|&p| p) {
         return Err(LabelError::EmptyTemplate(k));
     }
@@ -201,6 +222,18 @@ pub fn label(
     let frags = &pc.frags;
     let given_of: Vec<Option<usize>> = frags.iter().map(|g| given[g.row]).collect();
     let seeded = !given_of.iter().any(|g| g.is_some_and(|m| model.present[m]));
+    let scale = if opts.fit_scale {
+        scale::fit(&model, &pc, &given_of, &first)
+    } else {
+        1.0
+    };
+    let (tm, model) = if scale == 1.0 {
+        (tm, model)
+    } else {
+        let tm = template.in_mm(template_mm_per_unit * scale);
+        let model = model::Model::learn(&tm, &first);
+        (tm, model)
+    };
     let mut labels = if seeded {
         seed_labels(&model, &pc, None, opts)
     } else {
@@ -234,12 +267,23 @@ pub fn label(
             break;
         }
         round += 1;
-        model = model::Model::learn(&with_trial(&tm, &pc, &labels), opts);
+        let base = if opts.relearn_template {
+            tm.clone()
+        } else {
+            Trial {
+                rate_hz: tm.rate_hz,
+                xyz: vec![Vec::new(); tm.markers()],
+                valid: vec![Vec::new(); tm.markers()],
+            }
+        };
+        model = model::Model::learn(&with_trial(&base, &pc, &labels), opts);
     }
+    exchanges(&model, &pc, &mut answers, opts);
     Ok(Labelling {
         fragments: answers,
         seeded,
         passes,
+        scale,
     })
 }
 
@@ -386,6 +430,29 @@ fn seed_labels(
             })
         })
         .collect()
+}
+
+/// Leave unlabelled the fragments newly labelled that fit about as well with a neighbouring
+/// marker's fragment's label as with their own ([`exchange::doubtful`]).
+fn exchanges(
+    model: &model::Model,
+    pc: &fragments::Pieces,
+    answers: &mut [FragmentLabel],
+    opts: &LabelOptions,
+) {
+    let labels: Vec<Option<usize>> = answers.iter().map(|a| a.label).collect();
+    let fresh: Vec<bool> = answers
+        .iter()
+        .map(|a| a.outcome == Outcome::Labelled)
+        .collect();
+    for (x, marker, rival) in exchange::doubtful(model, pc, &labels, &fresh, opts) {
+        if answers[x].label.is_some() {
+            answers[x].label = None;
+            answers[x].outcome = Outcome::Unlabelled {
+                reason: Reason::Exchangeable { marker, rival },
+            };
+        }
+    }
 }
 
 /// Each fragment's answer from one pass's votes, then one fragment per label at a time.

@@ -14,6 +14,8 @@ pub(crate) struct Neighbour {
     pub d0: f64,
     /// Its robust spread plus a floor for the trial's own skin motion (mm).
     pub sigma: f64,
+    /// The robust spread alone (mm): what a scaled copy of the template scales.
+    pub spread: f64,
 }
 
 /// Three neighbours whose tetrahedron with the marker keeps its sign: a mirror labelling
@@ -103,11 +105,13 @@ impl Model {
                     other: j,
                     d0,
                     sigma,
+                    spread,
                 });
                 pairs[j].push(Neighbour {
                     other: i,
                     d0,
                     sigma,
+                    spread,
                 });
             }
         }
@@ -126,6 +130,21 @@ impl Model {
             chiral,
             order,
         }
+    }
+}
+
+impl Model {
+    /// The same geometry on a body `s` times as large: every distance and spread times
+    /// `s`, the floors as they are (the trial's skin moves as much on any body); the
+    /// pairs, hands and order stay (a handedness does not change with size).
+    pub fn scaled(&self, s: f64, opts: &LabelOptions) -> Model {
+        let mut m = self.clone();
+        for n in m.nb.iter_mut().flatten() {
+            n.d0 *= s;
+            n.spread *= s;
+            n.sigma = n.spread + opts.floor_mm + opts.floor_share * n.d0;
+        }
+        m
     }
 }
 

@@ -53,6 +53,27 @@ pub struct LabelOptions {
     pub passes: usize,
     /// Times the geometry is learned again from the template and the trial as labelled.
     pub relearn: usize,
+    /// Fit the template's size to the trial's body before matching (a template of another
+    /// subject); false: the template's distances as recorded.
+    pub fit_scale: bool,
+    /// The ladder of sizes tried when nothing is labelled: `scale_ratio` to the powers
+    /// `-scale_steps..=scale_steps` (1.05 and 5: 0.78–1.28 times the template, each size
+    /// within 2.5 % of the next, inside a pair's floor of 2 %, 3 mm).
+    pub scale_steps: usize,
+    pub scale_ratio: f64,
+    /// `floor_share` of the first round, before the geometry is learned again from the
+    /// trial as labelled (at least `floor_share`).
+    pub first_floor_share: f64,
+    /// Learn the geometry again from the template's frames and the trial's (true), or
+    /// from the trial's alone.
+    pub relearn_template: bool,
+    /// A frame's match votes only when the fragment's cost for any other marker is at
+    /// least this much more (mean squared departure, in tolerances²; 0: always).
+    pub vote_margin: f64,
+    /// Two newly labelled fragments of neighbouring markers keep their labels only if
+    /// exchanging them costs at least this much more (mean squared departure over their
+    /// pairs, in tolerances²; 0: not checked).
+    pub exchange_margin: f64,
 }
 
 impl Default for LabelOptions {
@@ -78,6 +99,13 @@ impl Default for LabelOptions {
             max_speed_mm_s: 20_000.0,
             passes: 30,
             relearn: 1,
+            fit_scale: false,
+            scale_steps: 5,
+            scale_ratio: 1.05,
+            first_floor_share: 0.02,
+            relearn_template: true,
+            vote_margin: 0.0,
+            exchange_margin: 0.5,
         }
     }
 }

@@ -192,3 +192,113 @@ fn the_answer_is_the_same_on_one_thread_or_several_and_with_seed_runs() {
         assert_eq!(on(3), one, "seed_chain {chain}");
     }
 }
+
+/// Frames `a..b` of `t` with every coordinate times `s`: the same motion on a body `s`
+/// times as large.
+fn scaled(t: &Trial, s: f64) -> Trial {
+    Trial::new(
+        t.rate_hz,
+        t.xyz
+            .iter()
+            .map(|r| r.iter().map(|p| p.map(|v| v * s)).collect())
+            .collect(),
+        t.valid.clone(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn a_template_of_a_larger_body_is_fitted_to_the_trial() {
+    let t = gait_like(32, 8, 900, 100.0, 0.3, 7);
+    // The template's body 12 % larger than the trial's.
+    let template = scaled(&window(&t, 0, 300), 1.12);
+    let (trial, truth) = fragmented(&t, 300, 900, 11);
+    let given = vec![None; trial.markers()];
+    let tally = |out: &Labelling| {
+        let (mut right, mut wrong) = (0, 0);
+        for a in &out.fragments {
+            match a.label {
+                Some(m) if m == truth[a.fragment.row] => right += a.fragment.len(),
+                Some(_) => wrong += a.fragment.len(),
+                None => {}
+            }
+        }
+        (right, wrong)
+    };
+    let total: usize = trial.valid.iter().flatten().filter(|&&v| v).count();
+    let fitted = LabelOptions {
+        fit_scale: true,
+        ..LabelOptions::default()
+    };
+    let out = label(&template, 1.0, &trial, 1.0, &given, &fitted).unwrap();
+    assert!((out.scale - 1.0 / 1.12).abs() < 0.01, "scale {}", out.scale);
+    let (right, wrong) = tally(&out);
+    assert_eq!(wrong, 0, "{right} right of {total}");
+    assert!(
+        right as f64 >= 0.99 * total as f64,
+        "{right} right of {total}"
+    );
+    // Without the fit the distances are 12 % off, beyond their tolerances.
+    let plain = label(
+        &template,
+        1.0,
+        &trial,
+        1.0,
+        &given,
+        &LabelOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(plain.scale, 1.0);
+    let (right, _) = tally(&plain);
+    assert!(
+        (right as f64) < 0.5 * total as f64,
+        "{right} right of {total}"
+    );
+}
+
+#[test]
+fn two_neighbours_labelled_exchanged_are_left_unlabelled() {
+    // Markers 0 and 8 lie on one segment; the trial's labels exchange them and keep every
+    // other marker right: the exchanged pair fits better than the labels given, so both
+    // are left unlabelled, and no rightly labelled neighbour is.
+    let t = gait_like(24, 8, 600, 100.0, 0.3, 3);
+    let opts = LabelOptions::default();
+    let model = model::Model::learn(&window(&t, 0, 200), &opts);
+    assert!(model.nb[0].iter().any(|n| n.other == 8));
+    let pc = fragments::Pieces::cut(&window(&t, 200, 600), 1.0, 1e9);
+    assert_eq!(pc.frags.len(), 24);
+    let mut out: Vec<FragmentLabel> = pc
+        .frags
+        .iter()
+        .map(|&fragment| {
+            let m = match fragment.row {
+                0 => 8,
+                8 => 0,
+                r => r,
+            };
+            FragmentLabel {
+                fragment,
+                label: Some(m),
+                given: None,
+                outcome: Outcome::Labelled,
+                checked: 10,
+                votes: 10,
+            }
+        })
+        .collect();
+    exchanges(&model, &pc, &mut out, &opts);
+    for a in &out {
+        match a.fragment.row {
+            0 | 8 => assert!(
+                matches!(
+                    a.outcome,
+                    Outcome::Unlabelled {
+                        reason: Reason::Exchangeable { .. }
+                    }
+                ) && a.label.is_none(),
+                "{a:?}"
+            ),
+            r => assert_eq!(a.label, Some(r), "{a:?}"),
+        }
+    }
+}

@@ -156,12 +156,28 @@ fn frame_votes(
     cands.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
     let mut taken_m = vec![false; k];
     let mut out = Vec::new();
-    for (_, g, m) in cands {
-        if taken_m[m as usize] || out.iter().any(|&(h, _)| h == g) {
+    let mut done: Vec<u32> = Vec::new();
+    for &(c, g, m) in &cands {
+        if taken_m[m as usize] || done.contains(&g) {
             continue;
         }
         taken_m[m as usize] = true;
-        out.push((g, m));
+        done.push(g);
+        // A fragment that fits another marker nearly as well is judged here but votes
+        // for neither: two markers the frame cannot tell apart (a mirror pair, two
+        // markers of one segment placed alike) would otherwise vote for whichever
+        // labelling the neighbours hold, right or exchanged.
+        let clear = opts.vote_margin <= 0.0 || {
+            let rival = cands
+                .iter()
+                .filter(|r| r.1 == g && r.2 != m)
+                .map(|r| r.0)
+                .fold(f64::INFINITY, f64::min);
+            rival - c >= opts.vote_margin
+        };
+        if clear {
+            out.push((g, m));
+        }
     }
     (out, judged)
 }
