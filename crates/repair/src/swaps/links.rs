@@ -81,7 +81,7 @@ impl LearnedLinks {
         max_links: usize,
     ) -> LearnedLinks {
         let sampled = sample(trial);
-        let pairs = pair_links(&sampled, trial.frames(), max_spread_mm, min_support, None);
+        let pairs = pair_links(&sampled, trial.frames(), max_spread_mm, min_support);
         LearnedLinks {
             links: best_links(&pairs, max_links),
             frames: trial.frames(),
@@ -103,39 +103,9 @@ impl LearnedLinks {
         min_support: f64,
         max_links: usize,
     ) -> (Vec<Vec<Link>>, Relearned) {
-        let m = trial.markers();
-        let all = m * m.saturating_sub(1) / 2;
-        let comparable = self.params.0.to_bits() == max_spread_mm.to_bits()
-            && self.params.1.to_bits() == min_support.to_bits()
-            && trial.frames() == self.frames
-            && m == self.sampled.len();
-        if !comparable {
-            let links = learn_links(trial, max_spread_mm, min_support, max_links);
-            let done = Relearned {
-                pairs: all,
-                learned: all,
-            };
-            return (links, done);
-        }
-        let sampled = sample(trial);
-        let same: Vec<bool> = sampled
-            .iter()
-            .zip(&self.sampled)
-            .map(|(a, b)| (0..3).all(|c| bits_equal(&a[c], &b[c])))
-            .collect();
-        let pairs = pair_links(
-            &sampled,
-            trial.frames(),
-            max_spread_mm,
-            min_support,
-            Some((&self.pairs, &same)),
-        );
-        let kept = same.iter().filter(|&&s| s).count();
-        let done = Relearned {
-            pairs: all,
-            learned: all - kept * kept.saturating_sub(1) / 2,
-        };
-        (best_links(&pairs, max_links), done)
+        let demand = LinksOnDemand::new(trial, (max_spread_mm, min_support, max_links), Some(self));
+        let links = (0..trial.markers()).map(|k| demand.of(k)).collect();
+        (links, demand.relearned())
     }
 }
 
@@ -172,15 +142,12 @@ fn sample(trial: &Trial) -> Vec<[Vec<f64>; 3]> {
 }
 
 /// Each marker's links to the markers after it, `(other, link)` by other, from `sampled`
-/// (from [`sample`] of a trial of `n` frames). With `known` (pairs learned before, and
-/// which markers sample as they did then), a pair of two markers that sample the same
-/// takes its earlier verdict.
+/// (from [`sample`] of a trial of `n` frames).
 fn pair_links(
     sampled: &[[Vec<f64>; 3]],
     n: usize,
     max_spread_mm: f64,
     min_support: f64,
-    known: Option<(&[PairLinks], &[bool])>,
 ) -> Vec<PairLinks> {
     let m = sampled.len();
     if n == 0 || m < 2 {
@@ -198,14 +165,6 @@ fn pair_links(
             let mut all = vec![0.0f64; len];
             let mut mine = Vec::new();
             for b in a + 1..m {
-                if let Some((pairs, same)) = known {
-                    if same[a] && same[b] {
-                        if let Ok(k) = pairs[a].binary_search_by_key(&b, |p| p.0) {
-                            mine.push(pairs[a][k]);
-                        }
-                        continue;
-                    }
-                }
                 let mut bufs = (&mut all, &mut ds, &mut near);
                 if let Some(l) = pair_link(sampled, (a, b), max_spread_mm, min_support, &mut bufs) {
                     mine.push((b, l));
