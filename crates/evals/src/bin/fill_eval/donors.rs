@@ -53,33 +53,19 @@ type Measured<'a> = (&'a Rec, [Option<f64>; NM]);
 /// The study: the measures for every record whose trial can be matched, then the table of
 /// each measure added to the model.
 pub(crate) fn donor_study(recs: &[Rec]) {
-    let mut by_file: BTreeMap<&str, Vec<(usize, &Rec)>> = BTreeMap::new();
-    for (i, r) in recs.iter().enumerate() {
-        if r.g.method == FillMethod::Auto && r.g.evidence.is_some() {
-            by_file.entry(r.file.as_str()).or_default().push((i, r));
-        }
-    }
-    let mut measured: Vec<(usize, Measured)> = by_file
-        .par_iter()
-        .flat_map_iter(|(file, rs)| match measure_trial(file, rs) {
-            Ok(v) => v,
-            Err(e) => {
-                eprintln!("{file}: {e}: left out of the donors' study");
-                Vec::new()
-            }
-        })
-        .collect();
-    // The records' own order, as the other tables fit them: the margin's choice reads
-    // sums whose rounding follows the order.
-    measured.sort_by_key(|m| m.0);
-    let measured: Vec<Measured> = measured.into_iter().map(|m| m.1).collect();
+    let (measured, selected, selected_trials): (Vec<Measured>, _, _) = measure_by_trial(
+        recs,
+        |r| r.g.method == FillMethod::Auto && r.g.evidence.is_some(),
+        measure_trial,
+        "the donors' study",
+    );
     let trials: HashSet<&str> = measured.iter().map(|m| m.0.file.as_str()).collect();
     println!(
         "\n### the donors' evidence as expected-error features\n\n{} records of {} trials matched (of {} records of {} trials).\n",
         measured.len(),
         trials.len(),
-        by_file.values().map(Vec::len).sum::<usize>(),
-        by_file.len()
+        selected,
+        selected_trials
     );
     for (k, name) in MEASURES.iter().enumerate() {
         let name = format!("{}. {name}", k + 1);

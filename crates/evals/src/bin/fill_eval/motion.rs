@@ -78,29 +78,17 @@ type Columns = Vec<Vec<f64>>;
 /// The study: the measures for every record whose trial can be read, then per measure
 /// the per-activity figures with it added to the model.
 pub(crate) fn motion_study(recs: &[Rec]) {
-    let mut by_file: BTreeMap<&str, Vec<(usize, &Rec)>> = BTreeMap::new();
-    for (i, r) in recs.iter().enumerate() {
-        if r.g.method == FillMethod::Auto && r.g.evidence.is_some() && (r.held || r.tuned) {
-            by_file.entry(r.file.as_str()).or_default().push((i, r));
-        }
-    }
-    let mut measured: Vec<(usize, Measured)> = by_file
-        .par_iter()
-        .flat_map_iter(|(file, rs)| match measure_trial(file, rs) {
-            Ok(v) => v,
-            Err(e) => {
-                eprintln!("{file}: {e}: left out of the motion study");
-                Vec::new()
-            }
-        })
-        .collect();
-    measured.sort_by_key(|m| m.0);
-    let measured: Vec<Measured> = measured.into_iter().map(|m| m.1).collect();
+    let (measured, selected, _): (Vec<Measured>, _, _) = measure_by_trial(
+        recs,
+        |r| r.g.method == FillMethod::Auto && r.g.evidence.is_some() && (r.held || r.tuned),
+        measure_trial,
+        "the motion study",
+    );
     let act = activities_of(recs);
     println!(
         "\n### the marker's motion as expected-error features\n\n{} records matched (of {}).\n",
         measured.len(),
-        by_file.values().map(Vec::len).sum::<usize>()
+        selected
     );
     for (k, name) in MEASURES.iter().enumerate() {
         let known: Vec<f64> = measured.iter().filter_map(|m| m.1[k]).collect();

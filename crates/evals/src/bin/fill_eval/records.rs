@@ -93,3 +93,37 @@ pub(crate) fn replay(path: &std::path::Path) -> Result<Vec<Rec>, String> {
     }
     Ok(recs)
 }
+
+/// The records `keep` selects, grouped by trial and measured a trial at a time in parallel
+/// (`measure` reads the trial once for all its records), back in the records' own order:
+/// the studies' fits read sums whose rounding follows that order. A trial that cannot be
+/// measured is said and left out of `study`. Also: how many records and trials were
+/// selected.
+pub(crate) fn measure_by_trial<'a, T: Send>(
+    recs: &'a [Rec],
+    keep: impl Fn(&Rec) -> bool,
+    measure: impl Fn(&str, &[(usize, &'a Rec)]) -> Result<Vec<(usize, T)>, String> + Sync,
+    study: &str,
+) -> (Vec<T>, usize, usize) {
+    use rayon::prelude::*;
+    let mut by_file: BTreeMap<&str, Vec<(usize, &Rec)>> = BTreeMap::new();
+    for (i, r) in recs.iter().enumerate() {
+        if keep(r) {
+            by_file.entry(r.file.as_str()).or_default().push((i, r));
+        }
+    }
+    let mut measured: Vec<(usize, T)> = by_file
+        .par_iter()
+        .flat_map_iter(|(file, rs)| match measure(file, rs) {
+            Ok(v) => v,
+            Err(e) => {
+                eprintln!("{file}: {e}: left out of {study}");
+                Vec::new()
+            }
+        })
+        .collect();
+    measured.sort_by_key(|m| m.0);
+    let selected = by_file.values().map(Vec::len).sum();
+    let measured = measured.into_iter().map(|m| m.1).collect();
+    (measured, selected, by_file.len())
+}
